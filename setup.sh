@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# One setup step for a Debian 12 machine: installs the Debian packages wobble needs that are missing,
+# then configures and builds the release tree in build/. Idempotent: quick when everything is there.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")"
+
+packages=(
+  cmake ninja-build g++ pkg-config                      # build tools
+  libeigen3-dev libtbb-dev                              # simulator numerics, threads
+  libassimp-dev                                         # OBJ export/import
+  libembree-dev libstb-dev libopenexr-dev               # renderer, images
+  libtomlplusplus-dev libcli11-dev nlohmann-json3-dev   # scene files, command line, run.json
+  libgtest-dev libgmock-dev libbenchmark-dev            # tests, benchmarks
+  ffmpeg gnuplot-nox                                    # video and plots (external programs)
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}" >&2
+  sudo=""; [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+[ -f build/CMakeCache.txt ] || cmake --preset release >/dev/null
+cmake --build --preset release

@@ -1,0 +1,26 @@
+// A body: its particles' initial state and masses, its springs and its surface, in body-local indices.
+// Builders (bodies/jelly.h, bodies/cloth.h) make them; MassSpringSystem joins several into one flat state.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "springs.h"
+#include "surface.h"
+#include "types.h"
+
+namespace wobble {
+
+struct Body {
+  std::string name;
+  std::string kind;  // "jelly", "cloth"
+  VecX x, v;         // initial positions and velocities, 3 per particle
+  VecX mass;         // per particle
+  std::vector<bool> pinned;  // a pinned particle has inverse mass 0 and never moves
+  double drag = 0;   // viscous air drag coefficient: f = -drag v on each particle
+  Springs springs;
+  SurfaceMesh surface;
+
+  int particleCount() const { return static_cast<int>(mass.size()); }
+};
+
+}  // namespace wobble

@@ -1,0 +1,42 @@
+// A collider is a surface particles cannot pass. It only answers geometry: the nearest surface point to a particle
+// at a time, with the surface's velocity and acceleration there. The response (restitution, penetration
+// correction, contact force, friction) is shared by every collider and lives in contact.h.
+#pragma once
+#include <optional>
+#include <string>
+
+#include "../types.h"
+
+namespace wobble {
+
+// Course-framework defaults: epsilon 0.01, restitution (coefResist) 0.8, friction (coefFriction) 0.5.
+struct ContactParams {
+  double restitution = 0.8;  // in [0, 1]: normal speed kept after a bounce, relative to the surface
+  double friction = 0.5;     // Coulomb coefficient, >= 0
+  double epsilon = 0.01;     // contact tolerance (m), > 0
+};
+
+struct SurfacePoint {
+  double distance;    // signed: negative inside
+  Vec3 normal;        // unit, outward
+  Vec3 velocity;      // of the surface at that point
+  Vec3 acceleration;  // of the surface at that point
+};
+
+class Collider {
+ public:
+  Collider(std::string name, ContactParams contact) : name_(std::move(name)), contact_(contact) {}
+  virtual ~Collider() = default;
+
+  // Nearest surface point to x at time t, or nothing where the collider cannot touch x at all.
+  virtual std::optional<SurfacePoint> query(double t, const Vec3& x) const = 0;
+
+  const std::string& name() const { return name_; }
+  const ContactParams& contact() const { return contact_; }
+
+ private:
+  std::string name_;
+  ContactParams contact_;
+};
+
+}  // namespace wobble

@@ -1,0 +1,61 @@
+#include "elevator.h"
+
+#include <cmath>
+
+namespace wobble {
+namespace {
+
+enum class Phase { Rise, HoldTop, Fall, HoldBottom };
+
+// Phase at time t and the time since that phase began.
+std::pair<Phase, double> phaseAt(const ElevatorSchedule& s, double t) {
+  double tau = t <= 0 ? 0 : std::fmod(t, s.period());
+  if (tau < s.travel) return {Phase::Rise, tau};
+  tau -= s.travel;
+  if (tau < s.pause) return {Phase::HoldTop, tau};
+  tau -= s.pause;
+  if (tau < s.travel) return {Phase::Fall, tau};
+  return {Phase::HoldBottom, tau - s.travel};
+}
+
+}  // namespace
+
+double ElevatorSchedule::height(double t) const {
+  const auto [phase, tau] = phaseAt(*this, t);
+  const double top = 0.5 * accel * travel * travel;
+  switch (phase) {
+    case Phase::Rise: return 0.5 * accel * tau * tau;
+    case Phase::HoldTop: return top;
+    case Phase::Fall: return top - 0.5 * accel * tau * tau;
+    case Phase::HoldBottom: return 0;
+  }
+  return 0;
+}
+
+double ElevatorSchedule::velocity(double t) const {
+  const auto [phase, tau] = phaseAt(*this, t);
+  if (phase == Phase::Rise) return accel * tau;
+  if (phase == Phase::Fall) return -accel * tau;
+  return 0;
+}
+
+double ElevatorSchedule::acceleration(double t) const {
+  const auto [phase, tau] = phaseAt(*this, t);
+  if (phase == Phase::Rise) return accel;
+  if (phase == Phase::Fall) return -accel;
+  return 0;
+}
+
+Elevator::Elevator(std::string name, ContactParams contact, ElevatorSchedule schedule, double size, double thickness)
+    : Collider(std::move(name), contact), schedule_(schedule), size_(size), thickness_(thickness) {}
+
+std::optional<SurfacePoint> Elevator::query(double t, const Vec3& x) const {
+  const Vec3 top = topCenter(t);
+  const double half = size_ / 2, distance = x.y() - top.y();
+  if (std::abs(x.x() - top.x()) > half || std::abs(x.z() - top.z()) > half || distance < -thickness_)
+    return std::nullopt;
+  return SurfacePoint{distance, Vec3::UnitY(), Vec3(0, schedule_.velocity(t), 0),
+                      Vec3(0, schedule_.acceleration(t), 0)};
+}
+
+}  // namespace wobble

@@ -1,0 +1,21 @@
+// Plane: an infinite static plane (the half-space below it is solid).
+// Parameters: point (on the plane), normal (any length; normalized), size (drawn extent, renderer only),
+// restitution, friction, epsilon. The slope of the course framework is the plane through the origin with normal
+// (sin 20deg, cos 20deg, 0).
+#pragma once
+#include "collider.h"
+
+namespace wobble {
+
+class Plane final : public Collider {
+ public:
+  Plane(std::string name, ContactParams contact, const Vec3& point, const Vec3& normal);
+  std::optional<SurfacePoint> query(double t, const Vec3& x) const override;
+  const Vec3& point() const { return point_; }
+  const Vec3& normal() const { return normal_; }
+
+ private:
+  Vec3 point_, normal_;
+};
+
+}  // namespace wobble

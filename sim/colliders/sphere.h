@@ -1,0 +1,21 @@
+// Sphere: a solid ball, static or moving at constant velocity (the cloth scene's obstacle).
+// Parameters: center (at t = 0), radius (> 0), velocity (default 0), restitution, friction, epsilon.
+#pragma once
+#include "collider.h"
+
+namespace wobble {
+
+class Sphere final : public Collider {
+ public:
+  Sphere(std::string name, ContactParams contact, const Vec3& center, double radius, const Vec3& velocity);
+  std::optional<SurfacePoint> query(double t, const Vec3& x) const override;
+  Vec3 center(double t) const { return center_ + t * velocity_; }
+  double radius() const { return radius_; }
+
+ private:
+  Vec3 center_;
+  double radius_;
+  Vec3 velocity_;
+};
+
+}  // namespace wobble

@@ -1,0 +1,54 @@
+#include "contact.h"
+
+#include <cmath>
+
+namespace wobble {
+
+void addContactForces(Colliders colliders, double t, const VecX& x, const VecX& v, const VecX& mass,
+                      const VecX& inv_mass, VecX& f) {
+  if (colliders.empty()) return;
+  const Eigen::Index n = mass.size();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (inv_mass[i] == 0) continue;
+    for (const auto& collider : colliders) {
+      const auto s = collider->query(t, particle(x, i));
+      const ContactParams& c = collider->contact();
+      if (!s || std::abs(s->distance) >= c.epsilon) continue;
+      // Net force relative to the surface's frame: what would accelerate the particle away from the surface.
+      const Vec3 g = particle(f, i) - mass[i] * s->acceleration;
+      const double push = s->normal.dot(g);
+      if (push >= 0) continue;
+      const double support = -push;
+      Vec3 friction = Vec3::Zero();
+      const Vec3 vr = particle(v, i) - s->velocity;
+      const Vec3 vt = vr - s->normal.dot(vr) * s->normal;
+      const double limit = c.friction * support, speed = vt.norm();
+      if (speed > kStickSpeed) {
+        friction = -limit * vt / speed;
+      } else {
+        const Vec3 gt = g - push * s->normal;  // tangential force the contact must hold
+        const double gt_norm = gt.norm();
+        friction = gt_norm <= limit ? Vec3(-gt) : Vec3(-limit * gt / gt_norm);
+      }
+      particle(f, i) += support * s->normal + friction;
+    }
+  }
+}
+
+void resolveCollisions(Colliders colliders, double t, VecX& x, VecX& v, const VecX& inv_mass) {
+  if (colliders.empty()) return;
+  const Eigen::Index n = inv_mass.size();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (inv_mass[i] == 0) continue;
+    for (const auto& collider : colliders) {
+      const auto s = collider->query(t, particle(x, i));
+      const ContactParams& c = collider->contact();
+      if (!s || s->distance >= c.epsilon) continue;
+      const double vn = s->normal.dot(particle(v, i) - s->velocity);
+      if (vn < 0) particle(v, i) -= (1 + c.restitution) * vn * s->normal;
+      if (s->distance < 0) particle(x, i) -= s->distance * s->normal;
+    }
+  }
+}
+
+}  // namespace wobble

@@ -1,0 +1,22 @@
+// Explicit (forward) Euler: x1 = x0 + h v0, v1 = v0 + h a(x0, v0). First order; unstable on undamped oscillators.
+#include "methods.h"
+
+namespace wobble {
+namespace {
+
+class ExplicitEuler final : public Integrator {
+ public:
+  std::string_view name() const override { return "explicit-euler"; }
+  void step(const Dynamics& dynamics, double t, double h, VecX& x, VecX& v) override {
+    dynamics.acceleration(t, x, v, a_);
+    x += h * v;
+    v += h * a_;
+  }
+
+ private:
+  VecX a_;
+};
+
+}  // namespace
+std::unique_ptr<Integrator> makeExplicitEuler(const IntegratorOptions&) { return std::make_unique<ExplicitEuler>(); }
+}  // namespace wobble

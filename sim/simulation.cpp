@@ -1,0 +1,49 @@
+#include "simulation.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace wobble {
+
+Simulation::Simulation(const MassSpringSystem& system, std::unique_ptr<Integrator> integrator, double dt)
+    : system_(system),
+      integrator_(std::move(integrator)),
+      dt_(dt),
+      x_(system.initialPositions()),
+      v_(system.initialVelocities()) {}
+
+std::optional<BlowUp> Simulation::advanceTo(double t_end) {
+  // A remainder below this is round-off from summing steps, not a step to take.
+  const double slack = 1e-9 * dt_;
+  while (t_ < t_end - slack) {
+    const bool last = t_end - t_ <= dt_ + slack;
+    const double h = last ? t_end - t_ : dt_;
+    integrator_->step(system_, t_, h, x_, v_);
+    t_ = last ? t_end : t_ + h;
+    ++steps_;
+    system_.resolveCollisions(t_, x_, v_);
+    if (auto blow_up = check()) return blow_up;
+  }
+  return std::nullopt;
+}
+
+std::optional<BlowUp> Simulation::check() const {
+  for (int i = 0; i < system_.particleCount(); ++i) {
+    const double s2 = particle(v_, i).squaredNorm();
+    if (std::isnan(s2) || std::isnan(particle(x_, i).sum()) || s2 > kBlowUpSpeedSquared)
+      return BlowUp{std::string(integrator_->name()), steps_, t_, i, s2};
+  }
+  return std::nullopt;
+}
+
+std::string BlowUp::message(double dt) const {
+  std::ostringstream out;
+  out << "the simulation blew up: integrator " << integrator << ", step " << step << ", t = " << time << " s: particle "
+      << particle << (std::isnan(speed_squared) ? " has a NaN state" : " has |v|^2 = ")
+      << (std::isnan(speed_squared) ? std::string() : std::to_string(speed_squared))
+      << (std::isnan(speed_squared) ? "" : " > 1e6") << ". Try a smaller time step (--dt " << dt / 4
+      << "), a more stable integrator (--integrator rk4), or softer springs.";
+  return out.str();
+}
+
+}  // namespace wobble

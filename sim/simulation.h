@@ -1,0 +1,52 @@
+// Steps a MassSpringSystem with an integrator: fixed steps of dt, the last one before a requested time shortened
+// to land on it exactly; contact resolution at every step end; blow-up detection after every step.
+#pragma once
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "integrators/integrator.h"
+#include "system.h"
+
+namespace wobble {
+
+// The course framework's rule: the run is unstable once any velocity is NaN or any |v|^2 exceeds this.
+inline constexpr double kBlowUpSpeedSquared = 1e6;
+
+struct BlowUp {
+  std::string integrator;
+  long step;      // 1-based index of the step that blew up
+  double time;    // simulated time at its end
+  int particle;   // first offending particle
+  double speed_squared;  // NaN when a value was NaN
+  // One paragraph for the user: what happened, where, and what to try.
+  std::string message(double dt) const;
+};
+
+class Simulation {
+ public:
+  Simulation(const MassSpringSystem& system, std::unique_ptr<Integrator> integrator, double dt);
+
+  // Steps until time() == t_end. Stops at once and returns what happened if the state blows up.
+  std::optional<BlowUp> advanceTo(double t_end);
+
+  const VecX& x() const { return x_; }
+  const VecX& v() const { return v_; }
+  double time() const { return t_; }
+  long steps() const { return steps_; }
+  double dt() const { return dt_; }
+  const Integrator& integrator() const { return *integrator_; }
+  const MassSpringSystem& system() const { return system_; }
+
+ private:
+  std::optional<BlowUp> check() const;
+
+  const MassSpringSystem& system_;
+  std::unique_ptr<Integrator> integrator_;
+  double dt_;
+  VecX x_, v_;
+  double t_ = 0;
+  long steps_ = 0;
+};
+
+}  // namespace wobble

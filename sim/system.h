@@ -1,0 +1,53 @@
+// The mass-spring system of a scene: every body's particles joined in one flat state, the springs, gravity, air
+// drag and the colliders the scene names. It is the Dynamics that integrators step.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "body.h"
+#include "colliders/collider.h"
+#include "dynamics.h"
+
+namespace wobble {
+
+struct BodySlot {
+  Body body;        // as built (initial state, surface), body-local indices
+  int first = 0;    // index of its first particle in the system
+};
+
+class MassSpringSystem final : public Dynamics {
+ public:
+  explicit MassSpringSystem(Vec3 gravity = Vec3(0, -9.8, 0)) : gravity_(gravity) {}
+
+  void addBody(Body body);
+  void addCollider(std::unique_ptr<Collider> collider) { colliders_.push_back(std::move(collider)); }
+
+  void acceleration(double t, const VecX& x, const VecX& v, VecX& a) const override;
+  // Total force, contact forces included.
+  void force(double t, const VecX& x, const VecX& v, VecX& f) const;
+  // Restitution and penetration correction, applied to the stored state at the end of each step.
+  void resolveCollisions(double t, VecX& x, VecX& v) const;
+
+  // Kinetic + gravitational + elastic energy.
+  double energy(const VecX& x, const VecX& v) const;
+
+  int particleCount() const { return static_cast<int>(mass_.size()); }
+  const VecX& initialPositions() const { return x0_; }
+  const VecX& initialVelocities() const { return v0_; }
+  const VecX& mass() const { return mass_; }
+  const VecX& inverseMass() const { return inv_mass_; }
+  const Springs& springs() const { return springs_; }
+  const std::vector<BodySlot>& bodies() const { return bodies_; }
+  const std::vector<std::unique_ptr<Collider>>& colliders() const { return colliders_; }
+  const Vec3& gravity() const { return gravity_; }
+
+ private:
+  Vec3 gravity_;
+  std::vector<BodySlot> bodies_;
+  std::vector<std::unique_ptr<Collider>> colliders_;
+  VecX x0_, v0_, mass_, inv_mass_, drag_;
+  Springs springs_;
+};
+
+}  // namespace wobble

@@ -1,0 +1,14 @@
+// Basic numeric types of the simulator: double precision throughout, flat state vectors.
+#pragma once
+#include <Eigen/Core>
+
+namespace wobble {
+
+using Vec3 = Eigen::Vector3d;
+using VecX = Eigen::VectorXd;
+
+// Particle i of a flat 3n vector.
+inline auto particle(VecX& s, Eigen::Index i) { return s.segment<3>(3 * i); }
+inline auto particle(const VecX& s, Eigen::Index i) { return s.segment<3>(3 * i); }
+
+}  // namespace wobble
