@@ -5,7 +5,7 @@
 namespace wobble {
 
 void addContactForces(Colliders colliders, double t, const VecX& x, const VecX& v, const VecX& mass,
-                      const VecX& inv_mass, VecX& f) {
+                      const VecX& inv_mass, double stick_time, VecX& f) {
   if (colliders.empty()) return;
   const Eigen::Index n = mass.size();
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -19,16 +19,15 @@ void addContactForces(Colliders colliders, double t, const VecX& x, const VecX& 
       const double push = s->normal.dot(g);
       if (push >= 0) continue;
       const double support = -push;
-      Vec3 friction = Vec3::Zero();
       const Vec3 vr = particle(v, i) - s->velocity;
       const Vec3 vt = vr - s->normal.dot(vr) * s->normal;
-      const double limit = c.friction * support, speed = vt.norm();
-      if (speed > kStickSpeed) {
-        friction = -limit * vt / speed;
-      } else {
-        const Vec3 gt = g - push * s->normal;  // tangential force the contact must hold
-        const double gt_norm = gt.norm();
-        friction = gt_norm <= limit ? Vec3(-gt) : Vec3(-limit * gt / gt_norm);
+      const Vec3 gt = g - push * s->normal;
+      const double limit = c.friction * support;
+      Vec3 friction = -(gt + (mass[i] / stick_time) * vt);
+      if (friction.norm() > limit) {
+        const double speed = vt.norm();
+        const Vec3 direction = speed > 0 ? Vec3(vt / speed) : gt.normalized();
+        friction = -limit * direction;
       }
       particle(f, i) += support * s->normal + friction;
     }

@@ -2,8 +2,11 @@
 //
 // Inside accelerations (a pure function of the stage state, so every integrator sees the same contact model):
 //   a particle within epsilon of a surface whose net force, relative to the surface's acceleration, pushes into it
-//   gets the support force that cancels that push, and Coulomb friction: kinetic, -mu Fn vT/|vT|, while sliding;
-//   static (cancels the tangential force up to mu Fn) while its tangential speed is below kStickSpeed.
+//   gets the support force Fn that cancels that push, and Coulomb friction. Static friction is what it takes to
+//   cancel the tangential force and stop the tangential velocity over stick_time, -(fT + m vT / stick_time); when
+//   that is within the cone mu Fn the contact sticks, otherwise it slides with kinetic friction -mu Fn vT/|vT|.
+//   With stick_time = 2 h the stopping term is stable under every explicit method here (|R(-1/2)| < 1), and
+//   unlike a pure kinetic law it cannot chatter around vT = 0 and creep downhill.
 // At step ends only (the stored state): a particle within epsilon and approaching the surface has its relative
 //   normal velocity reversed and scaled by the restitution, v_n' = u_n - e (v_n - u_n); one below the surface is
 //   moved back onto it.
@@ -15,12 +18,10 @@
 
 namespace wobble {
 
-inline constexpr double kStickSpeed = 1e-3;  // m/s: tangential speed under which contacts may stick
-
 using Colliders = std::span<const std::unique_ptr<Collider>>;
 
 void addContactForces(Colliders colliders, double t, const VecX& x, const VecX& v, const VecX& mass,
-                      const VecX& inv_mass, VecX& f);
+                      const VecX& inv_mass, double stick_time, VecX& f);
 
 void resolveCollisions(Colliders colliders, double t, VecX& x, VecX& v, const VecX& inv_mass);
 

@@ -1,16 +1,23 @@
 #include "simulation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
 namespace wobble {
 
-Simulation::Simulation(const MassSpringSystem& system, std::unique_ptr<Integrator> integrator, double dt)
+Simulation::Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> integrator, double dt)
     : system_(system),
       integrator_(std::move(integrator)),
       dt_(dt),
       x_(system.initialPositions()),
-      v_(system.initialVelocities()) {}
+      v_(system.initialVelocities()) {
+  system.setStepSize(dt);
+  for (int i = 0; i < system.particleCount(); ++i)
+    max_speed_squared_ = std::max(max_speed_squared_, particle(v_, i).squaredNorm());
+}
+
+double Simulation::maxSpeed() const { return std::sqrt(max_speed_squared_); }
 
 std::optional<BlowUp> Simulation::advanceTo(double t_end) {
   // A remainder below this is round-off from summing steps, not a step to take.
@@ -27,9 +34,10 @@ std::optional<BlowUp> Simulation::advanceTo(double t_end) {
   return std::nullopt;
 }
 
-std::optional<BlowUp> Simulation::check() const {
+std::optional<BlowUp> Simulation::check() {
   for (int i = 0; i < system_.particleCount(); ++i) {
     const double s2 = particle(v_, i).squaredNorm();
+    max_speed_squared_ = std::max(max_speed_squared_, s2);
     if (std::isnan(s2) || std::isnan(particle(x_, i).sum()) || s2 > kBlowUpSpeedSquared)
       return BlowUp{std::string(integrator_->name()), steps_, t_, i, s2};
   }

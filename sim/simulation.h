@@ -25,7 +25,8 @@ struct BlowUp {
 
 class Simulation {
  public:
-  Simulation(const MassSpringSystem& system, std::unique_ptr<Integrator> integrator, double dt);
+  // Sets the system's step size (for static friction) to dt.
+  Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> integrator, double dt);
 
   // Steps until time() == t_end. Stops at once and returns what happened if the state blows up.
   std::optional<BlowUp> advanceTo(double t_end);
@@ -35,11 +36,13 @@ class Simulation {
   double time() const { return t_; }
   long steps() const { return steps_; }
   double dt() const { return dt_; }
+  // Largest particle speed seen at any step end so far (initial state included).
+  double maxSpeed() const;
   const Integrator& integrator() const { return *integrator_; }
   const MassSpringSystem& system() const { return system_; }
 
  private:
-  std::optional<BlowUp> check() const;
+  std::optional<BlowUp> check();
 
   const MassSpringSystem& system_;
   std::unique_ptr<Integrator> integrator_;
@@ -47,6 +50,7 @@ class Simulation {
   VecX x_, v_;
   double t_ = 0;
   long steps_ = 0;
+  double max_speed_squared_ = 0;
 };
 
 }  // namespace wobble

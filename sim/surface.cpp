@@ -1,5 +1,6 @@
 #include "surface.h"
 
+
 namespace wobble {
 
 SurfaceFrame evaluateSurface(const SurfaceMesh& mesh, const VecX& x, int first_particle) {

@@ -1,6 +1,8 @@
 #include "system.h"
 
 #include "contact.h"
+#include "contact_constraints.h"
+#include "force_jacobian.h"
 
 namespace wobble {
 namespace {
@@ -30,12 +32,31 @@ void MassSpringSystem::addBody(Body body) {
   bodies_.push_back({std::move(body), first});
 }
 
-void MassSpringSystem::force(double t, const VecX& x, const VecX& v, VecX& f) const {
+void MassSpringSystem::smoothForce(double, const VecX& x, const VecX& v, VecX& f) const {
   const int n = particleCount();
   f.resize(3 * n);
   for (int i = 0; i < n; ++i) particle(f, i) = mass_[i] * gravity_ - drag_[i] * particle(v, i);
   addSpringForces(springs_, x, v, f);
-  addContactForces(colliders_, t, x, v, mass_, inv_mass_, f);
+}
+
+void MassSpringSystem::force(double t, const VecX& x, const VecX& v, VecX& f) const {
+  smoothForce(t, x, v, f);
+  // Contact support cancels the net push of the other forces, so it is added last.
+  addContactForces(colliders_, t, x, v, mass_, inv_mass_, stick_time_, f);
+}
+
+void MassSpringSystem::addForceJacobians(double, const VecX& x, const VecX&, Triplets& dfdx, Triplets& dfdv) const {
+  addSpringJacobians(springs_, x, dfdx, dfdv);
+  addDragJacobian(drag_, dfdv);
+}
+
+void MassSpringSystem::contactConstraints(double t, const VecX& x, const VecX& v,
+                                          std::vector<ContactConstraint>& out) const {
+  out.clear();
+  if (colliders_.empty()) return;
+  VecX f;
+  smoothForce(t, x, v, f);
+  findContactConstraints(colliders_, t, x, f, mass_, inv_mass_, out);
 }
 
 void MassSpringSystem::acceleration(double t, const VecX& x, const VecX& v, VecX& a) const {

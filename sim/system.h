@@ -16,16 +16,26 @@ struct BodySlot {
   int first = 0;    // index of its first particle in the system
 };
 
-class MassSpringSystem final : public Dynamics {
+class MassSpringSystem final : public Dynamics, public ForceJacobian {
  public:
   explicit MassSpringSystem(Vec3 gravity = Vec3(0, -9.8, 0)) : gravity_(gravity) {}
 
   void addBody(Body body);
   void addCollider(std::unique_ptr<Collider> collider) { colliders_.push_back(std::move(collider)); }
+  // The step size the system will be integrated with: static friction stops sticking contacts over 2 h
+  // (see contact.h). Simulation sets it; a constant during each step, so accelerations stay pure.
+  void setStepSize(double h) { stick_time_ = 2 * h; }
 
   void acceleration(double t, const VecX& x, const VecX& v, VecX& a) const override;
+  const ForceJacobian* forceJacobian() const override { return this; }
   // Total force, contact forces included.
   void force(double t, const VecX& x, const VecX& v, VecX& f) const;
+  // Gravity, air drag, springs and dampers: every force but contact (ForceJacobian).
+  void smoothForce(double t, const VecX& x, const VecX& v, VecX& f) const override;
+  // Spring, damper and drag Jacobians (force_jacobian.h); gravity is constant, contact is left out.
+  void addForceJacobians(double t, const VecX& x, const VecX& v, Triplets& dfdx, Triplets& dfdv) const override;
+  // The particles whose contact support is active (contact_constraints.h).
+  void contactConstraints(double t, const VecX& x, const VecX& v, std::vector<ContactConstraint>& out) const override;
   // Restitution and penetration correction, applied to the stored state at the end of each step.
   void resolveCollisions(double t, VecX& x, VecX& v) const;
 
@@ -35,8 +45,8 @@ class MassSpringSystem final : public Dynamics {
   int particleCount() const { return static_cast<int>(mass_.size()); }
   const VecX& initialPositions() const { return x0_; }
   const VecX& initialVelocities() const { return v0_; }
-  const VecX& mass() const { return mass_; }
-  const VecX& inverseMass() const { return inv_mass_; }
+  const VecX& mass() const override { return mass_; }
+  const VecX& inverseMass() const override { return inv_mass_; }
   const Springs& springs() const { return springs_; }
   const std::vector<BodySlot>& bodies() const { return bodies_; }
   const std::vector<std::unique_ptr<Collider>>& colliders() const { return colliders_; }
@@ -44,6 +54,7 @@ class MassSpringSystem final : public Dynamics {
 
  private:
   Vec3 gravity_;
+  double stick_time_ = 2e-3;
   std::vector<BodySlot> bodies_;
   std::vector<std::unique_ptr<Collider>> colliders_;
   VecX x0_, v0_, mass_, inv_mass_, drag_;

@@ -1,6 +1,7 @@
 // Basic numeric types of the simulator: double precision throughout, flat state vectors.
 #pragma once
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // cross products, rotations
 
 namespace wobble {
 

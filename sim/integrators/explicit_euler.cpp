@@ -8,6 +8,8 @@ class ExplicitEuler final : public Integrator {
  public:
   std::string_view name() const override { return "explicit-euler"; }
   void step(const Dynamics& dynamics, double t, double h, VecX& x, VecX& v) override {
+    ++stats_.steps;
+    stats_.evaluations += 1;
     dynamics.acceleration(t, x, v, a_);
     x += h * v;
     v += h * a_;

@@ -15,9 +15,12 @@ struct Method {
 
 constexpr std::array kMethods{
     Method{"explicit-euler", makeExplicitEuler},
+    Method{"symplectic-euler", makeSymplecticEuler},
     Method{"pc-euler", makePcEuler},
     Method{"midpoint", makeMidpoint},
     Method{"rk4", makeRk4},
+    Method{"rk45", makeRk45},
+    Method{"backward-euler", makeBackwardEuler},
 };
 
 constexpr auto kNames = [] {

@@ -13,9 +13,25 @@ namespace wobble {
 // Settings that only some methods read (adaptive and implicit ones); the defaults suit the shipped scenes.
 struct IntegratorOptions {
   double rtol = 1e-6, atol = 1e-9;  // rk45: relative and absolute error tolerances per step
+  long max_substeps = 100000;       // rk45: attempted substeps allowed in one step() before it gives up
   bool newton = false;              // backward-euler: iterate Newton to convergence instead of one step
+  double newton_tolerance = 1e-8;   // backward-euler newton: max |M^-1 residual| (m/s), relative to max(1, |v|)
+  int newton_max_iterations = 50;
   double cg_tolerance = 1e-6;       // backward-euler: relative residual of the conjugate-gradient solve
   int cg_max_iterations = 1000;
+};
+
+// Work counters for the studies. Every method counts steps and evaluations; the others stay 0 where meaningless.
+struct IntegratorStats {
+  long steps = 0;        // step() calls
+  long evaluations = 0;  // Dynamics::acceleration calls, plus smooth-force evaluations of Newton residuals
+  long accepted = 0, rejected = 0;  // rk45: adaptive substeps
+  double next_substep = 0;          // rk45: the controller's preferred size of the next substep
+  long jacobians = 0;               // backward-euler: force-Jacobian assemblies
+  long cg_iterations = 0;           // backward-euler: conjugate-gradient iterations, all steps
+  int last_cg_iterations = 0;       // backward-euler: in the last step (summed over its linear solves)
+  int last_linear_solves = 0;       // backward-euler: in the last step (1 unless newton)
+  double last_residual = 0;         // backward-euler newton: the last step's final |M^-1 residual|_inf (m/s)
 };
 
 class Integrator {
@@ -24,6 +40,10 @@ class Integrator {
   virtual std::string_view name() const = 0;
   // Advances x, v from time t to t + h.
   virtual void step(const Dynamics& dynamics, double t, double h, VecX& x, VecX& v) = 0;
+  const IntegratorStats& stats() const { return stats_; }
+
+ protected:
+  IntegratorStats stats_;
 };
 
 // The names makeIntegrator accepts, in the order the docs list them.

@@ -8,6 +8,8 @@ class Midpoint final : public Integrator {
  public:
   std::string_view name() const override { return "midpoint"; }
   void step(const Dynamics& dynamics, double t, double h, VecX& x, VecX& v) override {
+    ++stats_.steps;
+    stats_.evaluations += 2;
     dynamics.acceleration(t, x, v, a_);
     xm_ = x + (h / 2) * v;
     vm_ = v + (h / 2) * a_;

@@ -12,6 +12,8 @@ class PredictorCorrectorEuler final : public Integrator {
  public:
   std::string_view name() const override { return "pc-euler"; }
   void step(const Dynamics& dynamics, double t, double h, VecX& x, VecX& v) override {
+    ++stats_.steps;
+    stats_.evaluations += 2;
     dynamics.acceleration(t, x, v, a_);
     xp_ = x + h * v;
     vp_ = v + h * a_;

@@ -9,6 +9,8 @@ class RungeKutta4 final : public Integrator {
  public:
   std::string_view name() const override { return "rk4"; }
   void step(const Dynamics& dynamics, double t, double h, VecX& x, VecX& v) override {
+    ++stats_.steps;
+    stats_.evaluations += 4;
     // Stage k_i = (dx_i, dv_i) = (v_i, a(x_i, v_i)), accumulated into sum_x, sum_v with weights 1, 2, 2, 1.
     dynamics.acceleration(t, x, v, a_);
     sum_x_ = v;

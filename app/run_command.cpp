@@ -1,0 +1,124 @@
+#include "run_command.h"
+
+#include <chrono>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "atomic_file.h"
+#include "obj_sequence.h"
+#include "progress.h"
+#include "scene.h"
+#include "scene_error.h"
+
+namespace fs = std::filesystem;
+
+namespace wobble {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+std::string formatNumber(double x) {
+  std::ostringstream out;
+  out.precision(17);
+  out << x;
+  return out.str();
+}
+
+void writeRunJson(const Scene& scene, const Simulation& sim, const RunReport& r) {
+  nlohmann::ordered_json j;
+  j["scene"] = scene.file.string();
+  j["integrator"] = scene.integrator;
+  j["dt"] = scene.dt;
+  j["fps"] = scene.fps;
+  j["frames"] = {{"first", r.first_frame}, {"last", r.last_frame}, {"written", r.frames_written}};
+  j["steps"] = r.steps;
+  j["simulated_time"] = r.simulated_time;
+  j["wall_time_seconds"] = {{"simulate", r.seconds_simulate}, {"export", r.seconds_export}};
+  j["energy"] = {{"start", r.energy_start}, {"end", r.energy_end}};
+  j["max_speed"] = r.max_speed;
+  j["particles"] = sim.system().particleCount();
+  j["springs"] = sim.system().springs().size();
+  j["blew_up"] = r.blow_up.has_value();
+  if (r.blow_up)
+    j["blow_up"] = {{"step", r.blow_up->step}, {"time", r.blow_up->time}, {"particle", r.blow_up->particle},
+                    {"message", r.blow_up_message}};
+  writeFileAtomically(r.out / "run.json", j.dump(2) + "\n");
+}
+
+}  // namespace
+
+std::pair<int, int> parseFrameRange(const std::string& text, int count) {
+  const auto bad = [&] {
+    return SceneError("--frames " + text + ": must be A:B or A with 1 <= A <= B <= " + std::to_string(count) +
+                      " (the scene has " + std::to_string(count) + " frames)");
+  };
+  int a = 0, b = 0;
+  std::istringstream in(text);
+  char colon = 0;
+  if (!(in >> a)) throw bad();
+  if (in >> colon) {
+    if (colon != ':' || !(in >> b)) throw bad();
+  } else {
+    b = a;
+  }
+  if (!in.eof() && in.peek() != EOF) throw bad();
+  if (a < 1 || b < a || b > count) throw bad();
+  return {a, b};
+}
+
+RunReport runScene(const RunOptions& options) {
+  std::vector<std::string> overrides = options.sets;
+  if (options.integrator) overrides.push_back("simulation.integrator=\"" + *options.integrator + "\"");
+  if (options.dt) overrides.push_back("simulation.dt=" + formatNumber(*options.dt));
+  Scene scene = loadScene(options.scene, overrides);
+
+  RunReport report;
+  std::tie(report.first_frame, report.last_frame) =
+      options.frames ? parseFrameRange(*options.frames, scene.frameCount()) : std::pair{1, scene.frameCount()};
+  report.out = options.out.value_or(fs::path("out") / scene.name);
+
+  MassSpringSystem& system = *scene.system;
+  Simulation sim(system, makeIntegrator(scene.integrator, scene.integrator_options), scene.dt);
+  report.energy_start = system.energy(sim.x(), sim.v());
+
+  fs::create_directories(report.out);
+  std::vector<ObjSequenceWriter> writers;
+  if (scene.write_obj)
+    for (const BodySlot& slot : system.bodies()) {
+      const auto texture = scene.textures.find(slot.body.name);
+      writers.emplace_back(report.out / "mesh", slot.body,
+                           texture == scene.textures.end() ? std::nullopt : std::optional(texture->second));
+    }
+
+  Progress progress(scene.name, report.last_frame);
+  for (int frame = 1; frame <= report.last_frame; ++frame) {
+    auto start = Clock::now();
+    report.blow_up = sim.advanceTo(scene.frameTime(frame));
+    report.seconds_simulate += secondsSince(start);
+    if (report.blow_up) break;
+    start = Clock::now();
+    if (frame >= report.first_frame) {
+      for (std::size_t b = 0; b < writers.size(); ++b) {
+        const BodySlot& slot = system.bodies()[b];
+        writers[b].write(frame, evaluateSurface(slot.body.surface, sim.x(), slot.first));
+      }
+      ++report.frames_written;
+    }
+    report.seconds_export += secondsSince(start);
+    progress.update(frame);
+  }
+  progress.finish();
+
+  report.steps = sim.steps();
+  report.simulated_time = sim.time();
+  report.energy_end = system.energy(sim.x(), sim.v());
+  report.max_speed = sim.maxSpeed();
+  if (report.blow_up) report.blow_up_message = report.blow_up->message(scene.dt);
+  writeRunJson(scene, sim, report);
+  return report;
+}
+
+}  // namespace wobble

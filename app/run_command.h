@@ -1,0 +1,38 @@
+// `wobble run`: load a scene, simulate it, write the OBJ sequence of every body and OUT/run.json.
+#pragma once
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sim/simulation.h"
+
+namespace wobble {
+
+struct RunOptions {
+  std::filesystem::path scene = "scenes/jelly_slope.toml";
+  std::optional<std::string> integrator;
+  std::optional<double> dt;
+  std::optional<std::string> frames;     // "A:B", 1-based and inclusive, or "A"
+  std::optional<std::filesystem::path> out;  // default out/<scene name>
+  std::vector<std::string> sets;         // KEY=VALUE overrides
+};
+
+struct RunReport {
+  std::filesystem::path out;
+  int first_frame = 0, last_frame = 0, frames_written = 0;
+  long steps = 0;
+  double simulated_time = 0, energy_start = 0, energy_end = 0, max_speed = 0;
+  double seconds_simulate = 0, seconds_export = 0;
+  std::optional<BlowUp> blow_up;
+  std::string blow_up_message;
+};
+
+// Throws SceneError for bad input before anything is written. A blow-up stops the run at once: the frames
+// written so far stay, and the report says where it happened.
+RunReport runScene(const RunOptions& options);
+
+// The 1-based inclusive frame range of "A:B" or "A" within [1, count]; throws SceneError naming what is allowed.
+std::pair<int, int> parseFrameRange(const std::string& text, int count);
+
+}  // namespace wobble

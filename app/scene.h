@@ -1,0 +1,42 @@
+// A scene file (TOML, see scenes/README.md) read into what a run needs: simulation settings, the mass-spring system
+// with only the bodies and colliders the file names, and per-body textures. --set overrides are applied to the
+// TOML before anything is read, so they get the same checks and messages as the file.
+#pragma once
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "sim/integrators/integrator.h"
+#include "sim/system.h"
+
+namespace wobble {
+
+struct Scene {
+  std::filesystem::path file;
+  std::string name;  // file name without extension: names outputs
+
+  std::string integrator = "rk4";
+  IntegratorOptions integrator_options;
+  double dt = 0.001;
+  double duration = 10;  // simulated seconds
+  double fps = 30;       // frames per simulated second
+  bool write_obj = true;
+
+  std::unique_ptr<MassSpringSystem> system;
+  std::map<std::string, std::filesystem::path> textures;  // body name -> texture file, only for bodies naming one
+  toml::table table;  // the file after overrides, for readers of other sections
+
+  // Frame k (1-based) shows simulated time (k - 1) / fps; duration * fps frames, at least one.
+  int frameCount() const;
+  double frameTime(int frame) const { return (frame - 1) / fps; }
+};
+
+// overrides: "dotted.key=value" (value in TOML syntax; a bare word is taken as a string). A first component that
+// names a body or collider may omit "bodies." / "colliders.": "jelly.ks=2800". Throws SceneError.
+Scene loadScene(const std::filesystem::path& file, const std::vector<std::string>& overrides = {});
+
+}  // namespace wobble

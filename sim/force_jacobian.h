@@ -1,0 +1,19 @@
+// Jacobians of the spring, damper and air-drag forces, for implicit integrators (Baraff & Witkin 1998).
+#pragma once
+#include "dynamics.h"
+#include "springs.h"
+
+namespace wobble {
+
+// Appends the spring and damper blocks. For a spring with unit direction d = (xa - xb)/l:
+//   dFa/dxa = -ks [d d^T + max(0, 1 - rest/l) (I - d d^T)]   (the clamp keeps compressed springs from making the
+//                                                             system indefinite; CG needs it positive definite)
+//   dFa/dva = -kd d d^T                                        (the damper's dependence on x is dropped, as B&W do:
+//                                                             it is not symmetric)
+// and dFa/dxb = -dFa/dxa, dFb/dxb = dFa/dxa (same for v).
+void addSpringJacobians(const Springs& s, const VecX& x, Triplets& dfdx, Triplets& dfdv);
+
+// Appends dF/dv = -drag_i I for each particle i (viscous air drag f = -drag v).
+void addDragJacobian(const VecX& drag, Triplets& dfdv);
+
+}  // namespace wobble
