@@ -1,0 +1,13 @@
+// Each subcommand of the wobble program registers itself on the CLI11 app from its own file; main() only lists them.
+// A command's callback returns the process exit status through the shared int.
+#pragma once
+#include <CLI/CLI.hpp>
+
+namespace wobble {
+
+// Exit statuses shared by every command.
+enum ExitStatus : int { kExitOk = 0, kExitError = 1, kExitBadInput = 2, kExitBlowUp = 3 };
+
+void addRunCommand(CLI::App& app, int& status);
+
+}  // namespace wobble

@@ -1,0 +1,59 @@
+// One step of each integrator on the default jelly (10^3), the default cloth (25 x 25) and a 256 x 256 cloth,
+// reporting springs per second: springs x steps / second. A method with k force evaluations per step (RK4: 4) does
+// k times that many spring evaluations; compare methods by "steps/s", the force loop by explicit Euler's "springs/s".
+// Run: build/sim_bench [--benchmark_filter=rk4]
+#include <benchmark/benchmark.h>
+
+#include "sim/bodies/cloth.h"
+#include "sim/bodies/jelly.h"
+#include "sim/integrators/integrator.h"
+#include "sim/system.h"
+
+namespace wobble {
+namespace {
+
+MassSpringSystem makeSystem(int which) {
+  MassSpringSystem system;
+  if (which == 0) {
+    system.addBody(buildJelly("jelly", {}));
+  } else {
+    ClothParams p;
+    if (which == 2) p.nx = p.ny = 256;
+    p.pinned = clothPinSet("corners", p.nx, p.ny);
+    system.addBody(buildCloth("cloth", p));
+  }
+  return system;
+}
+
+const char* kSystemNames[] = {"jelly10", "cloth25", "cloth256"};
+
+void step(benchmark::State& state, std::string_view method) {
+  const int which = static_cast<int>(state.range(0));
+  MassSpringSystem system = makeSystem(which);
+  const double dt = which == 0 ? 1e-3 : 1e-4;
+  system.setStepSize(dt);
+  auto integrator = makeIntegrator(method);
+  VecX x = system.initialPositions(), v = system.initialVelocities();
+  double t = 0;
+  for (auto _ : state) {
+    integrator->step(system, t, dt, x, v);
+    t += dt;
+    benchmark::DoNotOptimize(x.data());
+  }
+  state.SetLabel(kSystemNames[which]);
+  state.counters["steps/s"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["springs/s"] =
+      benchmark::Counter(double(state.iterations() * system.springs().size()), benchmark::Counter::kIsRate);
+}
+
+void registerAll() {
+  for (std::string_view method : integratorNames())
+    benchmark::RegisterBenchmark(("step/" + std::string(method)).c_str(), step, method)
+        ->DenseRange(0, 2)
+        ->Unit(benchmark::kMicrosecond);
+}
+
+const int registered = (registerAll(), 0);
+
+}  // namespace
+}  // namespace wobble
