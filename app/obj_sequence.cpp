@@ -7,7 +7,7 @@
 #include <assimp/material.h>
 #include <assimp/scene.h>
 
-#include "atomic_file.h"
+#include "render/atomic_file.h"
 
 namespace fs = std::filesystem;
 
@@ -81,7 +81,7 @@ ObjSequenceWriter::ObjSequenceWriter(fs::path mesh_dir, const Body& body, std::o
   fs::create_directories(dir_);
   if (texture) {
     texture_name_ = texture->filename().string();
-    copyFileAtomically(*texture, dir_ / texture_name_);
+    render::writeAtomically(dir_ / texture_name_, [&](const fs::path& temp) { fs::copy_file(*texture, temp); });
   }
 }
 

@@ -1,12 +1,13 @@
 #include "run_command.h"
 
 #include <chrono>
+#include <fstream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
-#include "atomic_file.h"
 #include "obj_sequence.h"
+#include "render/atomic_file.h"
 #include "progress.h"
 #include "scene.h"
 #include "scene_error.h"
@@ -45,7 +46,11 @@ void writeRunJson(const Scene& scene, const Simulation& sim, const RunReport& r)
   if (r.blow_up)
     j["blow_up"] = {{"step", r.blow_up->step}, {"time", r.blow_up->time}, {"particle", r.blow_up->particle},
                     {"message", r.blow_up_message}};
-  writeFileAtomically(r.out / "run.json", j.dump(2) + "\n");
+  render::writeAtomically(r.out / "run.json", [&](const fs::path& temp) {
+    std::ofstream out(temp);
+    out << j.dump(2) << "\n";
+    if (!out.flush()) throw std::runtime_error("cannot write " + (r.out / "run.json").string());
+  });
 }
 
 }  // namespace

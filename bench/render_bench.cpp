@@ -1,0 +1,155 @@
+// Renderer benchmarks, all on one scene: the simulator's 10 x 10 x 10 jelly lattice surface (600 vertices, 972
+// triangles) resting on a 20 m quad, next to an analytic sphere, lit by a sun and the sky.
+//   BM_EmbreeIntersect1   raw Embree: rtcIntersect1 on the scene's RTCScene, one thread, camera rays of a 1280x720
+//                         view (first hits only, no shading): the ceiling for everything else
+//   BM_RendererRays       the renderer's rays per second (camera, bounce and shadow rays, with shading, texture
+//                         lookups and sampling) on a 320x180 frame at 4 samples per pixel; argument = threads
+//   BM_Frame720p          wall time of one 1280x720 frame at 16 samples per pixel, 2 bounces, all threads
+//   BM_GeometryUpdate     per-frame scene update: new jelly vertices and normals (updateMesh: NaN check, copy,
+//                         rtcUpdateGeometryBuffer, rtcCommitGeometry), the sphere moved, rtcCommitScene
+// Run: build/bench/render_bench (or /tmp/build-render/render_bench); rates are in the counters column.
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+#include <embree3/rtcore.h>
+#include <tbb/global_control.h>
+
+#include "render/camera.h"
+#include "render/renderer.h"
+#include "render/scene.h"
+#include "sim/bodies/jelly.h"
+#include "sim/surface.h"
+
+namespace {
+
+using namespace wobble::render;
+
+struct BenchScene {
+  Scene scene;
+  ShapeId jelly = -1, ball = -1;
+  TriangleMesh jelly_mesh;
+
+  BenchScene() {
+    wobble::JellyParams params;  // n = 10, size 4
+    params.center = {0, 2.05, 0};
+    params.rotation_axis = {0, 1, 0};
+    params.rotation_deg = 30;
+    const wobble::Body body = wobble::buildJelly("jelly", params);
+    const wobble::SurfaceFrame frame = wobble::evaluateSurface(body.surface, body.x, 0);
+    jelly_mesh.name = "jelly";
+    jelly_mesh.positions = frame.positions;
+    jelly_mesh.normals = frame.normals;
+    jelly_mesh.uv = body.surface.uv;
+    jelly_mesh.triangles = body.surface.triangles;
+
+    const auto checker = std::make_shared<CheckerTexture>(Color(0.9f, 0.3f, 0.3f), Color(0.9f, 0.9f, 0.9f), 8);
+    jelly = scene.addMesh(jelly_mesh, scene.addMaterial(Material::jelly("jelly", Color::Ones(), checker)));
+    scene.addQuad("floor", Quad{{0, 0, 0}, {0, 1, 0}, 20, 4},
+                  scene.addMaterial(Material::textured("wood", std::make_shared<WoodTexture>())));
+    ball = scene.addSphere("ball", Sphere{{-4, 1.5f, -1}, 1.5f},
+                           scene.addMaterial(Material::diffuse("red", Color(0.7f, 0.15f, 0.1f))));
+    scene.lights.suns = {SunLight{}};
+    scene.commit();
+  }
+};
+
+BenchScene& benchScene() {
+  static BenchScene s;
+  return s;
+}
+
+CameraParams view(int width, int height) {
+  CameraParams p;
+  p.position = {3, 6, 14};
+  p.look_at = {0, 2, 0};
+  p.vfov_deg = 45;
+  p.width = width;
+  p.height = height;
+  return p;
+}
+
+void BM_EmbreeIntersect1(benchmark::State& state) {
+  const RTCScene rtc = benchScene().scene.embreeScene();
+  const Camera camera(view(1280, 720));
+  std::vector<RTCRayHit> rays;
+  for (int y = 0; y < 720; y += 2)
+    for (int x = 0; x < 1280; x += 2) {
+      const Ray r = camera.ray(x + 0.5f, y + 0.5f);
+      RTCRayHit rh{};
+      rh.ray.org_x = r.origin.x(), rh.ray.org_y = r.origin.y(), rh.ray.org_z = r.origin.z();
+      rh.ray.dir_x = r.direction.x(), rh.ray.dir_y = r.direction.y(), rh.ray.dir_z = r.direction.z();
+      rh.ray.mask = 0xFFFFFFFFu;
+      rays.push_back(rh);
+    }
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  std::size_t hits = 0;
+  for (auto _ : state) {
+    for (RTCRayHit rh : rays) {
+      rh.ray.tnear = 0;
+      rh.ray.tfar = INFINITY;
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(rtc, &context, &rh);
+      hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+    }
+  }
+  benchmark::DoNotOptimize(hits);
+  state.counters["rays_per_s"] =
+      benchmark::Counter(double(rays.size()) * double(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_EmbreeIntersect1)->Unit(benchmark::kMillisecond);
+
+void BM_RendererRays(benchmark::State& state) {
+  const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, std::size_t(state.range(0)));
+  const Camera camera(view(320, 180));
+  RenderSettings settings;
+  settings.samples_per_pixel = 4;
+  std::uint64_t rays = 0, camera_rays = 0;
+  for (auto _ : state) {
+    RenderStats stats;
+    benchmark::DoNotOptimize(render(benchScene().scene, camera, settings, &stats));
+    rays += stats.rays;
+    camera_rays += stats.camera_rays;
+  }
+  state.counters["rays_per_s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
+  state.counters["camera_rays_per_s"] = benchmark::Counter(double(camera_rays), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_RendererRays)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_Frame720p(benchmark::State& state) {
+  const Camera camera(view(1280, 720));
+  RenderSettings settings;
+  settings.samples_per_pixel = 16;
+  std::uint64_t rays = 0;
+  for (auto _ : state) {
+    RenderStats stats;
+    benchmark::DoNotOptimize(render(benchScene().scene, camera, settings, &stats));
+    rays += stats.rays;
+  }
+  state.counters["rays_per_s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_Frame720p)->Iterations(2)->Unit(benchmark::kSecond)->UseRealTime();
+
+void BM_GeometryUpdate(benchmark::State& state) {
+  BenchScene& s = benchScene();
+  // A wobble: the jelly's vertices shifted by a smooth field, different each frame (prepared outside the loop).
+  std::vector<std::vector<Eigen::Vector3f>> frames(8, s.jelly_mesh.positions);
+  for (std::size_t f = 0; f < frames.size(); ++f)
+    for (auto& p : frames[f]) p += 0.05f * Eigen::Vector3f(std::sin(p.y() + f), 0, std::cos(p.x() + f));
+  std::size_t frame = 0;
+  for (auto _ : state) {
+    s.scene.updateMesh(s.jelly, frames[frame % frames.size()], s.jelly_mesh.normals);
+    s.scene.updateSphere(s.ball, Sphere{{-4, 1.5f + 0.01f * float(frame % 8), -1}, 1.5f});
+    s.scene.commit();
+    ++frame;
+  }
+  s.scene.updateMesh(s.jelly, s.jelly_mesh.positions, s.jelly_mesh.normals);  // leave the scene as it was
+  s.scene.updateSphere(s.ball, Sphere{{-4, 1.5f, -1}, 1.5f});
+  s.scene.commit();
+  state.counters["frames_per_s"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_GeometryUpdate)->Unit(benchmark::kMicrosecond);
+
+}  // namespace

@@ -1,0 +1,38 @@
+// Bsdf: the reflection model of a Material at one surface point (see material.h), in a shading frame.
+//   f(wo, wi) = (1 - coat F(n.wo)) base / pi  +  coat F(wi.h) D(h) G(wo, wi) / (4 |n.wo| |n.wi|)
+// with D the GGX distribution, G Smith's separable shadowing term and F Schlick's Fresnel with F0 from the ior.
+// Sampling picks the coat lobe (GGX half vectors drawn with density D(h) cos(h)) with a probability that grows with
+// the Fresnel term, otherwise the cosine-weighted diffuse lobe; the pdf is the mixture of both, so the estimate is
+// unbiased whichever lobe was picked. Directions point away from the surface; wo is towards the viewer.
+#pragma once
+#include <optional>
+
+#include "material.h"
+#include "sampling.h"
+
+namespace wobble::render {
+
+struct BsdfSample {
+  Eigen::Vector3f wi;      // world space, unit
+  Color weight;            // f(wo, wi) |n.wi| / pdf(wi)
+};
+
+class Bsdf {
+ public:
+  // n: unit shading normal on the side of wo.
+  Bsdf(const Material& material, const Color& base, const Eigen::Vector3f& n);
+
+  Color eval(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi) const;  // f, without the cosine
+  float pdf(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi) const;   // solid-angle density of sample()
+  std::optional<BsdfSample> sample(const Eigen::Vector3f& wo, float u_lobe, float u1, float u2) const;
+
+ private:
+  float fresnel(float cos_theta) const;
+  float coatProbability(float cos_o) const;
+
+  Frame frame_;
+  Color base_;
+  float coat_, f0_, alpha_;
+};
+
+}  // namespace wobble::render

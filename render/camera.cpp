@@ -1,0 +1,42 @@
+// Pinhole camera: orthonormal basis from position/look_at/up, and primary rays (see camera.h).
+#include "camera.h"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Geometry>
+
+namespace wobble::render {
+
+Camera::Camera(const CameraParams& p) : params_(p) {
+  if (p.width <= 0 || p.height <= 0)
+    throw std::invalid_argument("camera: resolution must be positive, got " + std::to_string(p.width) + "x" +
+                                std::to_string(p.height));
+  if (!(p.vfov_deg > 0 && p.vfov_deg < 180))
+    throw std::invalid_argument("camera: vertical field of view must be in (0, 180) degrees, got " +
+                                std::to_string(p.vfov_deg));
+  const Eigen::Vector3f view = p.look_at - p.position;
+  if (!view.allFinite() || view.norm() < 1e-12f)
+    throw std::invalid_argument("camera: look_at must differ from position");
+  forward_ = view.normalized();
+  const Eigen::Vector3f side = forward_.cross(p.up);
+  if (!side.allFinite() || side.norm() < 1e-6f * p.up.norm() || p.up.norm() == 0)
+    throw std::invalid_argument("camera: up must not be parallel to the view direction");
+  right_ = side.normalized();
+  up_ = right_.cross(forward_);
+  tan_half_y_ = std::tan(0.5f * p.vfov_deg * std::numbers::pi_v<float> / 180.0f);
+  tan_half_x_ = tan_half_y_ * static_cast<float>(p.width) / static_cast<float>(p.height);
+}
+
+Ray Camera::ray(float x, float y) const {
+  const float sx = (2.0f * x / static_cast<float>(params_.width) - 1.0f) * tan_half_x_;
+  const float sy = (1.0f - 2.0f * y / static_cast<float>(params_.height)) * tan_half_y_;
+  Ray r;
+  r.origin = params_.position;
+  r.direction = (forward_ + sx * right_ + sy * up_).normalized();
+  return r;
+}
+
+}  // namespace wobble::render

@@ -1,0 +1,51 @@
+// Camera: a pinhole camera.
+//
+// Parameters (CameraParams):
+//   position   eye point (world space)
+//   look_at    point the optical axis passes through (must differ from position)
+//   up         approximate up direction (not parallel to the view direction); the image's up is its part
+//              orthogonal to the view direction
+//   vfov_deg   vertical field of view in degrees, in (0, 180); the horizontal one follows from the aspect ratio
+//   width, height   resolution in pixels (> 0)
+// Film coordinates: x to the right in [0, width], y downwards in [0, height]; pixel (i, j) covers
+// [i, i+1] x [j, j+1], so its centre is (i + 0.5, j + 0.5).
+#pragma once
+#include <Eigen/Core>
+
+#include "ray.h"
+
+namespace wobble::render {
+
+struct CameraParams {
+  Eigen::Vector3f position{0, 2, 10};
+  Eigen::Vector3f look_at{0, 0, 0};
+  Eigen::Vector3f up{0, 1, 0};
+  float vfov_deg = 40;
+  int width = 640, height = 360;
+};
+
+class Camera {
+ public:
+  // Throws std::invalid_argument on a degenerate view or resolution.
+  explicit Camera(const CameraParams& params);
+
+  // Primary ray through film point (x, y) in pixels; unit direction, starting at the eye.
+  Ray ray(float x, float y) const;
+
+  // Distance of p from the eye along the optical axis (the EXR depth channel).
+  float depth(const Eigen::Vector3f& p) const { return (p - params_.position).dot(forward_); }
+
+  const CameraParams& params() const { return params_; }
+  int width() const { return params_.width; }
+  int height() const { return params_.height; }
+  const Eigen::Vector3f& forward() const { return forward_; }
+  const Eigen::Vector3f& right() const { return right_; }
+  const Eigen::Vector3f& up() const { return up_; }
+
+ private:
+  CameraParams params_;
+  Eigen::Vector3f forward_, right_, up_;  // orthonormal, right-handed: right = forward x up
+  float tan_half_y_, tan_half_x_;
+};
+
+}  // namespace wobble::render

@@ -1,0 +1,44 @@
+// sRGB transfer functions and tone-map curves (see color.h).
+#include "color.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace wobble::render {
+
+float srgbToLinear(float v) {
+  return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+}
+
+float srgb8ToLinear(std::uint8_t code) {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) t[i] = srgbToLinear(static_cast<float>(i) / 255.0f);
+    return t;
+  }();
+  return table[code];
+}
+
+float linearToSrgb(float v) {
+  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+std::uint8_t linearToSrgb8(float linear) {
+  // !(x > 0) also sends NaN to black rather than to an arbitrary code.
+  const float v = !(linear > 0) ? 0.0f : std::min(linear, 1.0f);
+  return static_cast<std::uint8_t>(std::lround(linearToSrgb(v) * 255.0f));
+}
+
+float ToneMap::apply(float linear) const {
+  const float x = std::max(0.0f, linear) * std::exp2(exposure);
+  float y = x;
+  switch (curve) {
+    case Curve::Aces: y = x * (2.51f * x + 0.03f) / (x * (2.43f * x + 0.59f) + 0.14f); break;
+    case Curve::Reinhard: y = x / (1.0f + x); break;
+    case Curve::Clamp: break;
+  }
+  return std::clamp(y, 0.0f, 1.0f);
+}
+
+}  // namespace wobble::render

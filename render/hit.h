@@ -1,0 +1,22 @@
+// SurfaceHit: what a ray hit, in the terms shading needs.
+//   t          ray parameter (distance, since ray directions are unit)
+//   p          hit point (interpolated from the triangle's vertices, more accurate than origin + t dir)
+//   ng         unit geometric normal as modelled: (p1 - p0) x (p2 - p0) for a triangle, outward for a sphere.
+//              Not turned towards the ray.
+//   ns         unit shading normal: interpolated vertex normals (ng where the mesh has none)
+//   uv         interpolated texture coordinates
+//   shape, primitive   the Scene's shape id and the triangle index within it (0 for a sphere)
+//   material   the shape's material id
+#pragma once
+#include <Eigen/Core>
+
+namespace wobble::render {
+
+struct SurfaceHit {
+  float t = 0;
+  Eigen::Vector3f p, ng, ns;
+  Eigen::Vector2f uv;
+  int shape = -1, primitive = -1, material = -1;
+};
+
+}  // namespace wobble::render

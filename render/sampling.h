@@ -1,0 +1,42 @@
+// Sampling helpers: an orthonormal frame around a normal, and warps from the unit square to directions.
+// Directions are returned in the local frame (z = the frame's normal) unless said otherwise.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/Core>
+
+namespace wobble::render {
+
+// Orthonormal basis (s, t, n) around a unit normal n (Duff et al. 2017, branchless and continuous enough).
+struct Frame {
+  Eigen::Vector3f s, t, n;
+
+  explicit Frame(const Eigen::Vector3f& normal) : n(normal) {
+    const float sign = std::copysign(1.0f, n.z());
+    const float a = -1.0f / (sign + n.z());
+    const float b = n.x() * n.y() * a;
+    s = Eigen::Vector3f(1.0f + sign * n.x() * n.x() * a, sign * b, -sign * n.x());
+    t = Eigen::Vector3f(b, sign + n.y() * n.y() * a, -n.y());
+  }
+  Eigen::Vector3f toWorld(const Eigen::Vector3f& v) const { return v.x() * s + v.y() * t + v.z() * n; }
+  Eigen::Vector3f toLocal(const Eigen::Vector3f& v) const { return {v.dot(s), v.dot(t), v.dot(n)}; }
+};
+
+// Cosine-weighted hemisphere (Malley's method); pdf = cos(theta) / pi.
+inline Eigen::Vector3f sampleCosineHemisphere(float u1, float u2) {
+  const float r = std::sqrt(u1);
+  const float phi = 2.0f * std::numbers::pi_v<float> * u2;
+  return {r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0f, 1.0f - u1))};
+}
+
+// Uniform over the cone of directions within acos(cos_max) of +z; pdf = 1 / (2 pi (1 - cos_max)).
+inline Eigen::Vector3f sampleUniformCone(float u1, float u2, float cos_max) {
+  const float cos_theta = 1.0f - u1 * (1.0f - cos_max);
+  const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
+  const float phi = 2.0f * std::numbers::pi_v<float> * u2;
+  return {sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta};
+}
+
+}  // namespace wobble::render

@@ -1,0 +1,202 @@
+// Scene: shapes, materials and their Embree geometries; ray queries with interpolated hit data (see scene.h).
+#include "scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+
+#include "embree_device.h"
+#include "embree_mesh.h"
+#include "embree_scene.h"
+#include "embree_sphere.h"
+
+namespace wobble::render {
+
+using Eigen::Vector2f;
+using Eigen::Vector3f;
+
+struct Scene::Shape {
+  enum class Kind { Mesh, Quad, Box, Sphere } kind;
+  std::string name;
+  MaterialId material;
+  TriangleMesh mesh;                          // CPU copy for interpolation (Mesh, Quad, Box)
+  Sphere sphere;                              // Sphere
+  std::unique_ptr<EmbreeTriangleMesh> rtc_mesh;
+  std::unique_ptr<EmbreeSphere> rtc_sphere;
+};
+
+Scene::Scene() : device_(std::make_unique<EmbreeDevice>()), rtc_(std::make_unique<EmbreeScene>(device_->get())) {}
+// Shapes (geometries) must go before the Embree scene, and the scene before the device.
+Scene::~Scene() {
+  shapes_.clear();
+  rtc_.reset();
+}
+Scene::Scene(Scene&&) noexcept = default;
+Scene& Scene::operator=(Scene&&) noexcept = default;
+
+MaterialId Scene::addMaterial(Material material) {
+  checkMaterial(material);
+  materials_.push_back(std::move(material));
+  return static_cast<MaterialId>(materials_.size() - 1);
+}
+
+const std::string& Scene::shapeName(ShapeId id) const { return shapes_.at(id)->name; }
+
+RTCScene Scene::embreeScene() const { return rtc_->get(); }
+
+Scene::Shape& Scene::shape(ShapeId id, const char* expected_kind) {
+  if (id < 0 || std::size_t(id) >= shapes_.size())
+    throw std::out_of_range("scene: no shape with id " + std::to_string(id));
+  Shape& s = *shapes_[id];
+  static const char* names[] = {"mesh", "quad", "box", "sphere"};
+  if (std::string(names[static_cast<int>(s.kind)]) != expected_kind)
+    throw std::invalid_argument("scene: shape '" + s.name + "' is a " + names[static_cast<int>(s.kind)] + ", not a " +
+                                expected_kind);
+  return s;
+}
+
+ShapeId Scene::attach(std::unique_ptr<Shape> s) {
+  if (s->material < 0 || std::size_t(s->material) >= materials_.size())
+    throw std::invalid_argument("scene: shape '" + s->name + "' uses material " + std::to_string(s->material) +
+                                ", but only " + std::to_string(materials_.size()) + " exist");
+  const auto id = static_cast<ShapeId>(shapes_.size());
+  if (s->kind == Shape::Kind::Sphere) {
+    s->rtc_sphere = std::make_unique<EmbreeSphere>(device_->get());
+    s->rtc_sphere->set(s->sphere.center, s->sphere.radius);
+    rtc_->attach(s->rtc_sphere->get(), static_cast<unsigned>(id));
+  } else {
+    s->rtc_mesh = std::make_unique<EmbreeTriangleMesh>(device_->get(), s->mesh.triangles, s->mesh.positions.size(),
+                                                       RTC_BUILD_QUALITY_MEDIUM);
+    s->rtc_mesh->setVertices(s->mesh.positions);
+    rtc_->attach(s->rtc_mesh->get(), static_cast<unsigned>(id));
+  }
+  device_->check("scene: adding shape '" + s->name + "'");
+  shapes_.push_back(std::move(s));
+  committed_ = false;
+  return id;
+}
+
+ShapeId Scene::addMesh(TriangleMesh mesh, MaterialId material) {
+  checkMesh(mesh);
+  auto s = std::make_unique<Shape>();
+  s->kind = Shape::Kind::Mesh;
+  s->name = mesh.name;
+  s->material = material;
+  s->mesh = std::move(mesh);
+  return attach(std::move(s));
+}
+
+void Scene::updateMesh(ShapeId id, std::span<const Vector3f> positions, std::span<const Vector3f> normals) {
+  Shape& s = shape(id, "mesh");
+  const std::size_t n = s.mesh.positions.size();
+  if (positions.size() != n)
+    throw std::invalid_argument("mesh '" + s.name + "': " + std::to_string(positions.size()) +
+                                " positions, but the mesh has " + std::to_string(n) + " vertices");
+  if (!normals.empty() && normals.size() != n)
+    throw std::invalid_argument("mesh '" + s.name + "': " + std::to_string(normals.size()) +
+                                " normals, but the mesh has " + std::to_string(n) + " vertices");
+  checkFinite(s.name, "position", positions);
+  checkFinite(s.name, "normal", normals);
+  s.mesh.positions.assign(positions.begin(), positions.end());
+  if (!normals.empty()) s.mesh.normals.assign(normals.begin(), normals.end());
+  s.rtc_mesh->setVertices(s.mesh.positions);
+  device_->check("mesh '" + s.name + "': updating vertices");
+  committed_ = false;
+}
+
+ShapeId Scene::addQuad(const std::string& name, const Quad& quad, MaterialId material) {
+  auto s = std::make_unique<Shape>();
+  s->kind = Shape::Kind::Quad;
+  s->name = name;
+  s->material = material;
+  s->mesh = quadMesh(name, quad);
+  return attach(std::move(s));
+}
+
+void Scene::updateQuad(ShapeId id, const Quad& quad) {
+  Shape& s = shape(id, "quad");
+  s.mesh = quadMesh(s.name, quad);
+  s.rtc_mesh->setVertices(s.mesh.positions);
+  committed_ = false;
+}
+
+ShapeId Scene::addBox(const std::string& name, const Box& box, MaterialId material) {
+  auto s = std::make_unique<Shape>();
+  s->kind = Shape::Kind::Box;
+  s->name = name;
+  s->material = material;
+  s->mesh = boxMesh(name, box);
+  return attach(std::move(s));
+}
+
+void Scene::updateBox(ShapeId id, const Box& box) {
+  Shape& s = shape(id, "box");
+  s.mesh = boxMesh(s.name, box);
+  s.rtc_mesh->setVertices(s.mesh.positions);
+  committed_ = false;
+}
+
+ShapeId Scene::addSphere(const std::string& name, const Sphere& sphere, MaterialId material) {
+  checkSphere(name, sphere);
+  auto s = std::make_unique<Shape>();
+  s->kind = Shape::Kind::Sphere;
+  s->name = name;
+  s->material = material;
+  s->sphere = sphere;
+  return attach(std::move(s));
+}
+
+void Scene::updateSphere(ShapeId id, const Sphere& sphere) {
+  Shape& s = shape(id, "sphere");
+  checkSphere(s.name, sphere);
+  s.sphere = sphere;
+  s.rtc_sphere->set(sphere.center, sphere.radius);
+  committed_ = false;
+}
+
+void Scene::commit() {
+  checkLights(lights);
+  rtc_->commit();
+  device_->check("scene: commit");
+  committed_ = true;
+}
+
+bool Scene::occluded(const Ray& ray) const { return rtc_->occluded(ray); }
+
+std::optional<SurfaceHit> Scene::intersect(const Ray& ray) const {
+  const RTCRayHit rh = rtc_->intersect(ray);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+  const Shape& s = *shapes_[rh.hit.geomID];
+  SurfaceHit h;
+  h.t = rh.ray.tfar;
+  h.shape = static_cast<int>(rh.hit.geomID);
+  h.primitive = static_cast<int>(rh.hit.primID);
+  h.material = s.material;
+  if (s.kind == Shape::Kind::Sphere) {
+    const Vector3f d = (ray.at(h.t) - s.sphere.center).normalized();
+    h.p = s.sphere.center + s.sphere.radius * d;  // back onto the surface: less self-intersection
+    h.ng = h.ns = d;
+    const float pi = std::numbers::pi_v<float>;
+    h.uv = Vector2f(0.5f + std::atan2(d.x(), d.z()) / (2 * pi), 0.5f + std::asin(std::clamp(d.y(), -1.0f, 1.0f)) / pi);
+    return h;
+  }
+  const auto& tri = s.mesh.triangles[rh.hit.primID];
+  const float b1 = rh.hit.u, b2 = rh.hit.v, b0 = 1.0f - b1 - b2;
+  const Vector3f &p0 = s.mesh.positions[tri[0]], &p1 = s.mesh.positions[tri[1]], &p2 = s.mesh.positions[tri[2]];
+  h.p = b0 * p0 + b1 * p1 + b2 * p2;
+  const Vector3f n = (p1 - p0).cross(p2 - p0);
+  h.ng = n.norm() > 0 ? n.normalized() : Vector3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
+  h.ns = h.ng;
+  if (!s.mesh.normals.empty()) {
+    const Vector3f ns = b0 * s.mesh.normals[tri[0]] + b1 * s.mesh.normals[tri[1]] + b2 * s.mesh.normals[tri[2]];
+    if (ns.norm() > 1e-12f) h.ns = ns.normalized();
+  }
+  h.uv = s.mesh.uv.empty() ? Vector2f::Zero()
+                           : Vector2f(b0 * s.mesh.uv[tri[0]] + b1 * s.mesh.uv[tri[1]] + b2 * s.mesh.uv[tri[2]]);
+  return h;
+}
+
+}  // namespace wobble::render

@@ -1,0 +1,86 @@
+// Scene: everything the renderer draws: materials, shapes (simulator meshes, quads, boxes, spheres) and lights.
+// It knows nothing about springs or bodies: the app converts its bodies and colliders into these calls.
+//
+// Life cycle per frame:
+//   1. once:       add materials, then shapes (each returns an id), set `lights`
+//   2. per frame:  updateMesh / updateBox / updateQuad / updateSphere for whatever moved, then commit()
+//   3. render (renderer.h); intersect/occluded are safe to call from many threads between commits.
+// Every add/update validates its input and throws std::invalid_argument naming the shape (e.g. a NaN vertex),
+// so a broken simulation frame is reported instead of rendered with triangles silently missing.
+// Embree objects are owned here; the Scene is movable but not copyable.
+#pragma once
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <embree3/rtcore.h>
+
+#include "hit.h"
+#include "lights.h"
+#include "material.h"
+#include "mesh.h"
+#include "ray.h"
+#include "shapes.h"
+
+namespace wobble::render {
+
+using MaterialId = int;
+using ShapeId = int;
+
+class EmbreeDevice;
+class EmbreeScene;
+class EmbreeTriangleMesh;
+class EmbreeSphere;
+
+class Scene {
+ public:
+  Scene();
+  ~Scene();
+  Scene(Scene&&) noexcept;
+  Scene& operator=(Scene&&) noexcept;
+
+  MaterialId addMaterial(Material material);
+  const Material& material(MaterialId id) const { return materials_.at(id); }
+
+  // Topology (triangles, uv, vertex count) is fixed from here on.
+  ShapeId addMesh(TriangleMesh mesh, MaterialId material);
+  // New positions (same count and order) and optionally new normals (empty keeps flat/previous normals).
+  void updateMesh(ShapeId id, std::span<const Eigen::Vector3f> positions,
+                  std::span<const Eigen::Vector3f> normals = {});
+
+  ShapeId addQuad(const std::string& name, const Quad& quad, MaterialId material);
+  void updateQuad(ShapeId id, const Quad& quad);
+  ShapeId addBox(const std::string& name, const Box& box, MaterialId material);
+  void updateBox(ShapeId id, const Box& box);
+  ShapeId addSphere(const std::string& name, const Sphere& sphere, MaterialId material);
+  void updateSphere(ShapeId id, const Sphere& sphere);
+
+  // Builds the acceleration structure (rtcCommitScene). Needed after any add or update, before tracing.
+  void commit();
+  bool committed() const { return committed_; }
+
+  Lights lights;
+
+  std::optional<SurfaceHit> intersect(const Ray& ray) const;
+  bool occluded(const Ray& ray) const;
+
+  std::size_t shapeCount() const { return shapes_.size(); }
+  const std::string& shapeName(ShapeId id) const;
+  // The raw Embree scene, for benchmarks and experiments.
+  RTCScene embreeScene() const;
+
+ private:
+  struct Shape;
+  Shape& shape(ShapeId id, const char* expected_kind);
+  ShapeId attach(std::unique_ptr<Shape> shape);
+
+  std::unique_ptr<EmbreeDevice> device_;
+  std::unique_ptr<EmbreeScene> rtc_;
+  std::vector<Material> materials_;
+  std::vector<std::unique_ptr<Shape>> shapes_;
+  bool committed_ = false;
+};
+
+}  // namespace wobble::render

@@ -1,0 +1,85 @@
+// scenes/README.md documents exactly the keys the scene reader accepts, table by table: a key the reader takes but
+// the README omits, or a documented key the reader rejects, fails here.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "app/scene.h"
+#include "app/scene_error.h"
+#include "scratch_dir.h"
+
+namespace wobble {
+namespace {
+
+using Keys = std::set<std::string>;
+
+// Keys in the "| `key` |" rows of the README section whose heading line is exactly heading.
+Keys documentedKeys(const std::string& heading) {
+  std::ifstream in(testing::sourceDir() / "scenes/README.md");
+  Keys keys;
+  bool inside = false;
+  const std::regex row(R"(^\| `([a-z_]+)` \|)");
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("### ", 0) == 0) inside = line == heading;
+    std::smatch m;
+    if (inside && std::regex_search(line, m, row)) keys.insert(m[1]);
+  }
+  return keys;
+}
+
+Keys& operator+=(Keys& a, const Keys& b) {
+  a.insert(b.begin(), b.end());
+  return a;
+}
+
+class SceneDocs : public testing::ScratchDir {
+ protected:
+  // The reader's own list of keys for a table: provoke an unknown-key error there and read "(allowed here: ...)".
+  Keys acceptedKeys(const std::string& scene_text) {
+    try {
+      loadScene(write("probe.toml", scene_text));
+    } catch (const SceneError& e) {
+      const std::string m = e.what();
+      const auto from = m.find("(allowed here: ");
+      if (from == std::string::npos) {
+        ADD_FAILURE() << m;
+        return {};
+      }
+      std::stringstream list(m.substr(from + 15, m.rfind(')') - from - 15));
+      Keys keys;
+      for (std::string k; std::getline(list, k, ',');) keys.insert(k.substr(k.find_first_not_of(' ')));
+      return keys;
+    }
+    ADD_FAILURE() << "no error for the probe";
+    return {};
+  }
+};
+
+const std::string kBody = "[bodies.b]\ntype = \"jelly\"\nn = 2\n";
+
+TEST_F(SceneDocs, SimulationAndOutput) {
+  EXPECT_EQ(acceptedKeys("[simulation]\nzzz = 1\n" + kBody), documentedKeys("### `[simulation]`"));
+  EXPECT_EQ(acceptedKeys("[output]\nzzz = 1\n" + kBody), documentedKeys("### `[output]`"));
+}
+
+TEST_F(SceneDocs, Bodies) {
+  EXPECT_EQ(acceptedKeys(kBody + "zzz = 1\n"), documentedKeys("### `[bodies.NAME]` with `type = \"jelly\"`"));
+  EXPECT_EQ(acceptedKeys("[bodies.c]\ntype = \"cloth\"\nzzz = 1\n"),
+            documentedKeys("### `[bodies.NAME]` with `type = \"cloth\"`"));
+}
+
+TEST_F(SceneDocs, Colliders) {
+  const Keys common = documentedKeys("### `[colliders.NAME]`, every type");
+  ASSERT_FALSE(common.empty());
+  for (const char* type : {"plane", "sphere", "elevator"}) {
+    Keys documented = common;
+    documented += documentedKeys("### `[colliders.NAME]` with `type = \"" + std::string(type) + "\"`");
+    EXPECT_EQ(acceptedKeys(kBody + "[colliders.c]\ntype = \"" + type + "\"\nzzz = 1\n"), documented) << type;
+  }
+}
+
+}  // namespace
+}  // namespace wobble
