@@ -4,6 +4,13 @@
 
 namespace wobble {
 
+std::optional<SurfacePoint> activeSupport(const Collider& collider, double t, const Vec3& x, const Vec3& f, double m) {
+  auto s = collider.query(t, x);
+  if (!s || std::abs(s->distance) >= collider.contact().epsilon) return std::nullopt;
+  if (s->normal.dot(f - m * s->acceleration) >= 0) return std::nullopt;
+  return s;
+}
+
 void addContactForces(Colliders colliders, double t, const VecX& x, const VecX& v, const VecX& mass,
                       const VecX& inv_mass, double stick_time, VecX& f) {
   if (colliders.empty()) return;
@@ -11,14 +18,12 @@ void addContactForces(Colliders colliders, double t, const VecX& x, const VecX& 
   for (Eigen::Index i = 0; i < n; ++i) {
     if (inv_mass[i] == 0) continue;
     for (const auto& collider : colliders) {
-      const auto s = collider->query(t, particle(x, i));
-      const ContactParams& c = collider->contact();
-      if (!s || std::abs(s->distance) >= c.epsilon) continue;
-      // Net force relative to the surface's frame: what would accelerate the particle away from the surface.
+      const auto s = activeSupport(*collider, t, particle(x, i), particle(f, i), mass[i]);
+      if (!s) continue;
+      // Net force relative to the surface's frame; its normal part pushes into the surface (activeSupport).
       const Vec3 g = particle(f, i) - mass[i] * s->acceleration;
-      const double push = s->normal.dot(g);
-      if (push >= 0) continue;
-      const double support = -push;
+      const double push = s->normal.dot(g), support = -push;
+      const ContactParams& c = collider->contact();
       const Vec3 vr = particle(v, i) - s->velocity;
       const Vec3 vt = vr - s->normal.dot(vr) * s->normal;
       const Vec3 gt = g - push * s->normal;

@@ -20,6 +20,11 @@ namespace wobble {
 
 using Colliders = std::span<const std::unique_ptr<Collider>>;
 
+// The surface point at which collider supports a particle at x with mass m under net force f at time t: within
+// epsilon of the surface, with f (relative to the surface's acceleration) pushing into it. Nothing otherwise.
+// The one definition of an active contact, for the explicit forces here and the implicit constraints.
+std::optional<SurfacePoint> activeSupport(const Collider& collider, double t, const Vec3& x, const Vec3& f, double m);
+
 void addContactForces(Colliders colliders, double t, const VecX& x, const VecX& v, const VecX& mass,
                       const VecX& inv_mass, double stick_time, VecX& f);
 

@@ -1,7 +1,5 @@
 #include "contact_constraints.h"
 
-#include <cmath>
-
 namespace wobble {
 
 void findContactConstraints(Colliders colliders, double t, const VecX& x, const VecX& f, const VecX& mass,
@@ -11,9 +9,8 @@ void findContactConstraints(Colliders colliders, double t, const VecX& x, const 
   for (Eigen::Index i = 0; i < n; ++i) {
     if (inv_mass[i] == 0) continue;
     for (const auto& collider : colliders) {
-      const auto s = collider->query(t, particle(x, i));
-      if (!s || std::abs(s->distance) >= collider->contact().epsilon) continue;
-      if (s->normal.dot(particle(f, i) - mass[i] * s->acceleration) >= 0) continue;
+      const auto s = activeSupport(*collider, t, particle(x, i), particle(f, i), mass[i]);
+      if (!s) continue;
       out.push_back({static_cast<int>(i), s->normal, s->normal.dot(s->acceleration)});
       break;
     }

@@ -7,7 +7,7 @@ namespace wobble {
 
 // Replaces out by the particles whose support force addContactForces makes active at (t, x): within epsilon of a
 // surface, with the smooth force f (everything but contact), relative to the surface's acceleration, pushing into
-// it. The first such collider per particle; pinned particles are skipped. Must mirror addContactForces' condition.
+// it (activeSupport, shared with addContactForces). The first such collider per particle; pinned ones are skipped.
 void findContactConstraints(Colliders colliders, double t, const VecX& x, const VecX& f, const VecX& mass,
                             const VecX& inv_mass, std::vector<ContactConstraint>& out);
 
