@@ -47,8 +47,9 @@ TEST_P(JellyFreeFall, FallsAsAPointMassAndKeepsItsShape) {
   const bool iterative = GetParam() == "backward-euler";
   EXPECT_LT(worst, iterative ? 1e-6 : 1e-9);
   EXPECT_LT(maxStrain(system.springs(), sim.x()), iterative ? 1e-8 : 1e-10);
-  if (GetParam() == "rk4" || GetParam() == "midpoint")  // exact on constant acceleration, so no "slow motion"
+  if (GetParam() == "rk4" || GetParam() == "midpoint") {  // exact on constant acceleration, so no "slow motion"
     EXPECT_NEAR(expected.y(), 2 * t - 0.5 * 9.8 * t * t, 1e-10);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(AllIntegrators, JellyFreeFall, ::testing::ValuesIn(std::vector<std::string>(
