@@ -9,5 +9,9 @@ namespace wobble {
 enum ExitStatus : int { kExitOk = 0, kExitError = 1, kExitBadInput = 2, kExitBlowUp = 3 };
 
 void addRunCommand(CLI::App& app, int& status);
+void addRenderCommand(CLI::App& app, int& status);  // render_cli.cpp
+void addDiffCommand(CLI::App& app, int& status);    // diff_cli.cpp: sets status to idiff's exit code
+// `study accuracy` and `study stability` (app/study_cli.cpp).
+void addStudyCommand(CLI::App& app, int& status);
 
 }  // namespace wobble

@@ -5,12 +5,15 @@
 #include "scene_error.h"
 
 int main(int argc, char** argv) {
-  CLI::App app{"wobble: simulate mass-spring jellies and cloths from a scene file, export OBJ sequences."};
+  CLI::App app{"wobble: simulate mass-spring jellies and cloths from a scene file, export OBJ sequences, render them."};
   app.require_subcommand(1);
   app.footer("Example:\n  wobble run scenes/jelly_slope.toml --integrator midpoint --set jelly.ks=2800\n"
              "Exit status: 0 done, 1 error, 2 bad input (nothing written), 3 the simulation blew up.");
   int status = wobble::kExitOk;
   wobble::addRunCommand(app, status);
+  wobble::addRenderCommand(app, status);
+  wobble::addDiffCommand(app, status);
+  wobble::addStudyCommand(app, status);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -5,8 +5,12 @@
 
 namespace wobble {
 
-Progress::Progress(std::string what, int total)
-    : what_(std::move(what)), total_(total), enabled_(isatty(STDERR_FILENO)), start_(std::chrono::steady_clock::now()) {}
+Progress::Progress(std::string what, int total, std::string unit)
+    : what_(std::move(what)),
+      unit_(std::move(unit)),
+      total_(total),
+      enabled_(isatty(STDERR_FILENO)),
+      start_(std::chrono::steady_clock::now()) {}
 
 void Progress::update(int done) {
   if (!enabled_) return;
@@ -15,8 +19,8 @@ void Progress::update(int done) {
   last_ = now;
   const double elapsed = std::chrono::duration<double>(now - start_).count();
   const double remaining = done > 0 ? elapsed * (total_ - done) / done : 0;
-  std::fprintf(stderr, "\r%s: frame %d of %d, elapsed %.1f s, remaining %.1f s   ", what_.c_str(), done, total_, elapsed,
-               remaining);
+  std::fprintf(stderr, "\r%s: %s %d of %d, elapsed %.1f s, remaining %.1f s   ", what_.c_str(), unit_.c_str(), done,
+               total_, elapsed, remaining);
   std::fflush(stderr);
 }
 

@@ -1,4 +1,5 @@
 // A one-line progress report (frame k of n, elapsed, remaining) on a terminal; silent when stderr is not one.
+// unit names what is counted ("frame" by default; the studies count runs).
 #pragma once
 #include <chrono>
 #include <string>
@@ -7,12 +8,12 @@ namespace wobble {
 
 class Progress {
  public:
-  Progress(std::string what, int total);  // enabled only when stderr is a terminal
+  Progress(std::string what, int total, std::string unit = "frame");  // enabled only when stderr is a terminal
   void update(int done);
   void finish();  // ends the line so later messages start on their own
 
  private:
-  std::string what_;
+  std::string what_, unit_;
   int total_;
   bool enabled_;
   std::chrono::steady_clock::time_point start_, last_;

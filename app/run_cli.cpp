@@ -19,13 +19,23 @@ void printReport(const RunReport& r) {
   std::printf("wrote %d frame(s) %d..%d to %s (%ld steps, %.3f s simulated; simulate %.2f s, export %.2f s)\n",
               r.frames_written, r.first_frame, r.first_frame + std::max(0, r.frames_written - 1), r.out.c_str(), r.steps,
               r.simulated_time, r.seconds_simulate, r.seconds_export);
+  if (r.frames_rendered > 0)
+    std::printf("rendered %d frame(s) into %s (%.2f s)%s%s\n", r.frames_rendered, (r.out / "frames").c_str(),
+                r.seconds_render, r.video ? "; video " : "", r.video ? r.video->c_str() : "");
+  if (const auto& e = r.error_estimate) {
+    std::printf("estimated error: max %.3g m, RMS %.3g m, at the last frame %.3g m over %d frame(s) (dt/2 rerun, "
+                "Richardson order %d; %.2f s)\n",
+                e->max_error, e->rms_error, e->final_max_error, e->frames, e->order, e->seconds);
+    if (!e->failure.empty()) std::printf("  (partial: %s)\n", e->failure.c_str());
+  }
 }
 
 }  // namespace
 
 void addRunCommand(CLI::App& app, int& status) {
   auto options = std::make_shared<RunOptions>();
-  CLI::App* cmd = app.add_subcommand("run", "Simulate a scene; write OUT/mesh/<body>_NNNN.obj and OUT/run.json");
+  CLI::App* cmd = app.add_subcommand(
+      "run", "Simulate a scene; write OUT/mesh/<body>_NNNN.obj, OUT/run.json and OUT/frames/<scene>_NNNN.png");
   cmd->add_option("scene", options->scene, "Scene file (TOML)")->capture_default_str();
   cmd->add_option("--integrator", options->integrator, "Integrator: " + integratorList());
   cmd->add_option("--dt", options->dt, "Time step in seconds (overrides simulation.dt)");
@@ -33,6 +43,9 @@ void addRunCommand(CLI::App& app, int& status) {
   cmd->add_option("--out", options->out, "Output folder (default out/<scene name>)");
   cmd->add_option("--set", options->sets,
                   "Override a scene key, KEY=VALUE in TOML syntax (repeatable), e.g. --set jelly.ks=2800");
+  addRenderFlags(*cmd, options->render);
+  cmd->add_flag("--estimate-error", options->estimate_error,
+                "Also run at dt/2 and report the estimated position error at the frames (doubles the run time)");
   cmd->footer("Example:\n  wobble run scenes/cloth_sphere.toml --frames 1:30 --out out/test --set cloth.ks=25000");
   cmd->callback([options, &status] {
     const RunReport report = runScene(*options);

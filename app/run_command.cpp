@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "frame_output.h"
 #include "obj_sequence.h"
 #include "render/atomic_file.h"
 #include "progress.h"
@@ -37,7 +38,9 @@ void writeRunJson(const Scene& scene, const Simulation& sim, const RunReport& r)
   j["frames"] = {{"first", r.first_frame}, {"last", r.last_frame}, {"written", r.frames_written}};
   j["steps"] = r.steps;
   j["simulated_time"] = r.simulated_time;
-  j["wall_time_seconds"] = {{"simulate", r.seconds_simulate}, {"export", r.seconds_export}};
+  j["wall_time_seconds"] = {
+      {"simulate", r.seconds_simulate}, {"export", r.seconds_export}, {"render", r.seconds_render}};
+  j["frames_rendered"] = r.frames_rendered;
   j["energy"] = {{"start", r.energy_start}, {"end", r.energy_end}};
   j["max_speed"] = r.max_speed;
   j["particles"] = sim.system().particleCount();
@@ -46,6 +49,17 @@ void writeRunJson(const Scene& scene, const Simulation& sim, const RunReport& r)
   if (r.blow_up)
     j["blow_up"] = {{"step", r.blow_up->step}, {"time", r.blow_up->time}, {"particle", r.blow_up->particle},
                     {"message", r.blow_up_message}};
+  if (const auto& e = r.error_estimate) {
+    j["error_estimate"] = {{"method", "step halving: the same run at dt/2 (rk45: rtol, atol / 32), position "
+                                      "difference at each frame times 2^p/(2^p - 1) (Richardson)"},
+                           {"order", e->order},
+                           {"max_m", e->max_error},
+                           {"rms_m", e->rms_error},
+                           {"final_max_m", e->final_max_error},
+                           {"frames_compared", e->frames},
+                           {"seconds", e->seconds}};
+    if (!e->failure.empty()) j["error_estimate"]["failure"] = e->failure;
+  }
   render::writeAtomically(r.out / "run.json", [&](const fs::path& temp) {
     std::ofstream out(temp);
     out << j.dump(2) << "\n";
@@ -78,6 +92,7 @@ RunReport runScene(const RunOptions& options) {
   std::vector<std::string> overrides = options.sets;
   if (options.integrator) overrides.push_back("simulation.integrator=\"" + *options.integrator + "\"");
   if (options.dt) overrides.push_back("simulation.dt=" + formatNumber(*options.dt));
+  for (const std::string& o : renderOverrides(options.render)) overrides.push_back(o);
   Scene scene = loadScene(options.scene, overrides);
 
   RunReport report;
@@ -98,12 +113,20 @@ RunReport runScene(const RunOptions& options) {
                            texture == scene.textures.end() ? std::nullopt : std::optional(texture->second));
     }
 
+  std::optional<FrameOutput> pictures;  // renders while simulating: no second simulation
+  if (FrameOutput::wanted(scene)) pictures.emplace(scene, report.out);
+
+  std::optional<ErrorEstimator> estimator;
+  if (options.estimate_error)
+    estimator.emplace(loadScene(options.scene, overrides), scene.integrator, scene.integrator_options, scene.dt);
+
   Progress progress(scene.name, report.last_frame);
   for (int frame = 1; frame <= report.last_frame; ++frame) {
     auto start = Clock::now();
     report.blow_up = sim.advanceTo(scene.frameTime(frame));
     report.seconds_simulate += secondsSince(start);
     if (report.blow_up) break;
+    if (estimator) estimator->compare(scene.frameTime(frame), sim.x());
     start = Clock::now();
     if (frame >= report.first_frame) {
       for (std::size_t b = 0; b < writers.size(); ++b) {
@@ -113,15 +136,27 @@ RunReport runScene(const RunOptions& options) {
       ++report.frames_written;
     }
     report.seconds_export += secondsSince(start);
+    if (pictures) {
+      start = Clock::now();
+      pictures->frame(frame, sim.x(), frame >= report.first_frame);
+      report.seconds_render += secondsSince(start);
+    }
     progress.update(frame);
   }
   progress.finish();
+  if (pictures) {
+    report.frames_rendered = pictures->framesRendered();
+    const auto start = Clock::now();
+    report.video = pictures->finish(report.first_frame, report.first_frame + report.frames_written - 1);
+    report.seconds_render += secondsSince(start);
+  }
 
   report.steps = sim.steps();
   report.simulated_time = sim.time();
   report.energy_end = system.energy(sim.x(), sim.v());
   report.max_speed = sim.maxSpeed();
   if (report.blow_up) report.blow_up_message = report.blow_up->message(scene.dt);
+  if (estimator) report.error_estimate = estimator->result();
   writeRunJson(scene, sim, report);
   return report;
 }

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "render_flags.h"
+#include "error_estimate.h"
 #include "sim/simulation.h"
 
 namespace wobble {
@@ -16,6 +18,8 @@ struct RunOptions {
   std::optional<std::string> frames;     // "A:B", 1-based and inclusive, or "A"
   std::optional<std::filesystem::path> out;  // default out/<scene name>
   std::vector<std::string> sets;         // KEY=VALUE overrides
+  RenderFlags render;                    // --render, --spp, --resolution, --video (applied after --set)
+  bool estimate_error = false;           // rerun at dt/2 in lock step and report the error (error_estimate.h)
 };
 
 struct RunReport {
@@ -23,9 +27,12 @@ struct RunReport {
   int first_frame = 0, last_frame = 0, frames_written = 0;
   long steps = 0;
   double simulated_time = 0, energy_start = 0, energy_end = 0, max_speed = 0;
-  double seconds_simulate = 0, seconds_export = 0;
+  double seconds_simulate = 0, seconds_export = 0, seconds_render = 0;
+  int frames_rendered = 0;
+  std::optional<std::filesystem::path> video;  // OUT/<scene>.mp4 when encoded
   std::optional<BlowUp> blow_up;
   std::string blow_up_message;
+  std::optional<ErrorEstimate> error_estimate;  // with RunOptions::estimate_error
 };
 
 // Throws SceneError for bad input before anything is written. A blow-up stops the run at once: the frames

@@ -9,6 +9,7 @@
 #include "sim/colliders/elevator.h"
 #include "sim/colliders/plane.h"
 #include "sim/colliders/sphere.h"
+#include "sim/simulation.h"
 #include "table_reader.h"
 
 namespace fs = std::filesystem;
@@ -38,6 +39,13 @@ void readOutput(TableReader r, Scene& scene) {
   r.finish();
 }
 
+// A start faster than the blow-up rule allows would be reported as a blow-up at step 1, advising a smaller dt.
+void checkSpeed(TableReader& r, const Vec3& velocity) {
+  if (velocity.squaredNorm() > kBlowUpSpeedSquared)
+    r.fail("velocity", "a speed of " + std::to_string(std::lround(velocity.norm())) +
+                           " m/s is above the blow-up threshold of 1000 m/s (|v|^2 > 1e6, sim/simulation.h)");
+}
+
 Body readJelly(TableReader& r, const std::string& name) {
   JellyParams p;
   p.n = r.integer("n", p.n, Range::atLeast(2));
@@ -49,6 +57,7 @@ Body readJelly(TableReader& r, const std::string& name) {
   p.rotation_axis = r.vec3("rotation_axis", p.rotation_axis);
   p.rotation_deg = r.number("rotation_deg", p.rotation_deg);
   p.velocity = r.vec3("velocity", p.velocity);
+  checkSpeed(r, p.velocity);
   if (p.rotation_deg != 0 && p.rotation_axis.norm() == 0) r.fail("rotation_axis", "must not be zero");
   return buildJelly(name, p);
 }
@@ -91,6 +100,7 @@ Body readCloth(TableReader& r, const std::string& name) {
   p.kd = r.number("kd", p.kd, Range::nonNegative());
   p.drag = r.number("drag", p.drag, Range::nonNegative());
   p.velocity = r.vec3("velocity", p.velocity);
+  checkSpeed(r, p.velocity);
   readPins(r, p);
   return buildCloth(name, p);
 }
@@ -103,6 +113,7 @@ void readBody(TableReader r, const std::string& name, Scene& scene) {
     if (!fs::is_regular_file(path)) r.fail("texture", "file not found: " + path.string());
     scene.textures[name] = path;
   }
+  readBodyLook(r, type, name, scene);
   r.finish();
   scene.system->addBody(std::move(body));
 }
@@ -137,6 +148,7 @@ void readCollider(TableReader r, const std::string& name, Scene& scene) {
     const double size = r.number("size", 5, Range::positive());
     collider = std::make_unique<Elevator>(name, contact, s, size, r.number("thickness", 0.25, Range::positive()));
   }
+  readColliderLook(r, type, name, scene);
   r.finish();
   scene.system->addCollider(std::move(collider));
 }
@@ -184,6 +196,7 @@ Scene loadScene(const fs::path& file, const std::vector<std::string>& overrides)
   if (const toml::table* output = root.table("output")) readOutput(TableReader(*output, file, "output"), scene);
   readGroup(root, "bodies", scene, readBody);
   readGroup(root, "colliders", scene, readCollider);
+  readRenderTables(root, scene);
   if (scene.system->bodies().empty())
     root.fail("bodies", "a scene needs at least one body: [bodies.NAME] with type = \"jelly\" or \"cloth\"");
   root.finish();

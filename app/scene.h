@@ -10,6 +10,7 @@
 
 #include <toml++/toml.h>
 
+#include "render_config.h"
 #include "sim/integrators/integrator.h"
 #include "sim/system.h"
 
@@ -29,6 +30,7 @@ struct Scene {
   std::unique_ptr<MassSpringSystem> system;
   std::map<std::string, std::filesystem::path> textures;  // body name -> texture file, only for bodies naming one
   toml::table table;  // the file after overrides, for readers of other sections
+  RenderConfig render;  // camera, render settings and the look of bodies and colliders (render_config.h)
 
   // Frame k (1-based) shows simulated time (k - 1) / fps; duration * fps frames, at least one.
   int frameCount() const;

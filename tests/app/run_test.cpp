@@ -72,10 +72,12 @@ texture = "textures/cat.png"
 type = "plane"
 )" + extra);
   }
+  // These tests are about simulation and OBJ output: no frames rendered (render_test.cpp covers those).
   RunOptions options(const fs::path& file) {
     RunOptions o;
     o.scene = file;
     o.out = dir() / "out";
+    o.render.render = "none";
     return o;
   }
 };
@@ -200,7 +202,10 @@ int runBinary(const std::string& arguments, const fs::path& log) {
 }
 
 TEST_F(Run, BinaryExitStatuses) {
-  const fs::path file = scene(), log = dir() / "log.txt";
+  const fs::path file = scene(R"(
+[render]
+png = false
+)"), log = dir() / "log.txt";
   EXPECT_EQ(runBinary("run " + file.string() + " --out " + (dir() / "good").string(), log), 0) << slurp(log);
   EXPECT_TRUE(fs::exists(dir() / "good/mesh/jelly_0004.obj"));
 

@@ -65,6 +65,11 @@ TEST_F(SceneDocs, SimulationAndOutput) {
   EXPECT_EQ(acceptedKeys("[output]\nzzz = 1\n" + kBody), documentedKeys("### `[output]`"));
 }
 
+TEST_F(SceneDocs, CameraAndRender) {
+  EXPECT_EQ(acceptedKeys("[camera]\nzzz = 1\n" + kBody), documentedKeys("### `[camera]`"));
+  EXPECT_EQ(acceptedKeys("[render]\nzzz = 1\n" + kBody), documentedKeys("### `[render]`"));
+}
+
 TEST_F(SceneDocs, Bodies) {
   EXPECT_EQ(acceptedKeys(kBody + "zzz = 1\n"), documentedKeys("### `[bodies.NAME]` with `type = \"jelly\"`"));
   EXPECT_EQ(acceptedKeys("[bodies.c]\ntype = \"cloth\"\nzzz = 1\n"),

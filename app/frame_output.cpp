@@ -1,0 +1,73 @@
+#include "frame_output.h"
+
+#include <cstdio>
+
+#include "obj_sequence.h"
+#include "render/exr_writer.h"
+#include "render/png_io.h"
+#include "render/renderer.h"
+#include "video.h"
+
+namespace fs = std::filesystem;
+
+namespace wobble {
+
+bool FrameOutput::wanted(const Scene& scene) { return scene.render.options.png || scene.render.options.exr; }
+
+fs::path FrameOutput::pngPath(const fs::path& out, const std::string& scene, int frame) {
+  return out / "frames" / ObjSequenceWriter::fileName(scene, frame, "png");
+}
+
+fs::path FrameOutput::exrPath(const fs::path& out, const std::string& scene, int frame) {
+  return out / "exr" / ObjSequenceWriter::fileName(scene, frame, "exr");
+}
+
+FrameOutput::FrameOutput(const Scene& scene, fs::path out)
+    : scene_(scene), out_(std::move(out)), render_scene_(scene), rig_(scene) {
+  if (scene.render.options.png) fs::create_directories(out_ / "frames");
+  if (scene.render.options.exr) fs::create_directories(out_ / "exr");
+}
+
+void FrameOutput::frame(int frame, const VecX& x, bool write) {
+  const auto& bodies = scene_.system->bodies();
+  if (!write) {  // only the followed body matters for frames that are not drawn
+    if (rig_.followedBody() >= 0) {
+      const BodySlot& slot = bodies[rig_.followedBody()];
+      rig_.observe(frame, evaluateSurface(slot.body.surface, x, slot.first));
+    }
+    return;
+  }
+  std::vector<SurfaceFrame> surfaces;
+  for (const BodySlot& slot : bodies) surfaces.push_back(evaluateSurface(slot.body.surface, x, slot.first));
+  this->frame(frame, surfaces, true);
+}
+
+void FrameOutput::frame(int frame, std::span<const SurfaceFrame> surfaces, bool write) {
+  if (rig_.followedBody() >= 0) rig_.observe(frame, surfaces[rig_.followedBody()]);
+  if (!write) return;
+  render_scene_.update(scene_.frameTime(frame), surfaces);
+  render(frame);
+}
+
+void FrameOutput::render(int frame) {
+  const RenderOptionsConfig& o = scene_.render.options;
+  render::RenderSettings settings;
+  settings.samples_per_pixel = o.samples;
+  settings.max_bounces = o.bounces;
+  settings.frame = static_cast<std::uint32_t>(frame);  // the noise seed: the same frame is the same image
+  const render::Film film = render::render(render_scene_.scene(), render::Camera(rig_.params()), settings);
+  if (o.png) {
+    render::ToneMap tone;
+    tone.exposure = static_cast<float>(o.exposure);
+    render::writePng(pngPath(out_, scene_.name, frame), render::develop(film, tone));
+  }
+  if (o.exr) render::writeExr(exrPath(out_, scene_.name, frame), film);
+  ++rendered_;
+}
+
+std::optional<fs::path> FrameOutput::finish(int first, int last) const {
+  if (!scene_.render.options.video || !scene_.render.options.png || last < first) return std::nullopt;
+  return encodeVideo(out_ / "frames", scene_.name, first, last, scene_.fps, out_ / (scene_.name + ".mp4"));
+}
+
+}  // namespace wobble

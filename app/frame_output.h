@@ -1,0 +1,49 @@
+// FrameOutput: renders frames while a run simulates (or from an OBJ sequence, render_command.cpp) and writes them:
+// OUT/frames/<scene>_NNNN.png and, when asked, OUT/exr/<scene>_NNNN.exr (colour, albedo, normal, depth), each under a
+// temporary name and renamed into place. Render settings come from the scene's [render] and [camera] tables.
+// Determinism: the renderer's noise is seeded by the frame number, so a frame is the same bytes whoever renders it
+// (a run, or `wobble render` of its OBJ sequence) and whatever the thread count.
+#pragma once
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "camera_rig.h"
+#include "render_scene.h"
+#include "scene.h"
+
+namespace wobble {
+
+class FrameOutput {
+ public:
+  // True when the scene asks for images (render.png or render.exr).
+  static bool wanted(const Scene& scene);
+  // Creates OUT/frames and/or OUT/exr; loads the textures.
+  FrameOutput(const Scene& scene, std::filesystem::path out);
+
+  // Call for every frame from 1 in order (the follow camera needs each one); renders and writes only when `write`.
+  // From the simulation's flat state:
+  void frame(int frame, const VecX& x, bool write);
+  // From every body's surface (scene body order):
+  void frame(int frame, std::span<const SurfaceFrame> surfaces, bool write);
+
+  // After the last frame: encodes OUT/<scene>.mp4 from frames first..last when render.video is set. Returns the
+  // video's path, or nothing (not asked, or ffmpeg is missing: then it says so on stderr).
+  std::optional<std::filesystem::path> finish(int first, int last) const;
+
+  int framesRendered() const { return rendered_; }
+  static std::filesystem::path pngPath(const std::filesystem::path& out, const std::string& scene, int frame);
+  static std::filesystem::path exrPath(const std::filesystem::path& out, const std::string& scene, int frame);
+
+ private:
+  void render(int frame);
+
+  const Scene& scene_;
+  std::filesystem::path out_;
+  RenderScene render_scene_;
+  CameraRig rig_;
+  int rendered_ = 0;
+};
+
+}  // namespace wobble

@@ -1,0 +1,92 @@
+// Readers of the render-related scene keys (render_config.h): same TableReader checks as every other key.
+#include "render_config.h"
+
+#include <cmath>
+
+#include "scene.h"
+#include "table_reader.h"
+
+namespace wobble {
+namespace {
+
+Vec3 readColor(TableReader& r, const Vec3& fallback) {
+  const Vec3 c = r.vec3("color", fallback);
+  if ((c.array() < 0).any() || (c.array() > 1).any()) r.fail("color", "each component must be in [0, 1] (linear RGB)");
+  return c;
+}
+
+std::array<int, 2> readResolution(TableReader& r, std::array<int, 2> fallback) {
+  const auto wh = r.pair("resolution", {double(fallback[0]), double(fallback[1])}, Range{2, 16384});
+  if (wh[0] != std::floor(wh[0]) || wh[1] != std::floor(wh[1]))
+    r.fail("resolution", "must be two whole numbers [width, height] in [2, 16384]");
+  return {int(wh[0]), int(wh[1])};
+}
+
+}  // namespace
+
+void readBodyLook(TableReader& r, const std::string& type, const std::string& name, Scene& scene) {
+  BodyLook look;
+  const bool textured = scene.textures.count(name) > 0;
+  // Untextured: a jelly red (deeper than the OBJ material's: the glossy coat whitens it) or the OBJ's cloth blue;
+  // textured: white, so the texture shows its own colours.
+  const Vec3 fallback = textured ? Vec3(1, 1, 1) : type == "cloth" ? Vec3(0.25, 0.4, 0.8) : Vec3(0.8, 0.12, 0.15);
+  look.color = readColor(r, fallback);
+  look.material = r.string("material", type == "cloth" ? "diffuse" : "jelly", {"jelly", "diffuse"});
+  scene.render.bodies[name] = look;
+}
+
+void readColliderLook(TableReader& r, const std::string& type, const std::string& name, Scene& scene) {
+  ColliderLook look;
+  const Vec3 fallback = type == "plane" ? Vec3(1, 1, 1) : type == "sphere" ? Vec3(0.75, 0.72, 0.68)
+                                                                          : Vec3(0.55, 0.6, 0.7);
+  look.color = readColor(r, fallback);
+  look.texture = r.string("texture", type == "plane" ? "checker" : "none", {"none", "checker", "wood"});
+  if (type == "plane") {
+    look.texture_scale = r.number("texture_scale", look.texture_scale, Range::positive());
+    look.plane_size = r.number("size", look.plane_size, Range::positive());  // also read (checked) in scene.cpp
+  }
+  scene.render.colliders[name] = look;
+}
+
+void readRenderTables(TableReader& root, Scene& scene) {
+  static const toml::table kEmpty;
+  const toml::table* camera_table = root.table("camera");
+  TableReader c(camera_table ? *camera_table : kEmpty, scene.file, "camera");
+  CameraConfig& cam = scene.render.camera;
+  if (c.node("position")) cam.position = c.vec3("position", Vec3::Zero());
+  if (c.node("look_at")) cam.look_at = c.vec3("look_at", Vec3::Zero());
+  cam.up = c.vec3("up", cam.up);
+  cam.fov_deg = c.number("fov", cam.fov_deg, Range{0, 180, true, true});
+  cam.resolution = readResolution(c, cam.resolution);
+  cam.follow = c.string("follow", "");
+  cam.follow_smoothing = c.number("follow_smoothing", cam.follow_smoothing, Range::nonNegative());
+  if (cam.position && cam.look_at && (*cam.position - *cam.look_at).norm() == 0)
+    c.fail("look_at", "must differ from camera.position");
+  if (cam.up.norm() == 0) c.fail("up", "must not be zero");
+  const Vec3 view = cam.look_at.value_or(Vec3::Zero()) - cam.position.value_or(Vec3(0, 0, 1));
+  if (cam.position && cam.look_at && view.cross(cam.up).norm() < 1e-9 * view.norm() * cam.up.norm())
+    c.fail("up", "must not be parallel to the view direction (look_at - position)");
+  if (!cam.follow.empty() && !scene.render.bodies.count(cam.follow)) {
+    std::string list;
+    for (const auto& [body, look] : scene.render.bodies) list += (list.empty() ? "" : ", ") + body;
+    c.fail("follow", "must name a body of the scene: " + list);
+  }
+  c.finish();
+
+  const toml::table* render_table = root.table("render");
+  TableReader r(render_table ? *render_table : kEmpty, scene.file, "render");
+  RenderOptionsConfig& o = scene.render.options;
+  o.png = r.boolean("png", o.png);
+  o.exr = r.boolean("exr", o.exr);
+  o.video = r.boolean("video", o.video);
+  o.samples = r.integer("samples", o.samples, Range{1, 65536});
+  o.bounces = r.integer("bounces", o.bounces, Range{0, 16});
+  o.exposure = r.number("exposure", o.exposure, Range{-20, 20});
+  o.sun_direction = r.vec3("sun_direction", o.sun_direction);
+  if (o.sun_direction.norm() == 0) r.fail("sun_direction", "must not be zero");
+  o.sun_radius_deg = r.number("sun_radius_deg", o.sun_radius_deg, Range{0, 45});
+  if (o.video && !o.png) r.fail("video", "needs PNG frames: set render.png = true (or --render png)");
+  r.finish();
+}
+
+}  // namespace wobble

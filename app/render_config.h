@@ -1,0 +1,62 @@
+// What a scene says about its pictures: the [camera] and [render] tables, and the look of each body (`color`,
+// `material`) and collider (`color`, `texture`, `texture_scale`). Read with the rest of the scene (scene.cpp calls
+// the readers below), so these keys get the same type, range and unknown-key checks; scenes/README.md documents them.
+// Values stay in double here, like the scene; the renderer's floats are made in render_scene.cpp.
+#pragma once
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "sim/types.h"
+
+namespace wobble {
+
+class TableReader;
+struct Scene;
+
+struct CameraConfig {
+  // Unset position/look_at: framed automatically around the bodies and finite colliders at t = 0 (camera_rig.h).
+  std::optional<Vec3> position, look_at;
+  Vec3 up = Vec3::UnitY();
+  double fov_deg = 40;  // vertical
+  std::array<int, 2> resolution{1280, 720};
+  std::string follow;            // body name, or empty: a fixed camera
+  double follow_smoothing = 0.5; // s: time constant of the exponential smoothing of the followed centroid
+};
+
+struct RenderOptionsConfig {
+  bool png = true, exr = false, video = false;
+  int samples = 8;  // per pixel
+  int bounces = 2;
+  double exposure = -0.5;  // stops: the sun and sky on a light surface need a little less than 0
+  Vec3 sun_direction{-0.35, 1.0, 0.55};  // towards the sun
+  double sun_radius_deg = 2.0;           // apparent radius: the softness of shadows
+};
+
+struct BodyLook {
+  Vec3 color{1, 1, 1};
+  std::string material = "jelly";  // "jelly" (glossy coat) or "diffuse"
+};
+
+struct ColliderLook {
+  Vec3 color{0.7, 0.7, 0.7};
+  std::string texture = "none";  // "none", "checker", "wood"
+  double texture_scale = 4;      // planes: metres per texture tile
+  double plane_size = 30;        // planes: side of the drawn square (the plane's `size` key)
+};
+
+struct RenderConfig {
+  CameraConfig camera;
+  RenderOptionsConfig options;
+  std::map<std::string, BodyLook> bodies;
+  std::map<std::string, ColliderLook> colliders;
+};
+
+// Read from a body's or collider's table (type already read); fill scene.render.
+void readBodyLook(TableReader& r, const std::string& type, const std::string& name, Scene& scene);
+void readColliderLook(TableReader& r, const std::string& type, const std::string& name, Scene& scene);
+// The root's [camera] and [render] tables (after bodies, so `follow` can be checked against them).
+void readRenderTables(TableReader& root, Scene& scene);
+
+}  // namespace wobble

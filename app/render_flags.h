@@ -1,0 +1,24 @@
+// The rendering flags shared by `wobble run` and `wobble render`: --render png,exr|none, --spp N, --resolution WxH,
+// --video. They become scene overrides (render.*, camera.resolution), so the scene reader checks them like the file.
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+namespace wobble {
+
+struct RenderFlags {
+  std::optional<std::string> render;      // "png", "exr", "png,exr" or "none"
+  std::optional<int> spp;
+  std::optional<std::string> resolution;  // "WxH"
+  bool video = false;
+};
+
+void addRenderFlags(CLI::App& cmd, RenderFlags& flags);
+
+// Overrides "key=value" for loadScene. Throws SceneError naming the flag when a value is malformed.
+std::vector<std::string> renderOverrides(const RenderFlags& flags);
+
+}  // namespace wobble

@@ -1,0 +1,198 @@
+// Extreme inputs through `wobble run` (runScene) on small scenes: none may crash or hang; each gives a sensible
+// result or a clear error. A dt longer than a frame, no damping, ks 1e9, every particle pinned, a jelly starting
+// inside the slope, huge initial velocities, one-particle-thick cloths (2 x N and N x 2 strips), nothing moving.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+
+#include "app/run_command.h"
+#include "app/scene.h"
+#include "app/scene_error.h"
+#include "scratch_dir.h"
+#include "sim/simulation.h"
+
+namespace fs = std::filesystem;
+
+namespace wobble {
+namespace {
+
+const char* const kIntegrators[] = {"explicit-euler", "symplectic-euler", "pc-euler", "midpoint",
+                                    "rk4",            "rk45",             "backward-euler"};
+
+class ExtremeInputs : public testing::ScratchDir {
+ protected:
+  RunReport run(const std::string& scene_text, const std::string& integrator = "", bool estimate = false) {
+    RunOptions o;
+    o.scene = write("scene.toml", "[output]\nobj = false\n" + scene_text);
+    o.out = dir() / "out";
+    o.render.render = "none";
+    if (!integrator.empty()) o.integrator = integrator;
+    o.estimate_error = estimate;
+    return runScene(o);
+  }
+  nlohmann::json runJson() const { return nlohmann::json::parse(std::ifstream(dir() / "out/run.json")); }
+};
+
+const std::string kSmallJelly = R"(
+[bodies.jelly]
+type = "jelly"
+n = 3
+size = 1.0
+center = [0, 1.0, 0]
+)";
+
+TEST_F(ExtremeInputs, StepLongerThanAFrameBecomesOneStepPerFrame) {
+  // Backward Euler is stable at any step: one step per frame interval, 0.5 s at 30 fps = 15 frames, 14 steps.
+  const RunReport r = run("[simulation]\ndt = 0.1\nduration = 0.5\nfps = 30\n" + kSmallJelly, "backward-euler");
+  EXPECT_FALSE(r.blow_up);
+  EXPECT_EQ(r.steps, 14);
+  EXPECT_NEAR(r.simulated_time, 14.0 / 30, 1e-12);
+  // An explicit method at omega h >> 3 blows up, and says so with a hint, without crashing.
+  const RunReport e = run("[simulation]\ndt = 0.1\nduration = 0.5\nfps = 30\n" + kSmallJelly + "ks = 1e5\n", "rk4");
+  ASSERT_TRUE(e.blow_up);
+  EXPECT_NE(e.blow_up_message.find("--dt"), std::string::npos) << e.blow_up_message;
+  // A step longer than the whole run: the one frame interval is one step.
+  const RunReport whole = run("[simulation]\ndt = 10\nduration = 0.1\nfps = 20\n" + kSmallJelly, "rk4");
+  EXPECT_FALSE(whole.blow_up);
+  EXPECT_EQ(whole.steps, 1);
+}
+
+TEST_F(ExtremeInputs, ZeroDampingConservesEnergy) {
+  // A cloth swinging from its top edge with no dampers and no drag: RK4 loses a little energy, never gains.
+  const std::string scene = R"([simulation]
+dt = 0.001
+duration = 1.0
+gravity = [0, -9.8, 0]
+[bodies.cloth]
+type = "cloth"
+nx = 5
+ny = 5
+size = [1.0, 1.0]
+mass = 0.04
+ks = 200.0
+kd = 0.0
+drag = 0.0
+pinned = ["top-edge"]
+)";
+  const RunReport r = run(scene, "rk4");
+  ASSERT_FALSE(r.blow_up);
+  EXPECT_NEAR(r.energy_end, r.energy_start, 1e-3 * std::abs(r.energy_start) + 1e-3);
+  const RunReport s = run(scene, "symplectic-euler");
+  ASSERT_FALSE(s.blow_up);
+  EXPECT_NEAR(s.energy_end, s.energy_start, 2e-2 * std::abs(s.energy_start) + 1e-2);  // bounded, no drift
+}
+
+TEST_F(ExtremeInputs, StiffnessOneBillion) {
+  const std::string scene = "[simulation]\ndt = 0.001\nduration = 0.2\n" + kSmallJelly + "ks = 1e9\n" +
+                            "[colliders.floor]\ntype = \"plane\"\npoint = [0, 0.45, 0]\n";
+  // Explicit: omega h ~ 300 at dt 1e-3. The blow-up rule stops it within a few steps: no hang, a clear report.
+  const RunReport e = run(scene, "explicit-euler");
+  ASSERT_TRUE(e.blow_up);
+  EXPECT_LT(e.steps, 50);
+  // Backward Euler stays finite and keeps the jelly's shape.
+  const RunReport b = run(scene, "backward-euler");
+  EXPECT_FALSE(b.blow_up);
+  EXPECT_TRUE(std::isfinite(b.energy_end));
+  // rk45 takes substeps as small as stiffness needs; it must finish or give up with its message, not hang.
+  try {
+    const RunReport a = run("[simulation]\ndt = 0.001\nduration = 0.02\n" + kSmallJelly + "ks = 1e9\n", "rk45");
+    EXPECT_FALSE(a.blow_up);
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("rk45"), std::string::npos) << error.what();
+  }
+}
+
+TEST_F(ExtremeInputs, EveryParticlePinnedStaysPut) {
+  const std::string scene = R"([simulation]
+dt = 0.01
+duration = 0.2
+[bodies.cloth]
+type = "cloth"
+nx = 3
+ny = 3
+pinned = [0, 1, 2, 3, 4, 5, 6, 7, 8]
+)";
+  for (const char* integrator : kIntegrators) {
+    const RunReport r = run(scene, integrator, true);
+    EXPECT_FALSE(r.blow_up) << integrator;
+    EXPECT_EQ(r.max_speed, 0) << integrator;
+    EXPECT_DOUBLE_EQ(r.energy_end, r.energy_start) << integrator;
+    ASSERT_TRUE(r.error_estimate) << integrator;
+    EXPECT_EQ(r.error_estimate->max_error, 0) << integrator;  // no moving particle: nothing to be wrong about
+  }
+}
+
+TEST_F(ExtremeInputs, NothingMovingWithoutGravity) {
+  // Free particles, springs at rest, no gravity, no velocity: every method must return exactly the initial state.
+  const std::string scene = "[simulation]\ndt = 0.01\nduration = 0.2\ngravity = [0, 0, 0]\n" + kSmallJelly;
+  for (const char* integrator : kIntegrators) {
+    const RunReport r = run(scene, integrator, true);
+    EXPECT_FALSE(r.blow_up) << integrator;
+    EXPECT_EQ(r.max_speed, 0) << integrator;
+    ASSERT_TRUE(r.error_estimate) << integrator;
+    EXPECT_EQ(r.error_estimate->max_error, 0) << integrator;
+  }
+}
+
+TEST_F(ExtremeInputs, JellyStartingInsideTheSlopeIsPushedOut) {
+  // The slope of jelly_slope.toml; the jelly's centre 0.2 m below it, so its lower half starts inside.
+  const std::string scene = R"([simulation]
+dt = 0.001
+duration = 0.5
+[bodies.jelly]
+type = "jelly"
+n = 3
+size = 1.0
+center = [0, -0.2, 0]
+[colliders.slope]
+type = "plane"
+normal = [0.3420201433256687, 0.9396926207859084, 0.0]
+)";
+  for (const char* integrator : {"rk4", "backward-euler", "symplectic-euler"}) {
+    const RunReport r = run(scene, integrator);
+    EXPECT_FALSE(r.blow_up) << integrator << ": " << r.blow_up_message;
+    EXPECT_TRUE(std::isfinite(r.energy_end)) << integrator;
+  }
+  // Every particle ends on the free side of the plane (within the contact tolerance epsilon = 0.01).
+  Scene s = loadScene(dir() / "scene.toml", {"simulation.integrator=\"rk4\""});
+  Simulation sim(*s.system, makeIntegrator("rk4"), s.dt);
+  ASSERT_FALSE(sim.advanceTo(0.5));
+  const Vec3 normal = Vec3(0.3420201433256687, 0.9396926207859084, 0).normalized();
+  for (int i = 0; i < s.system->particleCount(); ++i) EXPECT_GT(normal.dot(particle(sim.x(), i)), -0.011) << i;
+}
+
+TEST_F(ExtremeInputs, HugeInitialVelocity) {
+  // Above the blow-up speed (|v|^2 > 1e6): a clear input error naming the key, not a "blew up at step 1".
+  try {
+    run("[simulation]\nduration = 0.1\n" + kSmallJelly + "velocity = [0, 0, 5000]\n");
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("bodies.jelly.velocity"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("1000"), std::string::npos) << e.what();
+  }
+  // Below it: the jelly flies off and hits the floor at 900 m/s; the run finishes or reports a blow-up cleanly.
+  const RunReport r = run("[simulation]\nduration = 0.1\n" + kSmallJelly +
+                              "velocity = [0, -900, 0]\n[colliders.floor]\ntype = \"plane\"\n",
+                          "rk4");
+  if (r.blow_up) EXPECT_FALSE(r.blow_up_message.empty());
+  else EXPECT_TRUE(std::isfinite(r.energy_end));
+}
+
+TEST_F(ExtremeInputs, OneParticleThickCloth) {
+  // "One particle thick": a 2 x N strip (two particles across, so no bending springs across it) and an N x 2 one,
+  // hanging from the top edge. The validator needs nx, ny >= 2; both must swing without trouble.
+  for (const char* size : {"nx = 2\nny = 8\n", "nx = 8\nny = 2\n"}) {
+    const RunReport r = run(std::string("[simulation]\ndt = 0.0005\nduration = 0.5\n[bodies.strip]\ntype = \"cloth\"\n") +
+                                size + "hanging = true\nsize = [0.5, 0.5]\nks = 2000.0\nkd = 5.0\npinned = [\"top-edge\"]\n",
+                            "rk4");
+    EXPECT_FALSE(r.blow_up) << size << r.blow_up_message;
+    EXPECT_TRUE(std::isfinite(r.energy_end)) << size;
+    EXPECT_GT(r.max_speed, 0) << size;
+  }
+}
+
+}  // namespace
+}  // namespace wobble

@@ -1,0 +1,194 @@
+// Rendering from the command line, through the wobble binary: `wobble diff` exit codes, `wobble render` of a run's
+// OBJ sequence against the frames the run rendered itself, --video (with and without ffmpeg on PATH), EXR layers,
+// and bad rendering flags (exit 2, nothing written).
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "app/video.h"
+#include "render/image_diff.h"
+#include "render/png_io.h"
+#include "scratch_dir.h"
+
+namespace fs = std::filesystem;
+
+namespace wobble {
+namespace {
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class Render : public testing::ScratchDir {
+ protected:
+  // Runs `[env] wobble arguments`; returns the exit status, the output in log().
+  int wobble(const std::string& arguments, const std::string& env = "") {
+    const std::string command =
+        env + " " + std::string(WOBBLE_BINARY) + " " + arguments + " > " + (dir() / "log.txt").string() + " 2>&1";
+    const int status = std::system(command.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+  std::string log() { return slurp(dir() / "log.txt"); }
+
+  // A small textured jelly on a tilted checker plane, followed by the camera: every part of the render path.
+  fs::path scene() {
+    fs::create_directories(dir() / "textures");
+    fs::copy_file(testing::sourceDir() / "scenes/textures/cat.png", dir() / "textures/cat.png",
+                  fs::copy_options::overwrite_existing);
+    return write("small.toml", R"([simulation]
+dt = 0.002
+duration = 0.2
+fps = 20
+
+[bodies.jelly]
+type = "jelly"
+n = 3
+size = 1.0
+center = [0, 0.8, 0]
+texture = "textures/cat.png"
+
+[colliders.floor]
+type = "plane"
+normal = [0.2, 1, 0]
+size = 10
+
+[colliders.ball]
+type = "sphere"
+center = [-1.5, 0.5, 0]
+radius = 0.5
+
+[camera]
+position = [1, 2, 4]
+look_at = [0, 0.5, 0]
+follow = "jelly"
+
+[render]
+samples = 2
+)");
+  }
+  fs::path out() const { return dir() / "out"; }
+};
+
+TEST_F(Render, DiffExitCodesAreIdiffs) {
+  render::Image8 a(8, 4, 3);
+  for (auto& p : a.pixels) p = 100;
+  render::Image8 b = a, c = a;
+  b.at(2, 1, 0) = 110;  // one pixel off by 10/255 = 0.039
+  render::writePng(dir() / "a.png", a);
+  render::writePng(dir() / "a2.png", a);
+  render::writePng(dir() / "b.png", b);
+  render::writePng(dir() / "small.png", render::Image8(4, 4, 3));
+  const std::string A = (dir() / "a.png").string(), B = (dir() / "b.png").string();
+  EXPECT_EQ(wobble("diff " + A + " " + (dir() / "a2.png").string()), 0) << log();
+  EXPECT_EQ(wobble("diff " + A + " " + B), 2) << log();                        // idiff default: any difference fails
+  EXPECT_EQ(wobble("diff " + A + " " + B + " --fail 0.05"), 1) << log();       // within fail, above warn 1e-6
+  EXPECT_EQ(wobble("diff " + A + " " + B + " --fail 0.05 --warn 0.05"), 0) << log();
+  EXPECT_EQ(wobble("diff " + A + " " + B + " --fail 0.01 --failpercent 5"), 1) << log();  // 1 of 32 = 3.1% < 5%
+  EXPECT_EQ(wobble("diff " + A + " " + B + " --fail 0.01 --failpercent 5 --hardfail 0.03"), 2) << log();
+  EXPECT_EQ(wobble("diff " + A + " " + (dir() / "small.png").string()), 3) << log();
+  EXPECT_EQ(wobble("diff " + A + " " + (dir() / "missing.png").string()), 4) << log();
+  EXPECT_EQ(wobble("diff " + A + " " + B + " --fail 0.05 --out " + (dir() / "d.png").string()), 1) << log();
+  EXPECT_TRUE(fs::exists(dir() / "d.png"));
+}
+
+TEST_F(Render, RenderingTheObjSequenceGivesTheRunsImages) {
+  const fs::path s = scene();
+  ASSERT_EQ(wobble("run " + s.string() + " --out " + out().string() + " --resolution 96x54"), 0) << log();
+  ASSERT_EQ(wobble("render " + (out() / "mesh").string() + " --scene " + s.string() + " --frames 2:4 --out " +
+                   (dir() / "again").string() + " --resolution 96x54"),
+            0)
+      << log();
+  EXPECT_FALSE(fs::exists(dir() / "again/frames/small_0001.png"));
+  EXPECT_FALSE(fs::exists(dir() / "again/frames/small_0005.png"));
+  render::DiffOptions tolerance;  // the OBJ text holds float positions: only rounding may differ
+  tolerance.fail = 2.5f / 255;
+  tolerance.fail_percent = 0.5f;
+  for (int k = 2; k <= 4; ++k) {
+    const std::string name = "frames/small_000" + std::to_string(k) + ".png";
+    const render::DiffResult r = render::diffFiles(out() / name, dir() / "again" / name, tolerance);
+    EXPECT_LE(r.exitCode(), 1) << name << ": " << r.message;
+  }
+  // Default: every frame of MESH_DIR, into the folder that holds it.
+  fs::remove_all(out() / "frames");
+  ASSERT_EQ(wobble("render " + (out() / "mesh").string() + " --scene " + s.string() + " --resolution 32x18"), 0)
+      << log();
+  for (int k = 1; k <= 4; ++k) EXPECT_TRUE(fs::exists(out() / ("frames/small_000" + std::to_string(k) + ".png")));
+}
+
+TEST_F(Render, RenderErrorsAreBadInput) {
+  const fs::path s = scene();
+  EXPECT_EQ(wobble("render " + (dir() / "nope").string() + " --scene " + s.string()), 2) << log();
+  EXPECT_NE(log().find("no such folder"), std::string::npos) << log();
+  fs::create_directories(dir() / "empty");
+  EXPECT_EQ(wobble("render " + (dir() / "empty").string() + " --scene " + s.string()), 2) << log();
+  EXPECT_FALSE(fs::exists(dir() / "frames"));
+}
+
+TEST_F(Render, ExrHasItsLayers) {
+  const fs::path s = scene();
+  const std::string small = " --resolution 32x18";
+  ASSERT_EQ(wobble("run " + s.string() + " --out " + out().string() + small + " --frames 2 --render png,exr"), 0)
+      << log();
+  EXPECT_TRUE(fs::exists(out() / "frames/small_0002.png"));
+  const std::string exr = slurp(out() / "exr/small_0002.exr");
+  ASSERT_GT(exr.size(), 4u);
+  EXPECT_EQ(exr.substr(0, 4), std::string("\x76\x2f\x31\x01", 4));  // OpenEXR magic number
+  for (const char* channel : {"albedo.R", "albedo.G", "albedo.B", "normal.X", "normal.Y", "normal.Z", "depth.Z"})
+    EXPECT_NE(exr.find(channel), std::string::npos) << channel;
+  ASSERT_EQ(wobble("run " + s.string() + " --out " + (dir() / "exr_only").string() + small + " --render exr"), 0)
+      << log();
+  EXPECT_TRUE(fs::exists(dir() / "exr_only/exr/small_0004.exr"));
+  EXPECT_FALSE(fs::exists(dir() / "exr_only/frames"));
+}
+
+TEST_F(Render, BadRenderFlagsWriteNothing) {
+  const fs::path s = scene();
+  for (const char* flags : {"--resolution 12", "--resolution 0x10", "--resolution 64x", "--resolution 1x1",
+                            "--spp 0", "--spp many", "--render gif", "--render png,none", "--render none --video",
+                            "--set camera.fov=180", "--set camera.follow=cat", "--set render.samples=0",
+                            "--set render.png=false --video", "--set floor.texture=marble"}) {
+    EXPECT_EQ(wobble("run " + s.string() + " --out " + out().string() + " " + flags), 2) << flags << "\n" << log();
+    EXPECT_FALSE(fs::exists(out())) << flags;
+  }
+  EXPECT_EQ(wobble("run " + s.string() + " --out " + out().string() + " --set floor.textur=wood"), 2);
+  EXPECT_NE(log().find("did you mean 'colliders.floor.texture'"), std::string::npos) << log();
+}
+
+TEST_F(Render, VideoIsAnMp4) {
+  if (!findOnPath("ffmpeg")) GTEST_SKIP() << "ffmpeg is not installed";
+  const fs::path s = scene();
+  ASSERT_EQ(wobble("run " + s.string() + " --out " + out().string() + " --resolution 65x37 --video"), 0) << log();
+  const fs::path mp4 = out() / "small.mp4";
+  ASSERT_TRUE(fs::exists(mp4)) << log();
+  EXPECT_GT(fs::file_size(mp4), 0u);
+  if (findOnPath("ffprobe")) {
+    const fs::path probe = dir() / "probe.txt";
+    const std::string command = "ffprobe -v error -select_streams v:0 -count_frames -show_entries "
+                                "stream=codec_name,width,height,pix_fmt,nb_read_frames -of default=nw=1 " +
+                                mp4.string() + " > " + probe.string();
+    ASSERT_EQ(std::system(command.c_str()), 0);
+    const std::string info = slurp(probe);
+    for (const char* expected : {"codec_name=h264", "width=64", "height=36", "pix_fmt=yuv420p", "nb_read_frames=4"})
+      EXPECT_NE(info.find(expected), std::string::npos) << expected << " in\n" << info;
+  }
+}
+
+TEST_F(Render, MissingFfmpegKeepsTheFramesAndSucceeds) {
+  const fs::path s = scene();
+  fs::create_directories(dir() / "empty_path");
+  EXPECT_EQ(wobble("run " + s.string() + " --out " + out().string() + " --resolution 32x18 --video",
+                   "env PATH=" + (dir() / "empty_path").string()),
+            0)
+      << log();
+  EXPECT_NE(log().find("ffmpeg not found"), std::string::npos) << log();
+  EXPECT_TRUE(fs::exists(out() / "frames/small_0004.png"));
+  EXPECT_FALSE(fs::exists(out() / "small.mp4"));
+}
+
+}  // namespace
+}  // namespace wobble

@@ -1,0 +1,267 @@
+// The study commands' pieces against oracles: the order fit on synthetic error tables and on a small real sweep
+// (1, 2, 4), the stability classification of one spring against theory's limit (explicit Euler, RK4) and theory's
+// limits against numerics.md, the CSV and Markdown rows, a missing gnuplot (clear message, CSV still written),
+// and `wobble run --estimate-error` against the exact error of explicit Euler in free fall.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "app/order_fit.h"
+#include "app/run_command.h"
+#include "app/stability_theory.h"
+#include "app/study_accuracy.h"
+#include "app/study_stability.h"
+#include "app/text_table.h"
+#include "scratch_dir.h"
+
+namespace fs = std::filesystem;
+
+namespace wobble {
+namespace {
+
+std::vector<std::string> lines(const fs::path& p) {
+  std::ifstream in(p);
+  std::vector<std::string> out;
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+std::string slurp(const fs::path& p) {
+  std::stringstream s;
+  s << std::ifstream(p).rdbuf();
+  return s.str();
+}
+
+TEST(OrderFit, SyntheticTables) {
+  for (int p : {1, 2, 4}) {
+    std::vector<double> h, e;
+    for (int k = 4; k <= 9; ++k) {
+      h.push_back(std::ldexp(1.0, -k));
+      e.push_back(3.7 * std::pow(h.back(), p) * (1 + 0.01 * (k % 2)));  // a little noise
+    }
+    EXPECT_NEAR(fitOrder(h, e), p, 0.02) << p;
+  }
+  EXPECT_TRUE(std::isnan(fitOrder({0.1}, {0.01})));                   // one point
+  EXPECT_NEAR(fitOrder({0.1, 0.05, 0.025}, {NAN, 0.01, 0.0025}), 2, 1e-12);  // NaN skipped
+  EXPECT_EQ(convergenceOrder("rk4"), 4);
+  EXPECT_EQ(convergenceOrder("midpoint"), 2);
+  EXPECT_EQ(convergenceOrder("backward-euler"), 1);
+}
+
+TEST(OrderFit, FitAccuracyGroupsByIntegratorAndSkipsPointsOutOfTheFit) {
+  std::vector<AccuracyPoint> points;
+  for (int k = 3; k <= 6; ++k) {
+    const double h = std::ldexp(1.0, -k);
+    points.push_back({.integrator = "midpoint", .dt = h, .mean_step = h, .final_error = h * h, .rms_error = h * h / 2,
+                      .in_fit = true});
+    points.push_back({.integrator = "rk4", .dt = h, .mean_step = h, .final_error = std::pow(h, 4),
+                      .rms_error = std::pow(h, 4), .in_fit = k < 6});
+  }
+  points.push_back({.integrator = "rk4", .dt = 1, .mean_step = 1, .final_error = 1e9, .diverged = true});
+  const auto fits = fitAccuracy(points);
+  ASSERT_EQ(fits.size(), 2u);
+  EXPECT_EQ(fits[0].integrator, "midpoint");
+  EXPECT_NEAR(fits[0].order_final, 2, 1e-9);
+  EXPECT_NEAR(fits[0].order_rms, 2, 1e-9);
+  EXPECT_EQ(fits[1].points, 3);
+  EXPECT_NEAR(fits[1].order_final, 4, 1e-9);
+}
+
+class Study : public testing::ScratchDir {
+ protected:
+  // A small soft cloth swinging from its top edge: smooth, no colliders.
+  fs::path smoothScene() {
+    return write("swing.toml", R"([simulation]
+dt = 0.001
+[bodies.cloth]
+type = "cloth"
+nx = 4
+ny = 4
+size = [1.0, 1.0]
+mass = 0.01
+ks = 20.0
+kd = 0.2
+drag = 0.0
+pinned = ["top-edge"]
+)");
+  }
+  AccuracyOptions smallSweep(const std::vector<std::string>& integrators) {
+    AccuracyOptions o;
+    o.scene = smoothScene();
+    o.integrators = integrators;
+    o.duration = 0.5;
+    o.k_min = 7;
+    o.k_max = 10;
+    o.tol_min = 4;
+    o.tol_max = 7;
+    o.repeats = 0;
+    o.progress = false;
+    return o;
+  }
+};
+
+TEST_F(Study, RealSweepRecoversOrdersOneTwoFour) {
+  const AccuracyResult r = runAccuracyStudy(smallSweep({"explicit-euler", "midpoint", "rk4"}));
+  EXPECT_FALSE(r.has_colliders);
+  ASSERT_EQ(r.fits.size(), 3u);
+  const double expected[] = {1, 2, 4};
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(r.fits[i].points, 4) << r.fits[i].integrator;
+    EXPECT_NEAR(r.fits[i].order_final, expected[i], 0.25) << r.fits[i].integrator;
+    EXPECT_NEAR(r.fits[i].order_rms, expected[i], 0.25) << r.fits[i].integrator;
+  }
+}
+
+TEST_F(Study, AccuracyFilesHaveTheRowsAndGnuplotMissingIsAMessage) {
+  AccuracyOptions o = smallSweep({"rk4", "rk45"});
+  o.k_max = 8;
+  const AccuracyResult r = runAccuracyStudy(o);
+  ASSERT_EQ(r.points.size(), 2u + 4u);  // rk4: k = 7, 8; rk45: rtol 1e-4 .. 1e-7
+  const PlotResult plot = writeAccuracyOutputs(r, dir() / "out", (dir() / "no-such-gnuplot").string());
+  EXPECT_FALSE(plot.ok);
+  EXPECT_NE(plot.message.find("not found"), std::string::npos) << plot.message;
+  EXPECT_FALSE(fs::exists(dir() / "out/accuracy.png"));
+  const auto csv = lines(dir() / "out/accuracy.csv");
+  ASSERT_EQ(csv.size(), 1u + r.points.size());
+  EXPECT_EQ(csv[0].rfind("scene,integrator,dt,rtol,", 0), 0u) << csv[0];
+  EXPECT_EQ(csv[1].rfind("swing,rk4,0.0039062", 0), 0u) << csv[1];
+  const std::string md = slurp(dir() / "out/accuracy.md");
+  EXPECT_NE(md.find("| rk4 | 4 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| rk45 | 5 |"), std::string::npos) << md;
+  EXPECT_EQ(md.find("not meaningful"), std::string::npos);
+
+  // The same with PATH naming an empty folder and the default program name.
+  fs::create_directories(dir() / "empty");
+  const std::string saved = std::getenv("PATH") ? std::getenv("PATH") : "";
+  setenv("PATH", (dir() / "empty").c_str(), 1);
+  const PlotResult missing = writeAccuracyOutputs(r, dir() / "out2");
+  setenv("PATH", saved.c_str(), 1);
+  EXPECT_FALSE(missing.ok);
+  EXPECT_NE(missing.message.find("'gnuplot' was not found"), std::string::npos) << missing.message;
+  EXPECT_TRUE(fs::exists(dir() / "out2/accuracy.csv"));
+  EXPECT_TRUE(fs::exists(dir() / "out2/accuracy.md"));
+}
+
+TEST_F(Study, CollidersAreFlaggedInTheMarkdown) {
+  AccuracyResult r;
+  r.scene_name = "slope";
+  r.has_colliders = true;
+  r.duration = 1;
+  EXPECT_NE(accuracyMarkdown(r).find("orders below are not meaningful"), std::string::npos);
+}
+
+TEST(StabilityTheory, LimitsMatchNumericsTable) {
+  EXPECT_NEAR(stableOmegaH("rk4", 0), 2.828, 0.01);
+  EXPECT_NEAR(stableOmegaH("symplectic-euler", 0), 2, 0.01);
+  EXPECT_NEAR(stableOmegaH("pc-euler", 0), 1, 0.01);
+  EXPECT_NEAR(stableOmegaH("explicit-euler", 0.1), 0.2, 0.01);
+  EXPECT_NEAR(stableOmegaH("midpoint", 0.1), 1.05, 0.02);
+  EXPECT_NEAR(stableOmegaH("rk4", 0.5), 2.623, 0.02);
+  EXPECT_LT(stableOmegaH("explicit-euler", 0), 1e-5);  // grows at any step (round-off allows 1e-6)
+  EXPECT_TRUE(std::isinf(stableOmegaH("backward-euler", 0)));
+}
+
+// One free particle on a spring to a pinned one, along x: omega = sqrt(k / m).
+MassSpringSystem spring(double omega, double zeta) {
+  Body body;
+  body.name = "spring";
+  body.kind = "test";
+  body.x = VecX::Zero(6);
+  body.x[3] = 1.01;  // stretched by 1%
+  body.v = VecX::Zero(6);
+  body.mass = VecX::Ones(2);
+  body.pinned = {true, false};
+  body.springs.add(0, 1, 1.0, omega * omega, 2 * zeta * omega, SpringType::Structural);
+  MassSpringSystem system(Vec3::Zero());
+  system.addBody(std::move(body));
+  return system;
+}
+
+TEST(StabilityStudy, OneSpringFlipsWhereTheoryPutsTheLimit) {
+  struct Case {
+    const char* integrator;
+    double zeta;
+  };
+  for (const Case c : {Case{"rk4", 0.0}, Case{"explicit-euler", 0.1}}) {
+    // omega = 1e4: a blow-up (|v| > 1000) needs an amplitude of only 0.1, where the spring is still linear.
+    const double omega = 1e4, limit = stableOmegaH(c.integrator, c.zeta) / omega;
+    MassSpringSystem system = spring(omega, c.zeta);
+    EXPECT_NEAR(gershgorinOmegaMax(system), omega * std::sqrt(2.0), 1e-9);  // the bound, sqrt(2) above the truth
+    EXPECT_NEAR(powerIterationOmegaMax(system), omega, 1e-6);
+    // Grid cells a factor 1.25 apart around the limit: the one below stays stable, the one above blows up.
+    const StabilityCell below = classifyCell(system, c.integrator, limit / 1.25, 0.5, 10);
+    const StabilityCell above = classifyCell(system, c.integrator, limit * 1.25, 0.5, 10);
+    EXPECT_EQ(below.outcome, Outcome::Stable) << c.integrator << " " << below.note;
+    EXPECT_EQ(above.outcome, Outcome::BlewUp) << c.integrator << " limit " << limit << " steps " << above.steps
+                                              << " strain " << above.max_strain << " speed " << above.max_speed;
+  }
+}
+
+TEST_F(Study, StabilityFilesAndInference) {
+  StabilityOptions o;
+  o.scene = write("jelly.toml", "[bodies.jelly]\ntype = \"jelly\"\nn = 3\nsize = 1.0\nvelocity = [0, 0, 0]\n"
+                                "center = [0, 0.6, 0]\n[colliders.floor]\ntype = \"plane\"\n");
+  o.integrators = {"explicit-euler", "backward-euler"};
+  o.duration = 0.1;
+  o.ks_min = 1e3;
+  o.ks_max = 1e5;
+  o.ks_points = 2;
+  o.dt_min = 1e-3;
+  o.dt_max = 1e-2;
+  o.dt_points = 3;
+  o.cases = {{5e4, 1.2e-3}};
+  o.progress = false;
+  o.jobs = 2;
+  const StabilityResult r = runStabilityStudy(o);
+  ASSERT_EQ(r.cells.size(), 2u * (2 * 3 + 1));
+  // Backward Euler survives the largest dt, so the smaller ones are inferred.
+  int inferred = 0;
+  for (const StabilityCell& c : r.cells) inferred += c.integrator == "backward-euler" && c.inferred;
+  EXPECT_EQ(inferred, 2 * 2);
+  const auto plots = writeStabilityOutputs(r, dir() / "out", (dir() / "no-gnuplot").string());
+  ASSERT_EQ(plots.size(), 2u);
+  EXPECT_FALSE(plots[0].ok);
+  EXPECT_EQ(lines(dir() / "out/stability.csv").size(), 1u + r.cells.size());
+  const std::string md = slurp(dir() / "out/stability.md");
+  EXPECT_NE(md.find("## The users' cases"), std::string::npos);
+  EXPECT_NE(md.find("### explicit-euler"), std::string::npos);
+  // Deterministic whatever the thread count.
+  o.jobs = 1;
+  const StabilityResult one = runStabilityStudy(o);
+  ASSERT_EQ(one.cells.size(), r.cells.size());
+  for (std::size_t i = 0; i < r.cells.size(); ++i) {
+    EXPECT_EQ(one.cells[i].outcome, r.cells[i].outcome) << i;
+    EXPECT_EQ(one.cells[i].steps, r.cells[i].steps) << i;
+  }
+}
+
+TEST_F(Study, EstimateErrorMatchesExplicitEulerInFreeFall) {
+  // Explicit Euler's position error in free fall is exactly g t h / 2 (numerics.md); step halving with Richardson
+  // order 1 recovers it. The largest is at the last frame, t = 0.9 s. No springs: at this step explicit Euler would
+  // amplify round-off in the jelly's stiff overdamped modes (h |lambda| > 2) and blow up.
+  RunOptions o;
+  o.scene = write("fall.toml", "[simulation]\ndt = 0.01\nduration = 1.0\nfps = 10\n[output]\nobj = false\n"
+                               "[bodies.jelly]\ntype = \"jelly\"\nn = 2\nsize = 1.0\nks = 0.0\nkd = 0.0\n");
+  o.out = dir() / "out";
+  o.render.render = "none";
+  o.estimate_error = true;
+  o.integrator = "explicit-euler";
+  const RunReport r = runScene(o);
+  ASSERT_TRUE(r.error_estimate);
+  EXPECT_EQ(r.error_estimate->failure, "");
+  const double exact = 9.8 * 0.9 * 0.01 / 2;
+  EXPECT_EQ(r.error_estimate->order, 1);
+  EXPECT_EQ(r.error_estimate->frames, 10);
+  EXPECT_NEAR(r.error_estimate->max_error, exact, 1e-9 * exact + 1e-12);
+  EXPECT_NEAR(r.error_estimate->final_max_error, exact, 1e-9 * exact + 1e-12);
+  EXPECT_NE(slurp(dir() / "out/run.json").find("\"error_estimate\""), std::string::npos);
+  // RK4 is exact in free fall: the estimate is round-off.
+  o.integrator = "rk4";
+  EXPECT_LT(runScene(o).error_estimate->max_error, 1e-12);
+}
+
+}  // namespace
+}  // namespace wobble
