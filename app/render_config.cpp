@@ -76,7 +76,8 @@ void readRenderTables(TableReader& root, Scene& scene) {
   const toml::table* render_table = root.table("render");
   TableReader r(render_table ? *render_table : kEmpty, scene.file, "render");
   RenderOptionsConfig& o = scene.render.options;
-  o.png = r.boolean("png", o.png);
+  // A scene renders only if it asks to: no [render] table, no frames (unless --render png, which creates it).
+  o.png = r.boolean("png", render_table != nullptr);
   o.exr = r.boolean("exr", o.exr);
   o.video = r.boolean("video", o.video);
   o.samples = r.integer("samples", o.samples, Range{1, 65536});

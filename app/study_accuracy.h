@@ -11,7 +11,7 @@
 // side discontinuous and a tolerance-driven DOPRI5 crawl). The reference's own error is estimated by comparing it
 // with a second reference 10x looser (rk45) or at twice its step (rk4); errors below 10x that floor are shown but
 // left out of the order fit. Fitted order: least-squares slope of log error against log dt (rk45: against the mean
-// accepted substep T / accepted).
+// accepted substep T / accepted). With colliders, rk45 may take at most 64 substeps per scene step (else left out).
 #pragma once
 #include <filesystem>
 #include <string>
