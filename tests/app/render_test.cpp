@@ -37,9 +37,7 @@ class Render : public testing::ScratchDir {
 
   // A small textured jelly on a tilted checker plane, followed by the camera: every part of the render path.
   fs::path scene() {
-    fs::create_directories(dir() / "textures");
-    fs::copy_file(testing::sourceDir() / "scenes/textures/cat.png", dir() / "textures/cat.png",
-                  fs::copy_options::overwrite_existing);
+    copyCatTexture();
     return write("small.toml", R"([simulation]
 dt = 0.002
 duration = 0.2

@@ -53,9 +53,7 @@ std::vector<std::string> linesStartingWith(const fs::path& p, const std::string&
 class Run : public testing::ScratchDir {
  protected:
   fs::path scene(const std::string& extra = "") {
-    fs::create_directories(dir() / "textures");
-    fs::copy_file(testing::sourceDir() / "scenes/textures/cat.png", dir() / "textures/cat.png",
-                  fs::copy_options::overwrite_existing);
+    copyCatTexture();
     return write("small.toml", R"([simulation]
 dt = 0.002
 duration = 0.2

@@ -8,6 +8,8 @@
 
 namespace wobble::testing {
 
+inline std::filesystem::path sourceDir() { return WOBBLE_SOURCE_DIR; }
+
 class ScratchDir : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -23,11 +25,15 @@ class ScratchDir : public ::testing::Test {
     return dir_ / name;
   }
   const std::filesystem::path& dir() const { return dir_; }
+  // The shipped cat texture at textures/cat.png beside the test's scene files.
+  void copyCatTexture() const {
+    std::filesystem::create_directories(dir_ / "textures");
+    std::filesystem::copy_file(sourceDir() / "scenes/textures/cat.png", dir_ / "textures/cat.png",
+                               std::filesystem::copy_options::overwrite_existing);
+  }
 
  private:
   std::filesystem::path dir_;
 };
-
-inline std::filesystem::path sourceDir() { return WOBBLE_SOURCE_DIR; }
 
 }  // namespace wobble::testing
