@@ -1,34 +1,15 @@
 #include "gnuplot.h"
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <cstdlib>
-#include <sstream>
+#include <stdexcept>
 #include <system_error>
-#include <vector>
 
-extern char** environ;
+#include "external_program.h"
 
 namespace fs = std::filesystem;
 
 namespace wobble {
-
-std::optional<fs::path> findProgram(const std::string& program) {
-  const auto runnable = [](const fs::path& p) {
-    std::error_code ec;
-    return fs::is_regular_file(p, ec) && ::access(p.c_str(), X_OK) == 0;
-  };
-  if (program.empty()) return std::nullopt;
-  if (program.find('/') != std::string::npos) return runnable(program) ? std::optional(fs::path(program)) : std::nullopt;
-  const char* path = std::getenv("PATH");
-  std::stringstream dirs(path ? path : "");
-  for (std::string dir; std::getline(dirs, dir, ':');)
-    if (!dir.empty() && runnable(fs::path(dir) / program)) return fs::path(dir) / program;
-  return std::nullopt;
-}
 
 std::string gnuplotQuote(const std::string& text) {
   std::string quoted = "'";
@@ -48,27 +29,14 @@ PlotResult runGnuplot(const fs::path& script, const fs::path& output, const std:
   const fs::path temp = output.parent_path() / temp_name;
   const fs::path log = script.string() + ".log";
   const std::string set_out = "out=" + gnuplotQuote(temp.string());
-  std::vector<std::string> args = {found->string(), "-e", set_out, script.string()};
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  pid_t pid = 0;
-  const int spawn_error = posix_spawn(&pid, found->c_str(), &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  std::error_code ignored;
-  if (spawn_error != 0) {
-    return {false, "no plot " + output.filename().string() + ": cannot start " + found->string() + ": " +
-                       std::generic_category().message(spawn_error)};
-  }
   int status = 0;
-  while (::waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) return {false, "no plot " + output.filename().string() + ": lost track of gnuplot"};
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || !fs::is_regular_file(temp, ignored)) {
+  try {
+    status = runProgram({found->string(), "-e", set_out, script.string()}, log);
+  } catch (const std::runtime_error& e) {
+    return {false, "no plot " + output.filename().string() + ": " + e.what()};
+  }
+  std::error_code ignored;
+  if (status != 0 || !fs::is_regular_file(temp, ignored)) {
     fs::remove(temp, ignored);
     return {false, "no plot " + output.filename().string() + ": gnuplot failed (see " + log.string() + ")"};
   }

@@ -15,9 +15,6 @@ struct PlotResult {
   std::string message;  // what was written, or why nothing was
 };
 
-// The executable file `program` names: itself when it contains a '/', else the first match on PATH.
-std::optional<std::filesystem::path> findProgram(const std::string& program);
-
 PlotResult runGnuplot(const std::filesystem::path& script, const std::filesystem::path& output,
                       const std::string& program = "gnuplot");
 

@@ -13,7 +13,4 @@ namespace wobble {
 std::optional<std::filesystem::path> encodeVideo(const std::filesystem::path& frames_dir, const std::string& name,
                                                  int first, int last, double fps, const std::filesystem::path& mp4);
 
-// The full path of an executable found on PATH, or nothing.
-std::optional<std::filesystem::path> findOnPath(const std::string& program);
-
 }  // namespace wobble

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "app/external_program.h"
 #include "app/video.h"
 #include "render/image_diff.h"
 #include "render/png_io.h"
@@ -94,6 +95,19 @@ TEST_F(Render, DiffExitCodesAreIdiffs) {
   EXPECT_TRUE(fs::exists(dir() / "d.png"));
 }
 
+TEST_F(Render, FrameRangeOfARunGivesTheFullRunsImages) {
+  // Frames before --frames A are simulated but not drawn; the follow camera must still see them, so frame 3 of a
+  // 3:4 run is the same bytes as frame 3 of the whole run.
+  const fs::path s = scene();
+  ASSERT_EQ(wobble("run " + s.string() + " --out " + out().string() + " --resolution 48x27"), 0) << log();
+  ASSERT_EQ(wobble("run " + s.string() + " --frames 3:4 --out " + (dir() / "part").string() + " --resolution 48x27"), 0)
+      << log();
+  EXPECT_FALSE(fs::exists(dir() / "part/frames/small_0002.png"));
+  const render::Image8 whole = render::readImage(out() / "frames/small_0003.png");
+  const render::Image8 part = render::readImage(dir() / "part/frames/small_0003.png");
+  EXPECT_EQ(whole.pixels, part.pixels);
+}
+
 TEST_F(Render, RenderingTheObjSequenceGivesTheRunsImages) {
   const fs::path s = scene();
   ASSERT_EQ(wobble("run " + s.string() + " --out " + out().string() + " --resolution 96x54"), 0) << log();
@@ -158,13 +172,13 @@ TEST_F(Render, BadRenderFlagsWriteNothing) {
 }
 
 TEST_F(Render, VideoIsAnMp4) {
-  if (!findOnPath("ffmpeg")) GTEST_SKIP() << "ffmpeg is not installed";
+  if (!findProgram("ffmpeg")) GTEST_SKIP() << "ffmpeg is not installed";
   const fs::path s = scene();
   ASSERT_EQ(wobble("run " + s.string() + " --out " + out().string() + " --resolution 65x37 --video"), 0) << log();
   const fs::path mp4 = out() / "small.mp4";
   ASSERT_TRUE(fs::exists(mp4)) << log();
   EXPECT_GT(fs::file_size(mp4), 0u);
-  if (findOnPath("ffprobe")) {
+  if (findProgram("ffprobe")) {
     const fs::path probe = dir() / "probe.txt";
     const std::string command = "ffprobe -v error -select_streams v:0 -count_frames -show_entries "
                                 "stream=codec_name,width,height,pix_fmt,nb_read_frames -of default=nw=1 " +
