@@ -28,18 +28,10 @@ FrameOutput::FrameOutput(const Scene& scene, fs::path out)
   if (scene.render.options.exr) fs::create_directories(out_ / "exr");
 }
 
-void FrameOutput::frame(int frame, const VecX& x, bool write) {
-  const auto& bodies = scene_.system->bodies();
-  if (!write) {  // only the followed body matters for frames that are not drawn
-    if (rig_.followedBody() >= 0) {
-      const BodySlot& slot = bodies[rig_.followedBody()];
-      rig_.observe(frame, evaluateSurface(slot.body.surface, x, slot.first));
-    }
-    return;
-  }
-  std::vector<SurfaceFrame> surfaces;
-  for (const BodySlot& slot : bodies) surfaces.push_back(evaluateSurface(slot.body.surface, x, slot.first));
-  this->frame(frame, surfaces, true);
+void FrameOutput::observe(int frame, const VecX& x) {
+  if (rig_.followedBody() < 0) return;
+  const BodySlot& slot = scene_.system->bodies()[rig_.followedBody()];
+  rig_.observe(frame, evaluateSurface(slot.body.surface, x, slot.first));
 }
 
 void FrameOutput::frame(int frame, std::span<const SurfaceFrame> surfaces, bool write) {

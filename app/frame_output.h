@@ -22,16 +22,18 @@ class FrameOutput {
   // Creates OUT/frames and/or OUT/exr; loads the textures.
   FrameOutput(const Scene& scene, std::filesystem::path out);
 
-  // Call for every frame from 1 in order (the follow camera needs each one); renders and writes only when `write`.
-  // From the simulation's flat state:
-  void frame(int frame, const VecX& x, bool write);
-  // From every body's surface (scene body order):
+  // Call for every frame from 1 in order (the follow camera needs each one), with every body's surface (scene body
+  // order); renders and writes only when `write` (a frame not written needs only the followed body's surface).
   void frame(int frame, std::span<const SurfaceFrame> surfaces, bool write);
+  // A frame that is not drawn, from the simulation's flat state: only the follow camera sees it.
+  void observe(int frame, const VecX& x);
 
   // After the last frame: encodes OUT/<scene>.mp4 from frames first..last when render.video is set. Returns the
   // video's path, or nothing (not asked, or ffmpeg is missing: then it says so on stderr).
   std::optional<std::filesystem::path> finish(int first, int last) const;
 
+  // Index of the body the camera follows in scene.system->bodies(), or -1 for a fixed camera.
+  int followedBody() const { return rig_.followedBody(); }
   int framesRendered() const { return rendered_; }
   static std::filesystem::path pngPath(const std::filesystem::path& out, const std::string& scene, int frame);
   static std::filesystem::path exrPath(const std::filesystem::path& out, const std::string& scene, int frame);

@@ -75,12 +75,7 @@ RenderCommandReport renderSequence(const RenderCommandOptions& options) {
 
   // The follow camera's smoothing runs over the frames before the range too, as in the run (camera_rig.h).
   int history = report.first_frame;
-  if (const int followed = scene.render.camera.follow.empty() ? -1 : [&] {
-        for (std::size_t b = 0; b < bodies.size(); ++b)
-          if (bodies[b].body.name == scene.render.camera.follow) return int(b);
-        return -1;
-      }();
-      followed >= 0) {
+  if (const int followed = pictures.followedBody(); followed >= 0) {
     while (history > 1 && fs::exists(objPath(options.mesh_dir, bodies[followed].body, history - 1))) --history;
     for (int k = history; k < report.first_frame; ++k)
       pictures.frame(k, readFrame(options.mesh_dir, scene, k, followed), false);

@@ -1,17 +1,16 @@
 #include "run_command.h"
 
 #include <chrono>
-#include <fstream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "frame_output.h"
 #include "obj_sequence.h"
-#include "render/atomic_file.h"
 #include "progress.h"
 #include "scene.h"
 #include "scene_error.h"
+#include "text_file.h"
 
 namespace fs = std::filesystem;
 
@@ -60,11 +59,7 @@ void writeRunJson(const Scene& scene, const Simulation& sim, const RunReport& r)
                            {"seconds", e->seconds}};
     if (!e->failure.empty()) j["error_estimate"]["failure"] = e->failure;
   }
-  render::writeAtomically(r.out / "run.json", [&](const fs::path& temp) {
-    std::ofstream out(temp);
-    out << j.dump(2) << "\n";
-    if (!out.flush()) throw std::runtime_error("cannot write " + (r.out / "run.json").string());
-  });
+  writeTextFile(r.out / "run.json", j.dump(2) + "\n");
 }
 
 }  // namespace
@@ -128,17 +123,20 @@ RunReport runScene(const RunOptions& options) {
     if (report.blow_up) break;
     if (estimator) estimator->compare(scene.frameTime(frame), sim.x());
     start = Clock::now();
+    std::vector<SurfaceFrame> surfaces;  // of every body, for this frame's OBJ files and picture
     if (frame >= report.first_frame) {
-      for (std::size_t b = 0; b < writers.size(); ++b) {
-        const BodySlot& slot = system.bodies()[b];
-        writers[b].write(frame, evaluateSurface(slot.body.surface, sim.x(), slot.first));
-      }
+      for (const BodySlot& slot : system.bodies())
+        surfaces.push_back(evaluateSurface(slot.body.surface, sim.x(), slot.first));
+      for (std::size_t b = 0; b < writers.size(); ++b) writers[b].write(frame, surfaces[b]);
       ++report.frames_written;
     }
     report.seconds_export += secondsSince(start);
     if (pictures) {
       start = Clock::now();
-      pictures->frame(frame, sim.x(), frame >= report.first_frame);
+      if (surfaces.empty())
+        pictures->observe(frame, sim.x());
+      else
+        pictures->frame(frame, surfaces, true);
       report.seconds_render += secondsSince(start);
     }
     progress.update(frame);
