@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "obj_sequence.h"
+#include "render/denoiser.h"
 #include "render/exr_writer.h"
 #include "render/png_io.h"
 #include "render/renderer.h"
@@ -43,17 +44,16 @@ void FrameOutput::frame(int frame, std::span<const SurfaceFrame> surfaces, bool 
 
 void FrameOutput::render(int frame) {
   const RenderOptionsConfig& o = scene_.render.options;
-  render::RenderSettings settings;
-  settings.samples_per_pixel = o.samples;
-  settings.max_bounces = o.bounces;
-  settings.frame = static_cast<std::uint32_t>(frame);  // the noise seed: the same frame is the same image
-  const render::Film film = render::render(render_scene_.scene(), render::Camera(rig_.params()), settings);
+  const render::Film film =
+      render::render(render_scene_.scene(), render::Camera(rig_.params()), renderSettings(o, frame));
+  const std::vector<render::Color> denoised = o.denoise ? render::denoise(film) : std::vector<render::Color>{};
+  const std::span<const render::Color> final_color = o.denoise ? denoised : film.color;
   if (o.png) {
     render::ToneMap tone;
     tone.exposure = static_cast<float>(o.exposure);
-    render::writePng(pngPath(out_, scene_.name, frame), render::develop(film, tone));
+    render::writePng(pngPath(out_, scene_.name, frame), render::develop(film.width, film.height, final_color, tone));
   }
-  if (o.exr) render::writeExr(exrPath(out_, scene_.name, frame), film);
+  if (o.exr) render::writeExr(exrPath(out_, scene_.name, frame), film, denoised);
   ++rendered_;
 }
 

@@ -7,6 +7,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "sim/types.h"
 
@@ -25,9 +26,27 @@ struct CameraConfig {
   double follow_smoothing = 0.5; // s: time constant of the exponential smoothing of the followed centroid
 };
 
+// A quality preset: the sampling and denoising settings a `render.quality` name stands for. Each can still be set
+// on its own (an explicit key or flag wins over the preset). Chosen from `wobble study render` (README).
+struct QualityPreset {
+  const char* name;
+  int samples;             // the most per pixel
+  int min_samples;         // adaptive sampling's first pass
+  double noise_threshold;  // 0: no adaptive sampling
+  bool denoise;
+};
+const QualityPreset& qualityPreset(const std::string& name);  // "preview" or "final"; throws std::out_of_range
+std::vector<std::string> qualityNames();
+
 struct RenderOptionsConfig {
   bool png = true, exr = false, video = false;
-  int samples = 8;  // per pixel
+  std::string quality = "final";
+  int samples = 0;  // most per pixel; these four come from the quality preset unless set
+  int min_samples = 0;
+  double noise_threshold = 0;
+  bool denoise = true;
+  std::string sampler = "sobol";  // "sobol" or "independent" (render/sampler.h)
+  bool sky_sampling = false;
   int bounces = 2;
   double exposure = -0.5;  // stops: the sun and sky on a light surface need a little less than 0
   Vec3 sun_direction{-0.35, 1.0, 0.55};  // towards the sun
@@ -58,5 +77,16 @@ void readBodyLook(TableReader& r, const std::string& type, const std::string& na
 void readColliderLook(TableReader& r, const std::string& type, const std::string& name, Scene& scene);
 // The root's [camera] and [render] tables (after bodies, so `follow` can be checked against them).
 void readRenderTables(TableReader& root, Scene& scene);
+
+}  // namespace wobble
+
+namespace wobble::render {
+struct RenderSettings;
+}
+
+namespace wobble {
+
+// The renderer's settings for one frame of a scene (render.* keys; the frame number seeds the noise).
+render::RenderSettings renderSettings(const RenderOptionsConfig& options, int frame);
 
 }  // namespace wobble

@@ -11,7 +11,13 @@ void addRenderFlags(CLI::App& cmd, RenderFlags& flags) {
   cmd.add_option("--render", flags.render,
                  "Images per frame: png, exr, png,exr or none (overrides render.png / render.exr; none also turns "
                  "the video off)");
-  cmd.add_option("--spp", flags.spp, "Samples per pixel (overrides render.samples)")->check(CLI::Range(1, 65536));
+  cmd.add_option("--quality", flags.quality,
+                 "Render quality preset: preview (fast, for checking a run) or final (overrides render.quality)")
+      ->check(CLI::IsMember({"preview", "final"}));
+  cmd.add_option("--spp", flags.spp, "Samples per pixel, the most with adaptive sampling (overrides render.samples)")
+      ->check(CLI::Range(1, 65536));
+  cmd.add_option("--denoise", flags.denoise, "Denoise the PNG frames and video: on or off (overrides render.denoise)")
+      ->check(CLI::IsMember({"on", "off"}));
   cmd.add_option("--resolution", flags.resolution, "Image size WxH, e.g. 1280x720 (overrides camera.resolution)");
   cmd.add_flag("--video", flags.video, "Encode OUT/<scene>.mp4 from the PNG frames with ffmpeg (render.video)");
 }
@@ -34,7 +40,9 @@ std::vector<std::string> renderOverrides(const RenderFlags& flags) {
     o.push_back(std::string("render.exr=") + (exr ? "true" : "false"));
     if (!png) o.push_back("render.video=false");
   }
+  if (flags.quality) o.push_back("render.quality=\"" + *flags.quality + "\"");
   if (flags.spp) o.push_back("render.samples=" + std::to_string(*flags.spp));
+  if (flags.denoise) o.push_back(std::string("render.denoise=") + (*flags.denoise == "on" ? "true" : "false"));
   if (flags.resolution) {
     std::smatch m;
     if (!std::regex_match(*flags.resolution, m, std::regex(R"(([0-9]{1,5})x([0-9]{1,5}))")))

@@ -1,5 +1,5 @@
-// The rendering flags shared by `wobble run` and `wobble render`: --render png,exr|none, --spp N, --resolution WxH,
-// --video. They become scene overrides (render.*, camera.resolution), so the scene reader checks them like the file.
+// The rendering flags shared by `wobble run` and `wobble render`: --render png,exr|none, --quality preview|final,
+// --spp N, --denoise on|off, --resolution WxH, --video. They become scene overrides (render.*, camera.resolution), so the scene reader checks them like the file.
 #pragma once
 #include <optional>
 #include <string>
@@ -11,7 +11,9 @@ namespace wobble {
 
 struct RenderFlags {
   std::optional<std::string> render;      // "png", "exr", "png,exr" or "none"
+  std::optional<std::string> quality;     // render.quality
   std::optional<int> spp;
+  std::optional<std::string> denoise;     // "on" or "off"
   std::optional<std::string> resolution;  // "WxH"
   bool video = false;
 };

@@ -5,6 +5,7 @@
 #include "commands.h"
 #include "scene_error.h"
 #include "study_accuracy.h"
+#include "study_render.h"
 #include "study_stability.h"
 #include "text_table.h"
 
@@ -112,13 +113,58 @@ void addStability(CLI::App& study, int& status) {
   });
 }
 
+void addRender(CLI::App& study, int& status) {
+  auto o = std::make_shared<RenderStudyOptions>();
+  CLI::App* cmd = study.add_subcommand("render",
+                                       "Image error against render time per renderer setting on one frame: "
+                                       "OUT/render.csv, .md and .png (gnuplot), and every image in OUT/images");
+  cmd->add_option("scene", o->scene, "Scene file (TOML)")->capture_default_str();
+  cmd->add_option("--frame", o->frame, "Frame to render (default: the scene's middle frame)")->check(CLI::PositiveNumber);
+  cmd->add_option("--resolution", o->resolution, "Image size WxH")->capture_default_str();
+  cmd->add_option("--reference-spp", o->reference_spp, "Samples per pixel of the reference (cached in OUT)")
+      ->capture_default_str();
+  cmd->add_option("--max-spp", o->max_spp, "Largest sample count of the sweep (1, 2, 4, ... this); the adaptive "
+                                           "variants' cap")->capture_default_str();
+  cmd->add_option("--variants", o->variants, "Variants to sweep (default: all), e.g. --variants sobol,sobol+denoise")
+      ->delimiter(',');
+  cmd->add_option("--thresholds", o->thresholds, "Noise thresholds of the adaptive variants")->delimiter(',');
+  cmd->add_option("--repeats", o->repeats, "Timed renders per point (time = their minimum)")->capture_default_str();
+  cmd->add_option("--out", o->out, "Output folder (default out/study-render-<scene name>)");
+  cmd->add_option("--set", o->sets, "Override a scene key, KEY=VALUE (repeatable), as for `wobble run`");
+  cmd->add_option("--gnuplot", o->gnuplot, "The gnuplot program (name on PATH or a path)")->capture_default_str();
+  cmd->footer("Example:\n  wobble study render scenes/cloth_sphere.toml --frame 60 --variants sobol,sobol+denoise");
+  cmd->callback([o, &status] {
+    const RenderStudyResult r = runRenderStudy(*o);
+    const fs::path out = o->out.empty() ? defaultOut("render", o->scene) : o->out;
+    const PlotResult plot = writeRenderStudyOutputs(r, out, o->gnuplot);
+    std::printf("render study of %s, frame %d at %dx%d; reference %d spp (%s), its own RMSE ~%s\n",
+                r.scene_name.c_str(), r.frame, r.width, r.height, r.reference_spp,
+                r.reference_cached ? "cached" : (formatNumber(r.reference_seconds, 3) + " s").c_str(),
+                formatNumber(r.reference_rmse, 3).c_str());
+    std::printf("%-20s %-16s %9s %9s %9s\n", "variant", "setting", "mean spp", "RMSE", "time (s)");
+    for (const RenderPoint& p : r.points)
+      std::printf("%-20s %-16s %9s %9s %9s\n", p.variant.c_str(),
+                  p.threshold > 0 ? ("threshold " + formatNumber(p.threshold, 3)).c_str()
+                                  : (std::to_string(p.spp) + " spp").c_str(),
+                  formatNumber(p.mean_spp, 4).c_str(), formatNumber(p.rmse, 3).c_str(), formatNumber(p.seconds, 3).c_str());
+    for (const RenderVariantFit& f : r.fits)
+      std::printf("slope of log RMSE against log spp, %-20s %s\n", f.variant.c_str(), formatNumber(f.slope, 3).c_str());
+    std::printf("wrote %s/render.csv and render.md\n", out.c_str());
+    if (!plot.ok) std::fprintf(stderr, "wobble: %s\n", plot.message.c_str());
+    else std::printf("%s\n", plot.message.c_str());
+    status = kExitOk;
+  });
+}
+
 }  // namespace
 
 void addStudyCommand(CLI::App& app, int& status) {
-  CLI::App* study = app.add_subcommand("study", "Numerical studies: accuracy (error against run time), stability");
+  CLI::App* study = app.add_subcommand(
+      "study", "Studies: accuracy (error against run time), stability, render (image error against render time)");
   study->require_subcommand(1);
   addAccuracy(*study, status);
   addStability(*study, status);
+  addRender(*study, status);
 }
 
 }  // namespace wobble

@@ -40,18 +40,22 @@ float Bsdf::coatProbability(float cos_o) const {
   return coat_ > 0 ? std::clamp(0.25f + coat_ * fresnel(cos_o), 0.0f, 0.9f) : 0.0f;
 }
 
-Color Bsdf::eval(const Eigen::Vector3f& wo_w, const Eigen::Vector3f& wi_w) const {
+BsdfLobes Bsdf::evalLobes(const Eigen::Vector3f& wo_w, const Eigen::Vector3f& wi_w) const {
   const Eigen::Vector3f wo = frame_.toLocal(wo_w), wi = frame_.toLocal(wi_w);
-  if (wo.z() <= 0 || wi.z() <= 0) return Color::Zero();
-  Color f = (1.0f - coat_ * fresnel(wo.z())) / kPi * base_;
+  if (wo.z() <= 0 || wi.z() <= 0) return {};
+  BsdfLobes f{(1.0f - coat_ * fresnel(wo.z())) / kPi, 0.0f};
   if (coat_ > 0) {
     const Eigen::Vector3f h = (wo + wi).normalized();
     const float a2 = alpha_ * alpha_;
-    const float spec = fresnel(wi.dot(h)) * ggxD(h.z(), a2) * smithG1(wo.z(), a2) * smithG1(wi.z(), a2) /
-                       (4.0f * wo.z() * wi.z());
-    f.array() += coat_ * spec;
+    f.specular = coat_ * fresnel(wi.dot(h)) * ggxD(h.z(), a2) * smithG1(wo.z(), a2) * smithG1(wi.z(), a2) /
+                 (4.0f * wo.z() * wi.z());
   }
   return f;
+}
+
+Color Bsdf::eval(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi) const {
+  const BsdfLobes f = evalLobes(wo, wi);
+  return (f.diffuse * base_).array() + f.specular;
 }
 
 float Bsdf::pdf(const Eigen::Vector3f& wo_w, const Eigen::Vector3f& wi_w) const {
@@ -85,7 +89,9 @@ std::optional<BsdfSample> Bsdf::sample(const Eigen::Vector3f& wo_w, float u_lobe
   const Eigen::Vector3f wi_w = frame_.toWorld(wi).normalized();
   const float p = pdf(wo_w, wi_w);
   if (!(p > 0)) return std::nullopt;
-  return BsdfSample{wi_w, eval(wo_w, wi_w) * (wi.z() / p)};
+  const BsdfLobes f = evalLobes(wo_w, wi_w);
+  const BsdfLobes w{f.diffuse * wi.z() / p, f.specular * wi.z() / p};
+  return BsdfSample{wi_w, (w.diffuse * base_).array() + w.specular, w, p};
 }
 
 }  // namespace wobble::render

@@ -12,9 +12,17 @@
 
 namespace wobble::render {
 
+// f split by lobe: f = diffuse * base + specular (the coat is colourless). The denoiser filters the two parts apart,
+// the diffuse one divided by the base colour, so texture detail is not blurred (integrator.h).
+struct BsdfLobes {
+  float diffuse = 0, specular = 0;
+};
+
 struct BsdfSample {
   Eigen::Vector3f wi;      // world space, unit
   Color weight;            // f(wo, wi) |n.wi| / pdf(wi)
+  BsdfLobes lobes;         // the same weight by lobe: weight = lobes.diffuse * base + lobes.specular
+  float pdf = 0;           // pdf(wi), for multiple importance sampling
 };
 
 class Bsdf {
@@ -23,6 +31,8 @@ class Bsdf {
   Bsdf(const Material& material, const Color& base, const Eigen::Vector3f& n);
 
   Color eval(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi) const;  // f, without the cosine
+  BsdfLobes evalLobes(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi) const;
+  const Color& base() const { return base_; }
   float pdf(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi) const;   // solid-angle density of sample()
   std::optional<BsdfSample> sample(const Eigen::Vector3f& wo, float u_lobe, float u1, float u2) const;
 

@@ -16,10 +16,10 @@
 
 namespace wobble::render {
 
-void writeExr(const std::filesystem::path& file, const Film& film) {
+void writeExr(const std::filesystem::path& file, const Film& film, std::span<const Color> denoised) {
   const std::size_t n = std::size_t(film.width) * film.height;
   if (film.width <= 0 || film.height <= 0 || film.color.size() != n || film.albedo.size() != n ||
-      film.normal.size() != n || film.depth.size() != n)
+      film.normal.size() != n || film.depth.size() != n || (!denoised.empty() && denoised.size() != n))
     throw std::invalid_argument(file.string() + ": cannot write EXR of an empty or inconsistent film");
 
   Imf::Header header(film.width, film.height);
@@ -27,8 +27,8 @@ void writeExr(const std::filesystem::path& file, const Film& film) {
   Imf::FrameBuffer frame;
   // OpenEXR converts pixel types when reading but not when writing: half channels need half buffers.
   std::vector<std::vector<half>> halves;
-  halves.reserve(9);
-  const auto addVector = [&](const std::string& layer, const char* names, const std::vector<Eigen::Vector3f>& values) {
+  halves.reserve(12);
+  const auto addVector = [&](const std::string& layer, const char* names, std::span<const Eigen::Vector3f> values) {
     for (int k = 0; k < 3; ++k) {
       const std::string name = layer.empty() ? std::string(1, names[k]) : layer + "." + names[k];
       std::vector<half>& channel = halves.emplace_back(n);
@@ -38,7 +38,12 @@ void writeExr(const std::filesystem::path& file, const Film& film) {
                                     sizeof(half) * film.width));
     }
   };
-  addVector("", "RGB", film.color);
+  if (denoised.empty()) {
+    addVector("", "RGB", film.color);
+  } else {
+    addVector("", "RGB", denoised);
+    addVector("noisy", "RGB", film.color);
+  }
   addVector("albedo", "RGB", film.albedo);
   addVector("normal", "XYZ", film.normal);
   // OpenEXR takes non-const pointers even for writing; it only reads through them here.

@@ -1,4 +1,4 @@
-// The path tracer: next-event estimation of suns and area lights, BSDF-sampled bounces, sky on escape.
+// The path tracer: next-event estimation of suns, area lights and the sky, BSDF-sampled bounces, MIS between them.
 #include "integrator.h"
 
 #include "bsdf.h"
@@ -6,18 +6,66 @@
 
 namespace wobble::render {
 
+namespace {
+
+// Veach's power heuristic (beta = 2): the weight of a sample drawn with density `chosen` against another strategy
+// that could have drawn it with density `other`.
+float powerHeuristic(float chosen, float other) {
+  const float a = chosen * chosen, b = other * other;
+  return a > 0 ? a / (a + b) : 0.0f;
+}
+
+}  // namespace
+
+PathContext::PathContext(const Scene& scene_, const PathSettings& settings_)
+    : scene(scene_), settings(settings_), sky(scene_.lights.sky) {
+  settings.sample_sky = settings.sample_sky && !sky.empty();
+  layout.lights = int(scene.lights.suns.size() + scene.lights.rects.size()) + (settings.sample_sky ? 1 : 0);
+}
+
 Eigen::Vector3f offsetFromSurface(const Eigen::Vector3f& p, const Eigen::Vector3f& n) {
   return p + (1e-4f * (1.0f + p.cwiseAbs().maxCoeff())) * n;
 }
 
-PathResult tracePath(const Scene& scene, Ray ray, Rng& rng, int max_bounces) {
+PathResult tracePath(const PathContext& context, Ray ray, const PixelSampler& sampler, std::uint32_t sample) {
+  const Scene& scene = context.scene;
+  const Lights& lights = scene.lights;
+  const SampleLayout& layout = context.layout;
+  const int max_bounces = context.settings.max_bounces;
   PathResult result;
-  Color throughput = Color::Ones();
+
+  // Light reaching the camera is summed in two parts, split at the first surface by the lobe it leaves by: `diffuse`
+  // (divided by that surface's base colour) and `other` (coat, and sky seen directly). t_diffuse and t_other are the
+  // path's throughput beyond the first surface in those two parts.
+  Color diffuse = Color::Zero(), other = Color::Zero();
+  Color t_diffuse = Color::Zero(), t_other = Color::Ones();
+  Color first_base = Color::Zero();
+  float previous_pdf = 0;  // density of the BSDF sample that made this ray; 0 for the camera ray
+  const auto arrive = [&](const Color& light) {  // light arriving along the path's current ray
+    diffuse += t_diffuse.cwiseProduct(light);
+    other += t_other.cwiseProduct(light);
+  };
+
   for (int bounce = 0;; ++bounce) {
     ++result.rays;
     const auto hit = scene.intersect(ray);
+    if (bounce > 0) {  // a BSDF continuation may pass through an area light before whatever it hits
+      const float tmax = hit ? hit->t : ray.tfar;
+      for (const RectLight& rect : lights.rects) {
+        const LightHit h = rectAlongRay(rect, ray.origin, ray.direction, tmax);
+        if (h.pdf > 0) arrive(h.radiance * powerHeuristic(previous_pdf, h.pdf));
+      }
+    }
     if (!hit) {
-      result.radiance += throughput.cwiseProduct(scene.lights.sky.eval(ray.direction));
+      Color light = lights.sky.eval(ray.direction);
+      if (bounce > 0) {
+        if (context.settings.sample_sky) light *= powerHeuristic(previous_pdf, context.sky.pdf(ray.direction));
+        for (const SunLight& sun : lights.suns) {
+          const LightHit h = sunInDirection(sun, ray.direction);
+          if (h.pdf > 0) light += h.radiance * powerHeuristic(previous_pdf, h.pdf);
+        }
+      }
+      arrive(light);
       break;
     }
     const Eigen::Vector3f wo = -ray.direction;
@@ -29,37 +77,71 @@ PathResult tracePath(const Scene& scene, Ray ray, Rng& rng, int max_bounces) {
     const Color base = material.baseColor(hit->uv);
     if (bounce == 0) {
       result.hit = true;
-      result.albedo = base;
+      result.albedo = first_base = base;
       result.normal = ns;
       result.position = hit->p;
     }
     const Bsdf bsdf(material, base, ns);
     const Eigen::Vector3f origin = offsetFromSurface(hit->p, ng);
+    const bool continues = bounce < max_bounces;
 
-    const auto addLight = [&](const LightSample& s) {
-      ++result.rays;
-      if (s.value.isZero()) return;
-      const float cos_s = ns.dot(s.wi);
-      if (cos_s <= 0) return;
-      result.radiance += throughput.cwiseProduct(bsdf.eval(wo, s.wi)).cwiseProduct(s.value) * cos_s;
+    // Light arriving at this surface from direction wi, already divided by its sampling density and weighted.
+    const auto reflect = [&](const Eigen::Vector3f& wi, const Color& incoming) {
+      const BsdfLobes f = bsdf.evalLobes(wo, wi);
+      const float cos_i = ns.dot(wi);
+      if (bounce == 0) {
+        diffuse += (f.diffuse * cos_i) * incoming;
+        other += (f.specular * cos_i) * incoming;
+      } else {
+        arrive(((f.diffuse * cos_i) * base.array() + f.specular * cos_i).matrix().cwiseProduct(incoming));
+      }
     };
-    for (const SunLight& sun : scene.lights.suns) {
-      const float u1 = rng.next(), u2 = rng.next();
-      addLight(sampleSun(scene, sun, origin, ng, u1, u2));
+    const auto sampleLight = [&](const LightSample& s) {
+      result.rays += s.traced;
+      if (s.value.isZero() || ns.dot(s.wi) <= 0) return;
+      // With no continuation from here, light samples are the only strategy: full weight.
+      const float weight = continues && s.pdf > 0 ? powerHeuristic(s.pdf, bsdf.pdf(wo, s.wi)) : 1.0f;
+      reflect(s.wi, s.value * weight);
+    };
+    int light_index = 0;
+    for (const SunLight& sun : lights.suns) {
+      const Eigen::Vector2f u = sampler.get2D(sample, layout.light(bounce, light_index++));
+      sampleLight(sampleSun(scene, sun, origin, ng, u.x(), u.y()));
     }
-    for (const RectLight& rect : scene.lights.rects) {
-      const float u1 = rng.next(), u2 = rng.next();
-      addLight(sampleRect(scene, rect, origin, ng, u1, u2));
+    for (const RectLight& rect : lights.rects) {
+      const Eigen::Vector2f u = sampler.get2D(sample, layout.light(bounce, light_index++));
+      sampleLight(sampleRect(scene, rect, origin, ng, u.x(), u.y()));
+    }
+    if (!continues) break;
+    if (context.settings.sample_sky) {  // the sky is reached by continuations only, so only where one follows
+      const Eigen::Vector2f u = sampler.get2D(sample, layout.light(bounce, light_index++));
+      float pdf = 0;
+      const Eigen::Vector3f wi = context.sky.sample(u.x(), u.y(), pdf);
+      if (pdf > 0 && wi.dot(ng) > 0 && ns.dot(wi) > 0) {
+        ++result.rays;
+        if (!scene.occluded(Ray{origin, wi}))
+          reflect(wi, lights.sky.eval(wi) * (powerHeuristic(pdf, bsdf.pdf(wo, wi)) / pdf));
+      }
     }
 
-    if (bounce >= max_bounces) break;
-    const float ul = rng.next(), u1 = rng.next(), u2 = rng.next();
-    const auto sample = bsdf.sample(wo, ul, u1, u2);
-    if (!sample || sample->wi.dot(ng) <= 0) break;  // absorbed, or headed into the surface it left
-    throughput = throughput.cwiseProduct(sample->weight);
-    if (throughput.isZero()) break;
-    ray = Ray{origin, sample->wi};
+    const float u_lobe = sampler.get1D(sample, layout.bsdfLobe(bounce));
+    const Eigen::Vector2f u = sampler.get2D(sample, layout.bsdfDirection(bounce));
+    const auto s = bsdf.sample(wo, u_lobe, u.x(), u.y());
+    if (!s || s->wi.dot(ng) <= 0) break;  // absorbed, or headed into the surface it left
+    if (bounce == 0) {
+      t_diffuse = Color::Constant(s->lobes.diffuse);
+      t_other = Color::Constant(s->lobes.specular);
+    } else {
+      t_diffuse = t_diffuse.cwiseProduct(s->weight);
+      t_other = t_other.cwiseProduct(s->weight);
+    }
+    if (t_diffuse.isZero() && t_other.isZero()) break;
+    previous_pdf = s->pdf;
+    ray = Ray{origin, s->wi};
   }
+  result.diffuse = first_base.cwiseProduct(diffuse);
+  result.diffuse_demodulated = luminance(diffuse);
+  result.radiance = result.diffuse + other;
   return result;
 }
 

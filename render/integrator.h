@@ -1,23 +1,51 @@
 // tracePath: the light arriving along one camera ray, by a short path tracer.
 //
-// At every surface the path meets it adds the light of each sun and area light (one shadow ray each), then
-// continues in a direction drawn from the BSDF; a path that escapes picks up the sky. max_bounces counts those
-// continuations: 0 = direct light only (no sky on surfaces), 1 = one indirect bounce (sky light and colour bleeding
-// onto surfaces: the "ambient" term), 2 = two bounces (the default; light between the jelly and the floor).
-// Parameters: scene (committed), ray (unit direction), rng (the pixel's generator), max_bounces (>= 0).
+// At every surface the path meets it samples each sun and area light (one shadow ray each) and, when the path goes
+// on, the sky (if PathSettings::sample_sky); then it continues in a direction drawn from the BSDF. A continuation
+// that escapes picks up the sky and any sun disc it points into; one that passes an area light picks that up. Light
+// and BSDF samples of the same light are weighted by the power heuristic (Veach 1995), so each light is counted once
+// and noise goes to whichever strategy does better. At the last vertex (no continuation) light samples count fully.
+// max_bounces counts the continuations: 0 = direct light only (no sky on surfaces), 1 = one indirect bounce (sky
+// light and colour bleeding onto surfaces: the "ambient" term), 2 = two bounces (the default; light between the jelly
+// and the floor). Camera rays see the sky only (suns and area lights are not drawn).
+//
+// Every random number comes from the pixel's sampler at a fixed slot (sampler.h: pixel jitter, then per bounce one
+// 2D slot per light, the sky, the lobe and the direction), so the path is a pure function of (pixel, frame, sample).
+//
+// For the denoiser the result is split at the first surface: `diffuse` is the light its diffuse lobe reflects
+// (a multiple of its base colour, which the denoiser divides out), the rest of `radiance` comes from the coat,
+// and the sky seen directly.
 #pragma once
 #include <cstdint>
 
 #include "color.h"
+#include "lights.h"
 #include "ray.h"
-#include "rng.h"
+#include "sampler.h"
 
 namespace wobble::render {
 
 class Scene;
 
+struct PathSettings {
+  int max_bounces = 2;
+  bool sample_sky = false;  // next-event estimation of the sky, with MIS against BSDF sampling
+};
+
+// What a path needs besides its ray, built once per frame (render()).
+struct PathContext {
+  PathContext(const Scene& scene, const PathSettings& settings);
+
+  const Scene& scene;
+  PathSettings settings;
+  SampleLayout layout;
+  SkyDistribution sky;
+};
+
 struct PathResult {
   Color radiance = Color::Zero();
+  Color diffuse = Color::Zero();         // the part reflected by the first surface's diffuse lobe
+  float diffuse_demodulated = 0;         // luminance of diffuse / base colour (for the denoiser's variance)
   // First-hit values for the EXR layers; albedo and normal stay zero and t infinite when the ray escapes.
   Color albedo = Color::Zero();
   Eigen::Vector3f normal = Eigen::Vector3f::Zero();  // shading normal, turned towards the camera
@@ -26,7 +54,7 @@ struct PathResult {
   std::uint32_t rays = 0;  // rays traced (intersection and shadow), for statistics
 };
 
-PathResult tracePath(const Scene& scene, Ray ray, Rng& rng, int max_bounces);
+PathResult tracePath(const PathContext& context, Ray ray, const PixelSampler& sampler, std::uint32_t sample);
 
 // Origin for rays leaving a surface at p on the side of the unit normal n: far enough to not hit the same surface
 // again through rounding (relative to the coordinates' magnitude), close enough to keep contact shadows.

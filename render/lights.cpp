@@ -21,13 +21,26 @@ Color Sky::eval(const Eigen::Vector3f& d) const {
   return horizon + std::sqrt(std::min(1.0f, -4.0f * e)) * (ground - horizon);
 }
 
+namespace {
+
+// 1 - cos(radius) without the cancellation of 1 - cosf near 1 (the real sun's 0.27 degrees).
+float oneMinusCos(float radius_deg) {
+  const float s = std::sin(0.5f * radius_deg * std::numbers::pi_v<float> / 180.0f);
+  return 2.0f * s * s;
+}
+
+float sunPdf(const SunLight& sun) {
+  return 1.0f / (2.0f * std::numbers::pi_v<float> * oneMinusCos(sun.angular_radius_deg));
+}
+
+}  // namespace
+
 LightSample sampleSun(const Scene& scene, const SunLight& sun, const Eigen::Vector3f& p, const Eigen::Vector3f& ng,
                       float u1, float u2) {
   LightSample s;
   const Eigen::Vector3f axis = sun.direction.normalized();
   if (sun.angular_radius_deg > 0) {
-    const float cos_max = std::cos(sun.angular_radius_deg * std::numbers::pi_v<float> / 180.0f);
-    s.wi = Frame(axis).toWorld(sampleUniformCone(u1, u2, cos_max)).normalized();
+    s.wi = Frame(axis).toWorld(sampleUniformCone(u1, u2, 1.0f - oneMinusCos(sun.angular_radius_deg))).normalized();
   } else {
     s.wi = axis;
   }
@@ -35,9 +48,11 @@ LightSample sampleSun(const Scene& scene, const SunLight& sun, const Eigen::Vect
   Ray shadow;
   shadow.origin = p;
   shadow.direction = s.wi;
+  s.traced = true;
   if (scene.occluded(shadow)) return s;
   // Uniform cone sampling of a disc of constant radiance: radiance / pdf = irradiance at normal incidence.
   s.value = sun.irradiance;
+  s.pdf = sun.angular_radius_deg > 0 ? sunPdf(sun) : 0.0f;
   return s;
 }
 
@@ -58,9 +73,66 @@ LightSample sampleRect(const Scene& scene, const RectLight& light, const Eigen::
   shadow.origin = p;
   shadow.direction = s.wi;
   shadow.tfar = dist * (1.0f - 1e-4f);
+  s.traced = true;
   if (scene.occluded(shadow)) return s;
-  s.value = light.radiance * (cos_light * area / dist2);  // area sampling: pdf = 1 / area, converted to solid angle
+  s.pdf = dist2 / (cos_light * area);  // area sampling: pdf = 1 / area, converted to solid angle
+  s.value = light.radiance / s.pdf;
   return s;
+}
+
+LightHit sunInDirection(const SunLight& sun, const Eigen::Vector3f& d) {
+  if (!(sun.angular_radius_deg > 0)) return {};
+  const float cos_max = 1.0f - oneMinusCos(sun.angular_radius_deg);
+  if (d.dot(sun.direction.normalized()) < cos_max) return {};
+  const float pdf = sunPdf(sun);
+  return {sun.irradiance * pdf, pdf};
+}
+
+LightHit rectAlongRay(const RectLight& light, const Eigen::Vector3f& origin, const Eigen::Vector3f& d, float tmax) {
+  const Eigen::Vector3f n = light.edge_u.cross(light.edge_v);
+  const float denom = d.dot(n);
+  if (!(denom < 0)) return {};  // parallel, or seen from behind: it emits on the side of n only
+  const float t = (light.corner - origin).dot(n) / denom;
+  if (!(t > 0 && t < tmax)) return {};
+  const Eigen::Vector3f q = origin + t * d - light.corner;
+  const float n2 = n.squaredNorm();
+  const float s = q.cross(light.edge_v).dot(n) / n2, r = light.edge_u.cross(q).dot(n) / n2;
+  if (s < 0 || s > 1 || r < 0 || r > 1) return {};
+  const float cos_light = -denom / std::sqrt(n2);
+  return {light.radiance, t * t / (cos_light * std::sqrt(n2))};
+}
+
+SkyDistribution::SkyDistribution(const Sky& sky) : up_(sky.up.normalized()) {
+  const Frame frame(up_);
+  a_ = frame.s;
+  b_ = frame.t;
+  cdf_[0] = 0;
+  for (int i = 0; i < kBins; ++i) {
+    const float z = -1.0f + 2.0f * (static_cast<float>(i) + 0.5f) / kBins;
+    const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+    weight_[i] = std::max(0.0f, luminance(sky.eval(z * up_ + r * a_)));
+    cdf_[i + 1] = cdf_[i] + weight_[i];
+  }
+  total_ = cdf_[kBins];
+}
+
+Eigen::Vector3f SkyDistribution::sample(float u1, float u2, float& pdf) const {
+  const float target = u1 * total_;
+  // The last bin whose cdf start is <= target, skipping empty bins (their start equals the next one's).
+  const int bin = std::clamp(int(std::upper_bound(cdf_ + 1, cdf_ + kBins + 1, target) - (cdf_ + 1)), 0, kBins - 1);
+  const float within = weight_[bin] > 0 ? std::clamp((target - cdf_[bin]) / weight_[bin], 0.0f, 1.0f) : 0.5f;
+  const float z = std::clamp(-1.0f + 2.0f * (static_cast<float>(bin) + within) / kBins, -1.0f, 1.0f);
+  const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+  const float phi = 2.0f * std::numbers::pi_v<float> * u2;
+  // Density in z is weight / total per bin of width 2 / kBins; dw = dz dphi.
+  pdf = weight_[bin] / total_ * (kBins / 2.0f) / (2.0f * std::numbers::pi_v<float>);
+  return z * up_ + r * (std::cos(phi) * a_ + std::sin(phi) * b_);
+}
+
+float SkyDistribution::pdf(const Eigen::Vector3f& d) const {
+  if (empty()) return 0;
+  const int bin = std::clamp(int((d.dot(up_) + 1.0f) * (kBins / 2.0f)), 0, kBins - 1);
+  return weight_[bin] / total_ * (kBins / 2.0f) / (2.0f * std::numbers::pi_v<float>);
 }
 
 void checkLights(const Lights& lights) {

@@ -1,5 +1,8 @@
-// Lights: what illuminates the scene. Lights are sampled explicitly at every shading point (next-event estimation)
-// and are invisible to rays; rays that escape the scene see only the sky. So no light is ever counted twice.
+// Lights: what illuminates the scene. At every shading point each sun and area light is sampled explicitly
+// (next-event estimation) and the path continues in a BSDF-sampled direction that may find the same light again; the
+// two estimates are combined by multiple importance sampling (power heuristic, integrator.h), so no light is counted
+// twice and each is found by whichever strategy suits it (the sun's disc by light sampling on a matte floor, by BSDF
+// sampling in a sharp glossy highlight). Camera rays do not see suns or area lights, only the sky.
 //
 //   SunLight   direction (towards the sun, any length), irradiance (linear RGB W/m^2 on a surface facing the sun),
 //              angular_radius_deg (the sun's apparent radius; the real sun is 0.27; larger gives softer shadows,
@@ -8,6 +11,8 @@
 //              t edge_v for s, t in [0, 1]; it emits on the side of edge_u x edge_v), radiance (linear RGB)
 //   Sky        environment radiance by elevation: zenith straight up, horizon at the horizon, ground below it
 //              (smoothly blended); up is the world's up axis. Black everywhere turns the sky off.
+//              SkyDistribution samples its directions in proportion to luminance (a table over elevation, uniform in
+//              azimuth), for next-event estimation of the sky.
 #pragma once
 #include <vector>
 
@@ -47,17 +52,50 @@ struct Lights {
 };
 
 // One light sample seen from point p (already offset off its surface) whose face-forwarded geometric normal is ng.
-// value = incident radiance * cos(at the light) / pdf, with visibility included: the receiver multiplies by its
-// BSDF and its own cosine. value is zero when the light is below the surface, behind, or occluded.
+// value = incident radiance / pdf (solid angle), with visibility included: the receiver multiplies by its BSDF and
+// its own cosine. value is zero when the light is below the surface, behind, or occluded. pdf is the solid-angle
+// density of wi (for the MIS weight); 0 for a sun of radius 0, which BSDF sampling can never hit.
 struct LightSample {
   Eigen::Vector3f wi = Eigen::Vector3f::UnitY();  // unit, towards the light
   Color value = Color::Zero();
+  float pdf = 0;
+  bool traced = false;  // whether a shadow ray was traced (statistics)
 };
 
 LightSample sampleSun(const Scene& scene, const SunLight& sun, const Eigen::Vector3f& p, const Eigen::Vector3f& ng,
                       float u1, float u2);
 LightSample sampleRect(const Scene& scene, const RectLight& light, const Eigen::Vector3f& p,
                        const Eigen::Vector3f& ng, float u1, float u2);
+
+// What a ray leaving a surface in direction d finds of a light (no visibility test: the caller traces the ray).
+// radiance is zero, and pdf (the light-sampling density of d, solid angle) 0, when it misses the light.
+struct LightHit {
+  Color radiance = Color::Zero();
+  float pdf = 0;
+};
+// A sun of radius > 0 is a disc of constant radiance irradiance / (2 pi (1 - cos radius)), uniform-cone sampled.
+LightHit sunInDirection(const SunLight& sun, const Eigen::Vector3f& d);
+// The rectangle's front face, hit at a distance below tmax along (origin, d).
+LightHit rectAlongRay(const RectLight& light, const Eigen::Vector3f& origin, const Eigen::Vector3f& d, float tmax);
+
+// Directions drawn in proportion to the sky's luminance: a piecewise-constant density over elevation (kBins bins
+// of sin(elevation) = d.up, each of equal solid angle), uniform in azimuth.
+class SkyDistribution {
+ public:
+  static constexpr int kBins = 128;
+  explicit SkyDistribution(const Sky& sky);
+
+  bool empty() const { return total_ <= 0; }  // a black sky: nothing to sample
+  // Direction for (u1, u2) in [0, 1)^2 and its solid-angle density.
+  Eigen::Vector3f sample(float u1, float u2, float& pdf) const;
+  float pdf(const Eigen::Vector3f& d) const;
+
+ private:
+  Eigen::Vector3f up_, a_, b_;  // orthonormal, up_ along the sky's up
+  float total_ = 0;
+  float weight_[kBins];         // luminance per bin
+  float cdf_[kBins + 1];
+};
 
 // Throws std::invalid_argument on a zero direction, negative power or degenerate rectangle.
 void checkLights(const Lights& lights);

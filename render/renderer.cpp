@@ -1,7 +1,9 @@
-// render(): tiles in parallel with TBB, per-pixel seeded samples, FTZ/DAZ in render threads (see renderer.h).
+// render(): tiles in parallel with TBB, adaptive passes, per-pixel sample streams, FTZ/DAZ in render threads
+// (see renderer.h).
 #include "renderer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <vector>
 
@@ -33,52 +35,124 @@ class DenormalsAreZero {
   unsigned saved_;
 };
 
+// What a pixel keeps between passes besides the film's running sums.
+struct PixelState {
+  Color half = Color::Zero();  // colour sum over the first half of the samples taken by the end of the pass
+  float diffuse_sum = 0, diffuse_sq = 0, other_sum = 0, other_sq = 0;  // luminance moments, for the variances
+  bool active = true;
+};
+
+// Variance of the mean of n samples with sum s and sum of squares q; -1 when n < 2.
+float varianceOfMean(float s, float q, std::uint32_t n) {
+  if (n < 2) return -1;
+  const float m = s / float(n);
+  return std::max(0.0f, (q / float(n) - m * m) / float(n - 1));
+}
+
+// Cycles' per-pixel error estimate (adaptive_sampling.h there): |I - A|_1 / sqrt(sum I), I the mean of all n
+// samples, A that of the first n/2.
+float adaptiveError(const Color& sum, const Color& half, std::uint32_t n) {
+  const Color all = sum / float(n), first = half / float(n / 2);
+  return (all - first).cwiseAbs().sum() / (1e-4f + std::sqrt(std::max(0.0f, all.sum())));
+}
+
 }  // namespace
 
 Film render(const Scene& scene, const Camera& camera, const RenderSettings& settings, RenderStats* stats) {
   if (!scene.committed()) throw std::logic_error("render: the scene changed since its last commit(); call commit()");
-  if (settings.samples_per_pixel < 1 || settings.max_bounces < 0 || settings.tile_size < 1)
-    throw std::invalid_argument("render: need samples_per_pixel >= 1, max_bounces >= 0, tile_size >= 1");
+  if (settings.samples_per_pixel < 1 || settings.max_bounces < 0 || settings.tile_size < 1 ||
+      settings.min_samples < 0 || !(settings.noise_threshold >= 0))
+    throw std::invalid_argument("render: need samples_per_pixel >= 1, min_samples >= 0, noise_threshold >= 0, "
+                                "max_bounces >= 0, tile_size >= 1");
   checkLights(scene.lights);  // lights are a plain member: they may have changed since commit()
+  const PathContext context(scene, PathSettings{settings.max_bounces, settings.sample_sky});
   const int w = camera.width(), h = camera.height(), ts = settings.tile_size;
   const int tiles_x = (w + ts - 1) / ts, tiles_y = (h + ts - 1) / ts;
   Film film(w, h);
+  std::vector<PixelState> state(film.color.size());
   std::vector<std::uint64_t> tile_rays(std::size_t(tiles_x) * tiles_y, 0);
-  const float inv_spp = 1.0f / static_cast<float>(settings.samples_per_pixel);
 
-  tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& range) {
-    const DenormalsAreZero fp_mode;
-    for (int tile = range.begin(); tile != range.end(); ++tile) {
-      const int x0 = (tile % tiles_x) * ts, y0 = (tile / tiles_x) * ts;
-      std::uint64_t rays = 0;
-      for (int y = y0; y < std::min(y0 + ts, h); ++y)
-        for (int x = x0; x < std::min(x0 + ts, w); ++x) {
-          const std::size_t i = film.index(x, y);
-          Rng rng(i, settings.frame);
-          Color color = Color::Zero(), albedo = Color::Zero();
-          Eigen::Vector3f normal = Eigen::Vector3f::Zero();
-          float depth = film.depth[i];
-          for (int s = 0; s < settings.samples_per_pixel; ++s) {
-            const float jx = rng.next(), jy = rng.next();
-            const Ray ray = camera.ray(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
-            const PathResult r = tracePath(scene, ray, rng, settings.max_bounces);
-            if (r.radiance.allFinite()) color += r.radiance;  // one bad sample must not blacken the pixel
-            albedo += r.albedo;
-            normal += r.normal;
-            if (r.hit) depth = std::min(depth, camera.depth(r.position));
-            rays += r.rays;
+  const int spp = settings.samples_per_pixel;
+  const bool adaptive = settings.noise_threshold > 0;
+  int target = adaptive ? std::min(spp, settings.min_samples > 0 ? settings.min_samples : 4) : spp;
+  int passes = 0;
+  for (;;) {
+    ++passes;
+    tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& range) {
+      const DenormalsAreZero fp_mode;
+      for (int tile = range.begin(); tile != range.end(); ++tile) {
+        const int x0 = (tile % tiles_x) * ts, y0 = (tile / tiles_x) * ts;
+        std::uint64_t rays = 0;
+        for (int y = y0; y < std::min(y0 + ts, h); ++y)
+          for (int x = x0; x < std::min(x0 + ts, w); ++x) {
+            const std::size_t i = film.index(x, y);
+            PixelState& p = state[i];
+            if (!p.active) continue;
+            const PixelSampler sampler(settings.sampler, i, settings.frame, context.layout.slots(settings.max_bounces));
+            for (auto s = film.samples[i]; s < std::uint32_t(target); ++s) {
+              if (s == std::uint32_t(target / 2)) p.half = film.color[i];
+              const Eigen::Vector2f jitter = sampler.get2D(s, SampleLayout::kPixel);
+              const Ray ray = camera.ray(static_cast<float>(x) + jitter.x(), static_cast<float>(y) + jitter.y());
+              const PathResult r = tracePath(context, ray, sampler, s);
+              if (r.radiance.allFinite()) {  // one bad sample must not blacken the pixel
+                film.color[i] += r.radiance;
+                film.diffuse[i] += r.diffuse;
+                const float d = r.diffuse_demodulated, o = luminance(r.radiance - r.diffuse);
+                p.diffuse_sum += d, p.diffuse_sq += d * d, p.other_sum += o, p.other_sq += o * o;
+              }
+              film.albedo[i] += r.albedo;
+              film.normal[i] += r.normal;
+              if (r.hit) film.depth[i] = std::min(film.depth[i], camera.depth(r.position));
+              rays += r.rays;
+            }
+            film.samples[i] = std::uint32_t(target);
           }
-          film.color[i] = color * inv_spp;
-          film.albedo[i] = albedo * inv_spp;
-          film.normal[i] = normal * inv_spp;
-          film.depth[i] = depth;
-        }
-      tile_rays[tile] = rays;
-    }
-  });
+        tile_rays[tile] += rays;
+      }
+    });
+    if (!adaptive || target >= spp) break;
 
+    // Which pixels go on: those not converged and their 3 x 3 neighbours.
+    std::vector<char> unconverged(state.size(), 0);
+    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+      for (int y = rows.begin(); y != rows.end(); ++y)
+        for (int x = 0; x < w; ++x) {
+          const std::size_t i = film.index(x, y);
+          const std::uint32_t n = film.samples[i];
+          unconverged[i] = n < 2 || adaptiveError(film.color[i], state[i].half, n) >= settings.noise_threshold;
+        }
+    });
+    bool any = false;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        bool go_on = false;
+        for (int dy = -1; dy <= 1 && !go_on; ++dy)
+          for (int dx = -1; dx <= 1 && !go_on; ++dx) {
+            const int nx = x + dx, ny = y + dy;
+            go_on = nx >= 0 && ny >= 0 && nx < w && ny < h && unconverged[film.index(nx, ny)];
+          }
+        state[film.index(x, y)].active = go_on;
+        any = any || go_on;
+      }
+    if (!any) break;
+    target = std::min(spp, 2 * target);
+  }
+
+  std::uint64_t samples_taken = 0;
+  for (std::size_t i = 0; i < film.color.size(); ++i) {
+    const std::uint32_t n = film.samples[i];
+    samples_taken += n;
+    const float inv = 1.0f / float(n);
+    film.color[i] *= inv;
+    film.diffuse[i] *= inv;
+    film.albedo[i] *= inv;
+    film.normal[i] *= inv;
+    film.variance_diffuse[i] = varianceOfMean(state[i].diffuse_sum, state[i].diffuse_sq, n);
+    film.variance_other[i] = varianceOfMean(state[i].other_sum, state[i].other_sq, n);
+  }
   if (stats) {
-    stats->camera_rays = std::uint64_t(w) * h * settings.samples_per_pixel;
+    stats->camera_rays = samples_taken;
+    stats->passes = passes;
     stats->rays = 0;
     for (std::uint64_t r : tile_rays) stats->rays += r;
   }

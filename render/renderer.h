@@ -1,20 +1,32 @@
 // render: draws a committed Scene through a Camera into a Film.
 //
 // Parameters (RenderSettings):
-//   samples_per_pixel  jittered samples in each pixel, averaged (box filter): the anti-aliasing (>= 1)
+//   samples_per_pixel  the most samples a pixel gets, averaged (box filter): the anti-aliasing (>= 1)
+//   min_samples        adaptive sampling (with noise_threshold > 0): every pixel first gets min_samples, then
+//                      pixels whose estimated error is still above the threshold double their count, pass after
+//                      pass, up to samples_per_pixel. 0 picks min(samples_per_pixel, 4).
+//   noise_threshold    0 = no adaptive sampling. Otherwise a pixel stops once Cycles' error estimate (Hachisuka et
+//                      al.'s, as in Cycles' adaptive sampling) falls below it: the RGB difference between the mean
+//                      of all its samples and of the first half, over the square root of the mean's RGB sum. A pixel
+//                      next to one that goes on goes on too (a 3 x 3 dilation, as Cycles), so isolated pixels that
+//                      stopped by luck do not show. Cycles' default threshold is 0.01.
 //   max_bounces        path continuations after the first hit (integrator.h); 2 by default
+//   sampler            SamplerKind::Sobol (default) or Independent (sampler.h)
+//   sample_sky         next-event estimation of the sky with MIS (integrator.h)
 //   tile_size          tiles of tile_size^2 pixels are the units of parallel work (tbb::parallel_for)
-//   frame              animation frame index: seeds the per-pixel random numbers, so consecutive frames get
+//   frame              animation frame index: seeds the per-pixel sample streams, so consecutive frames get
 //                      different noise and the same frame is always the same
-// Determinism: every pixel's random numbers come from its own generator seeded by (pixel index, frame), each pixel
-// is computed by one thread in a fixed order, and nothing is summed across threads except integer statistics, so
-// the image's bytes do not depend on the thread count or scheduling. Render threads run with flush-to-zero and
-// denormals-are-zero (as Embree recommends for speed); the caller's floating-point mode is restored afterwards.
+// Determinism: every pixel's samples are a function of (pixel, frame, sample index) only, each pixel is computed by
+// one thread in a fixed order, adaptive decisions use only finished passes, and nothing is summed across threads
+// except integer statistics, so the image's bytes do not depend on the thread count or scheduling. Render threads
+// run with flush-to-zero and denormals-are-zero (as Embree recommends for speed); the caller's floating-point mode is
+// restored afterwards.
 #pragma once
 #include <cstdint>
 
 #include "camera.h"
 #include "film.h"
+#include "sampler.h"
 
 namespace wobble::render {
 
@@ -22,14 +34,19 @@ class Scene;
 
 struct RenderSettings {
   int samples_per_pixel = 16;
+  int min_samples = 0;
+  float noise_threshold = 0;
   int max_bounces = 2;
+  SamplerKind sampler = SamplerKind::Sobol;
+  bool sample_sky = false;
   int tile_size = 16;
   std::uint32_t frame = 0;
 };
 
 struct RenderStats {
-  std::uint64_t camera_rays = 0;
-  std::uint64_t rays = 0;  // every ray traced: camera, bounce and shadow rays
+  std::uint64_t camera_rays = 0;  // = samples taken, over all pixels
+  std::uint64_t rays = 0;         // every ray traced: camera, bounce and shadow rays
+  int passes = 0;                 // adaptive passes (1 without adaptive sampling)
 };
 
 // Throws std::logic_error if the scene has changes that were not committed, std::invalid_argument on bad settings.

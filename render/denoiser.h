@@ -1,0 +1,34 @@
+// denoise: removes Monte Carlo noise from a rendered Film with an edge-avoiding a-trous wavelet filter (Dammertz et
+// al. 2010, "Edge-Avoiding A-Trous Wavelet Transform for fast Global Illumination Filtering"), steered by the pixel
+// variances as in the spatial part of SVGF (Schied et al. 2017). Spatial only, so frames stay independent.
+//
+// The film's colour is filtered in two parts (film.h): the diffuse part divided by the albedo (the lighting, which is
+// smooth across texture detail, so the cat's fur survives: it is multiplied back afterwards), and the rest (the
+// coat's reflections, the sky seen directly). Each iteration i (step 2^i pixels) takes a 5 x 5 B3-spline kernel of
+// taps weighted by
+//   normal     max(0, n_p . n_q)^sigma_normal (as exp(-sigma_normal (1 - n_p . n_q)), its value near 1)
+//   depth      exp(-|z_p - z_q| / (sigma_depth |grad z_p . (p - q)| + 1% of z_p)), z along the optical axis; sky
+//              pixels (no depth) mix only with sky pixels
+//   luminance  exp(-|l_p - l_q| / (sigma_luminance sqrt(3x3 Gaussian of the variance at p) + 1e-4)), the variance
+//              filtered along (by the squared weights) from one iteration to the next
+// Parameters (DenoiseSettings): iterations (the filter's reach is 2^(iterations + 1) pixels), sigma_luminance,
+// sigma_normal, sigma_depth. Deterministic: every output pixel is a fixed sum over its neighbours.
+#pragma once
+#include <vector>
+
+#include "film.h"
+
+namespace wobble::render {
+
+struct DenoiseSettings {
+  int iterations = 5;
+  float sigma_luminance = 4;
+  float sigma_normal = 128;
+  float sigma_depth = 1;
+};
+
+// The denoised colour, one per pixel (row-major, as film.color). Throws std::invalid_argument on an inconsistent
+// film or settings out of range.
+std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings = {});
+
+}  // namespace wobble::render

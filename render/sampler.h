@@ -1,0 +1,78 @@
+// Sampler: the numbers in [0, 1) that drive one pixel's samples, as a pure function of (pixel, frame, sample index,
+// dimension), so any thread can compute any sample and a frame is the same bytes however it is split.
+//
+// Kinds (SamplerKind):
+//   Sobol        Owen-scrambled Sobol points, "padded" as in Burley 2020 ("Practical Hash-based Owen Scrambling")
+//                and pbrt-v4's PaddedSobolSampler: every dimension slot (a 1D or 2D draw) takes Sobol dimensions
+//                0 and 1 of its own shuffled and scrambled copy of the sequence, seeded by (pixel, frame, slot).
+//                So within a slot the first 2^m samples of a pixel are a (0, m, 2)-net (one point in every
+//                elementary interval), while slots and pixels are decorrelated. Error falls faster than 1/sqrt(n)
+//                on smooth integrands; best with power-of-two sample counts.
+//   Independent  hashed uniform random numbers (the renderer's sampler before Sobol): error falls as 1/sqrt(n).
+// Dimension layout (SampleLayout) is fixed per scene: slot 0 is the pixel jitter; then, for every bounce, one 2D
+// slot per light (suns, rectangles, the sky when sampled), one 1D slot for the BSDF lobe and one 2D slot for the
+// BSDF direction. A slot's numbers never depend on what earlier slots were used for.
+#pragma once
+#include <cstdint>
+#include <string_view>
+
+#include <Eigen/Core>
+
+namespace wobble::render {
+
+enum class SamplerKind { Sobol, Independent };
+
+// "sobol" / "independent"; parseSamplerKind returns false for any other name.
+std::string_view toString(SamplerKind kind);
+bool parseSamplerKind(std::string_view name, SamplerKind& kind);
+
+// Which slot holds which draw, for a scene with `lights` light sources sampled at every bounce.
+struct SampleLayout {
+  int lights = 0;
+
+  static constexpr int kPixel = 0;
+  int perBounce() const { return lights + 2; }
+  int light(int bounce, int light_index) const { return 1 + bounce * perBounce() + light_index; }
+  int bsdfLobe(int bounce) const { return 1 + bounce * perBounce() + lights; }
+  int bsdfDirection(int bounce) const { return 1 + bounce * perBounce() + lights + 1; }
+  int slots(int max_bounces) const { return 1 + (max_bounces + 1) * perBounce(); }
+};
+
+// The sample stream of one pixel of one frame. The seeds of the first kCachedSlots slots are hashed once, at
+// construction (no allocation); further slots hash theirs on every draw.
+class PixelSampler {
+ public:
+  static constexpr int kCachedSlots = 24;
+  PixelSampler(SamplerKind kind, std::uint64_t pixel, std::uint32_t frame, int slots = kCachedSlots);
+
+  float get1D(std::uint32_t sample, int slot) const;
+  Eigen::Vector2f get2D(std::uint32_t sample, int slot) const;
+
+ private:
+  struct SlotSeeds {
+    std::uint32_t shuffle, x, y;
+  };
+  SlotSeeds seeds(int slot) const;
+
+  SamplerKind kind_;
+  std::uint32_t seed_;
+  int cached_;
+  SlotSeeds cache_[kCachedSlots];
+};
+
+// The building blocks, exposed for tests.
+namespace sobol {
+// Sobol dimension 0 (van der Corput) and dimension 1 of `index`, as 32-bit fixed-point fractions.
+std::uint32_t dimension0(std::uint32_t index);
+std::uint32_t dimension1(std::uint32_t index);
+std::uint32_t reverseBits(std::uint32_t v);
+// Nested uniform (Owen) scramble of a 32-bit fraction: a random permutation of every dyadic interval's two halves,
+// drawn from `seed` by a hash (Laine-Karras style, with Vegdahl's constants as in pbrt-v4).
+std::uint32_t owenScramble(std::uint32_t value, std::uint32_t seed);
+// A 32-bit integer hash of two values (for seeds).
+std::uint32_t hash(std::uint32_t a, std::uint32_t b);
+// Top 24 bits as a float in [0, 1): exact, never 1.
+inline float toUnitFloat(std::uint32_t bits) { return static_cast<float>(bits >> 8) * 0x1p-24f; }
+}  // namespace sobol
+
+}  // namespace wobble::render
