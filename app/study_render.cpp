@@ -32,7 +32,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Bumped whenever the renderer's converged picture changes, so cached references of older builds are not reused.
-constexpr int kRendererVersion = 1;
+constexpr int kRendererVersion = 3;
 // The second half of the reference uses this seed offset: far from any frame number.
 constexpr std::uint32_t kSecondHalfSeed = 0x80000000u;
 

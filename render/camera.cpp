@@ -40,3 +40,17 @@ Ray Camera::ray(float x, float y) const {
 }
 
 }  // namespace wobble::render
+
+namespace wobble::render {
+
+void Camera::differentials(const Eigen::Vector3f& d, Eigen::Vector3f& ddx, Eigen::Vector3f& ddy) const {
+  // d = v / |v| with v = forward + sx right + sy up, so |v| = 1 / (d . forward); the derivative of v / |v| along
+  // dv is (dv - d (d . dv)) / |v|.
+  const Eigen::Vector3f dvx = (2.0f * tan_half_x_ / static_cast<float>(params_.width)) * right_;
+  const Eigen::Vector3f dvy = (-2.0f * tan_half_y_ / static_cast<float>(params_.height)) * up_;
+  const float inv_length = d.dot(forward_);
+  ddx = (dvx - d * d.dot(dvx)) * inv_length;
+  ddy = (dvy - d * d.dot(dvy)) * inv_length;
+}
+
+}  // namespace wobble::render

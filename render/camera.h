@@ -32,6 +32,10 @@ class Camera {
   // Primary ray through film point (x, y) in pixels; unit direction, starting at the eye.
   Ray ray(float x, float y) const;
 
+  // How the unit direction of the primary ray with unit direction d turns per pixel to the right (ddx) and down (ddy):
+  // its ray differentials (the origin does not move: a pinhole), for texture filtering.
+  void differentials(const Eigen::Vector3f& d, Eigen::Vector3f& ddx, Eigen::Vector3f& ddy) const;
+
   // Distance of p from the eye along the optical axis (the EXR depth channel).
   float depth(const Eigen::Vector3f& p) const { return (p - params_.position).dot(forward_); }
 

@@ -5,6 +5,8 @@
 //              Not turned towards the ray.
 //   ns         unit shading normal: interpolated vertex normals (ng where the mesh has none)
 //   uv         interpolated texture coordinates
+//   dpdu, dpdv how the point moves with u and v (the surface's UV parametrisation; zero where it has none), for
+//              texture filtering
 //   shape, primitive   the Scene's shape id and the triangle index within it (0 for a sphere)
 //   material   the shape's material id
 #pragma once
@@ -16,6 +18,7 @@ struct SurfaceHit {
   float t = 0;
   Eigen::Vector3f p, ng, ns;
   Eigen::Vector2f uv;
+  Eigen::Vector3f dpdu = Eigen::Vector3f::Zero(), dpdv = Eigen::Vector3f::Zero();
   int shape = -1, primitive = -1, material = -1;
 };
 

@@ -7,6 +7,7 @@
 // Lookup: image row = (1 - v) * height (OBJ convention, v up), column = u * width; texel centres sit at half-integer
 // positions, so uv exactly at a texel centre returns that texel and halfway between two centres their mean.
 #pragma once
+#include <algorithm>
 #include <filesystem>
 #include <span>
 #include <vector>
@@ -28,6 +29,7 @@ class ImageTexture final : public Texture {
   static ImageTexture fromSrgb8(const Image8& image, Wrap wrap = Wrap::Repeat);
 
   Color eval(const Eigen::Vector2f& uv) const override;
+  float featureSize() const override { return 1.0f / static_cast<float>(std::max(width_, height_)); }  // a texel
   const Color& texel(int x, int y) const { return texels_[std::size_t(y) * width_ + x]; }
   int width() const { return width_; }
   int height() const { return height_; }

@@ -15,11 +15,33 @@ float powerHeuristic(float chosen, float other) {
   return a > 0 ? a / (a + b) : 0.0f;
 }
 
+// The first hit's footprint in UV space: where the camera's neighbouring pixel rays (differentials ddx, ddy) meet
+// the hit's tangent plane, mapped through the surface's UV parametrisation (least squares, as pbrt).
+TextureFootprint footprint(const Ray& ray, const Eigen::Vector3f& ddx, const Eigen::Vector3f& ddy,
+                           const SurfaceHit& hit, float scale) {
+  TextureFootprint f;
+  const float a11 = hit.dpdu.squaredNorm(), a12 = hit.dpdu.dot(hit.dpdv), a22 = hit.dpdv.squaredNorm();
+  const float det = a11 * a22 - a12 * a12;
+  if (!(det > 1e-20f) || !(scale > 0)) return f;
+  const float plane = hit.ng.dot(hit.p - ray.origin);
+  const auto toUv = [&](const Eigen::Vector3f& dd) {
+    const Eigen::Vector3f d = ray.direction + scale * dd;
+    const Eigen::Vector3f dp = ray.origin + (plane / hit.ng.dot(d)) * d - hit.p;
+    const float b1 = hit.dpdu.dot(dp), b2 = hit.dpdv.dot(dp);
+    return Eigen::Vector2f((a22 * b1 - a12 * b2) / det, (a11 * b2 - a12 * b1) / det);
+  };
+  f.duvdx = toUv(ddx);
+  f.duvdy = toUv(ddy);
+  return f;
+}
+
 }  // namespace
 
 PathContext::PathContext(const Scene& scene_, const PathSettings& settings_)
-    : scene(scene_), settings(settings_), sky(scene_.lights.sky) {
-  settings.sample_sky = settings.sample_sky && !sky.empty();
+    : scene(scene_), settings(settings_), sky(scene_.lights.sky), sky_distribution(scene_.lights.sky) {
+  sky.up.normalize();
+  for (const SunLight& sun : scene.lights.suns) suns.emplace_back(sun);
+  settings.sample_sky = settings.sample_sky && !sky_distribution.empty();
   layout.lights = int(scene.lights.suns.size() + scene.lights.rects.size()) + (settings.sample_sky ? 1 : 0);
 }
 
@@ -27,7 +49,8 @@ Eigen::Vector3f offsetFromSurface(const Eigen::Vector3f& p, const Eigen::Vector3
   return p + (1e-4f * (1.0f + p.cwiseAbs().maxCoeff())) * n;
 }
 
-PathResult tracePath(const PathContext& context, Ray ray, const PixelSampler& sampler, std::uint32_t sample) {
+PathResult tracePath(const PathContext& context, Ray ray, const Eigen::Vector3f& ddx, const Eigen::Vector3f& ddy,
+                     const PixelSampler& sampler, std::uint32_t sample) {
   const Scene& scene = context.scene;
   const Lights& lights = scene.lights;
   const SampleLayout& layout = context.layout;
@@ -57,10 +80,11 @@ PathResult tracePath(const PathContext& context, Ray ray, const PixelSampler& sa
       }
     }
     if (!hit) {
-      Color light = lights.sky.eval(ray.direction);
+      Color light = context.sky.eval(ray.direction);
       if (bounce > 0) {
-        if (context.settings.sample_sky) light *= powerHeuristic(previous_pdf, context.sky.pdf(ray.direction));
-        for (const SunLight& sun : lights.suns) {
+        if (context.settings.sample_sky)
+          light *= powerHeuristic(previous_pdf, context.sky_distribution.pdf(ray.direction));
+        for (const SunCone& sun : context.suns) {
           const LightHit h = sunInDirection(sun, ray.direction);
           if (h.pdf > 0) light += h.radiance * powerHeuristic(previous_pdf, h.pdf);
         }
@@ -74,7 +98,14 @@ PathResult tracePath(const PathContext& context, Ray ray, const PixelSampler& sa
     Eigen::Vector3f ns = hit->ns.dot(ng) >= 0 ? hit->ns : Eigen::Vector3f(-hit->ns);
     if (ns.dot(wo) <= 0) ns = ng;  // interpolated normal facing away from the viewer: shade flat instead of black
     const Material& material = scene.material(hit->material);
-    const Color base = material.baseColor(hit->uv);
+    Color base;
+    if (bounce == 0 && material.texture) {
+      TextureFootprint f = footprint(ray, ddx, ddy, *hit, context.settings.footprint_scale);
+      f.jitter = sampler.get2D(sample, SampleLayout::kTexture);
+      base = material.baseColor(hit->uv, f);
+    } else {
+      base = material.baseColor(hit->uv);
+    }
     if (bounce == 0) {
       result.hit = true;
       result.albedo = first_base = base;
@@ -104,7 +135,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const PixelSampler& sa
       reflect(s.wi, s.value * weight);
     };
     int light_index = 0;
-    for (const SunLight& sun : lights.suns) {
+    for (const SunCone& sun : context.suns) {
       const Eigen::Vector2f u = sampler.get2D(sample, layout.light(bounce, light_index++));
       sampleLight(sampleSun(scene, sun, origin, ng, u.x(), u.y()));
     }
@@ -116,11 +147,11 @@ PathResult tracePath(const PathContext& context, Ray ray, const PixelSampler& sa
     if (context.settings.sample_sky) {  // the sky is reached by continuations only, so only where one follows
       const Eigen::Vector2f u = sampler.get2D(sample, layout.light(bounce, light_index++));
       float pdf = 0;
-      const Eigen::Vector3f wi = context.sky.sample(u.x(), u.y(), pdf);
+      const Eigen::Vector3f wi = context.sky_distribution.sample(u.x(), u.y(), pdf);
       if (pdf > 0 && wi.dot(ng) > 0 && ns.dot(wi) > 0) {
         ++result.rays;
         if (!scene.occluded(Ray{origin, wi}))
-          reflect(wi, lights.sky.eval(wi) * (powerHeuristic(pdf, bsdf.pdf(wo, wi)) / pdf));
+          reflect(wi, context.sky.eval(wi) * (powerHeuristic(pdf, bsdf.pdf(wo, wi)) / pdf));
       }
     }
 

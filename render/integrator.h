@@ -17,6 +17,7 @@
 // and the sky seen directly.
 #pragma once
 #include <cstdint>
+#include <vector>
 
 #include "color.h"
 #include "lights.h"
@@ -30,6 +31,9 @@ class Scene;
 struct PathSettings {
   int max_bounces = 2;
   bool sample_sky = false;  // next-event estimation of the sky, with MIS against BSDF sampling
+  // The first hit's texture lookups average over the pixel's footprint times this (1 at one sample per pixel; pbrt
+  // takes max(1/8, 1/sqrt(spp)), since the pixel's samples filter too). 0: no texture filtering.
+  float footprint_scale = 1;
 };
 
 // What a path needs besides its ray, built once per frame (render()).
@@ -39,7 +43,9 @@ struct PathContext {
   const Scene& scene;
   PathSettings settings;
   SampleLayout layout;
-  SkyDistribution sky;
+  Sky sky;  // the scene's, with a unit up vector
+  SkyDistribution sky_distribution;
+  std::vector<SunCone> suns;
 };
 
 struct PathResult {
@@ -54,7 +60,9 @@ struct PathResult {
   std::uint32_t rays = 0;  // rays traced (intersection and shadow), for statistics
 };
 
-PathResult tracePath(const PathContext& context, Ray ray, const PixelSampler& sampler, std::uint32_t sample);
+// ddx, ddy: the camera ray's differentials (camera.h), for the first hit's texture filter.
+PathResult tracePath(const PathContext& context, Ray ray, const Eigen::Vector3f& ddx, const Eigen::Vector3f& ddy,
+                     const PixelSampler& sampler, std::uint32_t sample);
 
 // Origin for rays leaving a surface at p on the side of the unit normal n: far enough to not hit the same surface
 // again through rounding (relative to the coordinates' magnitude), close enough to keep contact shadows.

@@ -15,7 +15,7 @@
 namespace wobble::render {
 
 Color Sky::eval(const Eigen::Vector3f& d) const {
-  const float e = d.dot(up.normalized());
+  const float e = d.dot(up) / up.norm();
   // sqrt: a fast change near the horizon, as in a real clear sky, then a slow one towards the zenith.
   if (e >= 0) return horizon + std::sqrt(e) * (zenith - horizon);
   return horizon + std::sqrt(std::min(1.0f, -4.0f * e)) * (ground - horizon);
@@ -35,14 +35,24 @@ float sunPdf(const SunLight& sun) {
 
 }  // namespace
 
-LightSample sampleSun(const Scene& scene, const SunLight& sun, const Eigen::Vector3f& p, const Eigen::Vector3f& ng,
+SunCone::SunCone(const SunLight& light) : sun(&light), axis(light.direction.normalized()) {
+  const Frame frame(axis);
+  s = frame.s;
+  t = frame.t;
+  if (light.angular_radius_deg > 0) {
+    cos_max = 1.0f - oneMinusCos(light.angular_radius_deg);
+    pdf = sunPdf(light);
+  }
+}
+
+LightSample sampleSun(const Scene& scene, const SunCone& cone, const Eigen::Vector3f& p, const Eigen::Vector3f& ng,
                       float u1, float u2) {
   LightSample s;
-  const Eigen::Vector3f axis = sun.direction.normalized();
-  if (sun.angular_radius_deg > 0) {
-    s.wi = Frame(axis).toWorld(sampleUniformCone(u1, u2, 1.0f - oneMinusCos(sun.angular_radius_deg))).normalized();
+  if (cone.pdf > 0) {
+    const Eigen::Vector3f local = sampleUniformCone(u1, u2, cone.cos_max);
+    s.wi = (local.x() * cone.s + local.y() * cone.t + local.z() * cone.axis).normalized();
   } else {
-    s.wi = axis;
+    s.wi = cone.axis;
   }
   if (s.wi.dot(ng) <= 0) return s;
   Ray shadow;
@@ -51,8 +61,8 @@ LightSample sampleSun(const Scene& scene, const SunLight& sun, const Eigen::Vect
   s.traced = true;
   if (scene.occluded(shadow)) return s;
   // Uniform cone sampling of a disc of constant radiance: radiance / pdf = irradiance at normal incidence.
-  s.value = sun.irradiance;
-  s.pdf = sun.angular_radius_deg > 0 ? sunPdf(sun) : 0.0f;
+  s.value = cone.sun->irradiance;
+  s.pdf = cone.pdf;
   return s;
 }
 
@@ -80,12 +90,9 @@ LightSample sampleRect(const Scene& scene, const RectLight& light, const Eigen::
   return s;
 }
 
-LightHit sunInDirection(const SunLight& sun, const Eigen::Vector3f& d) {
-  if (!(sun.angular_radius_deg > 0)) return {};
-  const float cos_max = 1.0f - oneMinusCos(sun.angular_radius_deg);
-  if (d.dot(sun.direction.normalized()) < cos_max) return {};
-  const float pdf = sunPdf(sun);
-  return {sun.irradiance * pdf, pdf};
+LightHit sunInDirection(const SunCone& sun, const Eigen::Vector3f& d) {
+  if (!(sun.pdf > 0) || d.dot(sun.axis) < sun.cos_max) return {};
+  return {sun.sun->irradiance * sun.pdf, sun.pdf};
 }
 
 LightHit rectAlongRay(const RectLight& light, const Eigen::Vector3f& origin, const Eigen::Vector3f& d, float tmax) {

@@ -62,8 +62,20 @@ struct LightSample {
   bool traced = false;  // whether a shadow ray was traced (statistics)
 };
 
-LightSample sampleSun(const Scene& scene, const SunLight& sun, const Eigen::Vector3f& p, const Eigen::Vector3f& ng,
+// A sun prepared for sampling: its unit axis, frame and cone, computed once per frame instead of per sample.
+struct SunCone {
+  explicit SunCone(const SunLight& sun);
+  const SunLight* sun;
+  Eigen::Vector3f axis, s, t;  // orthonormal
+  float cos_max = 1, pdf = 0;  // pdf 0: a point sun (radius 0)
+};
+
+LightSample sampleSun(const Scene& scene, const SunCone& cone, const Eigen::Vector3f& p, const Eigen::Vector3f& ng,
                       float u1, float u2);
+inline LightSample sampleSun(const Scene& scene, const SunLight& sun, const Eigen::Vector3f& p,
+                             const Eigen::Vector3f& ng, float u1, float u2) {
+  return sampleSun(scene, SunCone(sun), p, ng, u1, u2);
+}
 LightSample sampleRect(const Scene& scene, const RectLight& light, const Eigen::Vector3f& p,
                        const Eigen::Vector3f& ng, float u1, float u2);
 
@@ -74,7 +86,7 @@ struct LightHit {
   float pdf = 0;
 };
 // A sun of radius > 0 is a disc of constant radiance irradiance / (2 pi (1 - cos radius)), uniform-cone sampled.
-LightHit sunInDirection(const SunLight& sun, const Eigen::Vector3f& d);
+LightHit sunInDirection(const SunCone& sun, const Eigen::Vector3f& d);
 // The rectangle's front face, hit at a distance below tmax along (origin, d).
 LightHit rectAlongRay(const RectLight& light, const Eigen::Vector3f& origin, const Eigen::Vector3f& d, float tmax);
 

@@ -34,6 +34,10 @@ struct Material {
   Color baseColor(const Eigen::Vector2f& uv) const {
     return texture ? Color(color.cwiseProduct(texture->eval(uv))) : color;
   }
+  // Averaged over a pixel's footprint (texture.h).
+  Color baseColor(const Eigen::Vector2f& uv, const TextureFootprint& footprint) const {
+    return texture ? Color(color.cwiseProduct(texture->evalFootprint(uv, footprint))) : color;
+  }
 
   static Material diffuse(std::string name, const Color& color) { return {std::move(name), color, nullptr}; }
   static Material textured(std::string name, std::shared_ptr<const Texture> texture) {

@@ -65,16 +65,19 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
     throw std::invalid_argument("render: need samples_per_pixel >= 1, min_samples >= 0, noise_threshold >= 0, "
                                 "max_bounces >= 0, tile_size >= 1");
   checkLights(scene.lights);  // lights are a plain member: they may have changed since commit()
-  const PathContext context(scene, PathSettings{settings.max_bounces, settings.sample_sky});
+  const int spp = settings.samples_per_pixel;
+  const bool adaptive = settings.noise_threshold > 0;
+  int target = adaptive ? std::min(spp, settings.min_samples > 0 ? settings.min_samples : 4) : spp;
+  // Texture filters shrink as the pixel's own samples take over the filtering (pbrt's rule); adaptive sampling
+  // keeps the first pass's footprint, so every sample of a pixel uses the same filter.
+  const float footprint_scale = std::max(0.125f, 1.0f / std::sqrt(static_cast<float>(target)));
+  const PathContext context(scene, PathSettings{settings.max_bounces, settings.sample_sky, footprint_scale});
   const int w = camera.width(), h = camera.height(), ts = settings.tile_size;
   const int tiles_x = (w + ts - 1) / ts, tiles_y = (h + ts - 1) / ts;
   Film film(w, h);
   std::vector<PixelState> state(film.color.size());
   std::vector<std::uint64_t> tile_rays(std::size_t(tiles_x) * tiles_y, 0);
 
-  const int spp = settings.samples_per_pixel;
-  const bool adaptive = settings.noise_threshold > 0;
-  int target = adaptive ? std::min(spp, settings.min_samples > 0 ? settings.min_samples : 4) : spp;
   int passes = 0;
   for (;;) {
     ++passes;
@@ -93,7 +96,9 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
               if (s == std::uint32_t(target / 2)) p.half = film.color[i];
               const Eigen::Vector2f jitter = sampler.get2D(s, SampleLayout::kPixel);
               const Ray ray = camera.ray(static_cast<float>(x) + jitter.x(), static_cast<float>(y) + jitter.y());
-              const PathResult r = tracePath(context, ray, sampler, s);
+              Eigen::Vector3f ddx, ddy;
+              camera.differentials(ray.direction, ddx, ddy);
+              const PathResult r = tracePath(context, ray, ddx, ddy, sampler, s);
               if (r.radiance.allFinite()) {  // one bad sample must not blacken the pixel
                 film.color[i] += r.radiance;
                 film.diffuse[i] += r.diffuse;

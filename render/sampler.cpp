@@ -105,8 +105,16 @@ PixelSampler::PixelSampler(SamplerKind kind, std::uint64_t pixel, std::uint32_t 
 
 PixelSampler::SlotSeeds PixelSampler::seeds(int slot) const {
   if (slot < cached_) return cache_[slot];
+  // One full mix per slot; the two coordinate seeds from it by a cheaper multiply-xorshift, which still spreads the
+  // high bits into the low ones (the scramble's first step adds the seed, so its low bits matter most).
   const std::uint32_t s = sobol::hash(seed_, static_cast<std::uint32_t>(slot));
-  return {s, sobol::hash(s, 1), sobol::hash(s, 2)};
+  const auto derive = [s](std::uint32_t k) {
+    std::uint32_t v = (s ^ k) * 0x2C1B3C6Du;
+    v ^= v >> 12;
+    v *= 0x297A2D39u;
+    return v ^ (v >> 15);
+  };
+  return {s, derive(0x68E31DA4u), derive(0xB5297A4Du)};
 }
 
 // Sobol points of a slot: the sample order shuffled (an Owen scramble of the index keeps power-of-two prefixes aligned

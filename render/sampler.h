@@ -9,7 +9,8 @@
 //                elementary interval), while slots and pixels are decorrelated. Error falls faster than 1/sqrt(n)
 //                on smooth integrands; best with power-of-two sample counts.
 //   Independent  hashed uniform random numbers (the renderer's sampler before Sobol): error falls as 1/sqrt(n).
-// Dimension layout (SampleLayout) is fixed per scene: slot 0 is the pixel jitter; then, for every bounce, one 2D
+// Dimension layout (SampleLayout) is fixed per scene: slot 0 is the pixel jitter, slot 1 the offset of the first
+// hit's texture filter (texture.h); then, for every bounce, one 2D
 // slot per light (suns, rectangles, the sky when sampled), one 1D slot for the BSDF lobe and one 2D slot for the
 // BSDF direction. A slot's numbers never depend on what earlier slots were used for.
 #pragma once
@@ -30,12 +31,12 @@ bool parseSamplerKind(std::string_view name, SamplerKind& kind);
 struct SampleLayout {
   int lights = 0;
 
-  static constexpr int kPixel = 0;
+  static constexpr int kPixel = 0, kTexture = 1, kFirstBounce = 2;
   int perBounce() const { return lights + 2; }
-  int light(int bounce, int light_index) const { return 1 + bounce * perBounce() + light_index; }
-  int bsdfLobe(int bounce) const { return 1 + bounce * perBounce() + lights; }
-  int bsdfDirection(int bounce) const { return 1 + bounce * perBounce() + lights + 1; }
-  int slots(int max_bounces) const { return 1 + (max_bounces + 1) * perBounce(); }
+  int light(int bounce, int light_index) const { return kFirstBounce + bounce * perBounce() + light_index; }
+  int bsdfLobe(int bounce) const { return kFirstBounce + bounce * perBounce() + lights; }
+  int bsdfDirection(int bounce) const { return kFirstBounce + bounce * perBounce() + lights + 1; }
+  int slots(int max_bounces) const { return kFirstBounce + (max_bounces + 1) * perBounce(); }
 };
 
 // The sample stream of one pixel of one frame. The seeds of the first kCachedSlots slots are hashed once, at

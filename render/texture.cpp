@@ -2,14 +2,52 @@
 #include "texture.h"
 
 #include <cmath>
+#include <algorithm>
 #include <cstdint>
+#include <numbers>
 
 namespace wobble::render {
+
+Color Texture::evalFootprint(const Eigen::Vector2f& uv, const TextureFootprint& f) const {
+  // Lookups along each of the footprint's two edges in proportion to its length over the finest feature.
+  const auto count = [&](const Eigen::Vector2f& edge) {
+    const float ratio = edge.norm() / featureSize();
+    return !(ratio > 1) ? 1 : ratio >= kMaxLookups ? kMaxLookups : static_cast<int>(std::ceil(ratio));
+  };
+  const int kx = count(f.duvdx), ky = count(f.duvdy);  // !(ratio > 1) also catches NaN footprints
+  if (kx == 1 && ky == 1) return eval(uv);
+  Color sum = Color::Zero();
+  for (int j = 0; j < ky; ++j)
+    for (int i = 0; i < kx; ++i) {
+      const float a = (static_cast<float>(i) + f.jitter.x()) / static_cast<float>(kx) - 0.5f;
+      const float b = (static_cast<float>(j) + f.jitter.y()) / static_cast<float>(ky) - 0.5f;
+      sum += eval(uv + a * f.duvdx + b * f.duvdy);
+    }
+  return sum / static_cast<float>(kx * ky);
+}
 
 Color CheckerTexture::eval(const Eigen::Vector2f& uv) const {
   const auto i = static_cast<long>(std::floor(uv.x() * squares_));
   const auto j = static_cast<long>(std::floor(uv.y() * squares_));
   return ((i + j) & 1) == 0 ? a_ : b_;
+}
+
+Color CheckerTexture::evalFootprint(const Eigen::Vector2f& uv, const TextureFootprint& f) const {
+  // pbrt's box-filtered checkerboard: in units of squares, bump(x) integrates the 0/1 square wave of period 2.
+  const float ds = 0.5f * squares_ * (std::abs(f.duvdx.x()) + std::abs(f.duvdy.x()));
+  const float dt = 0.5f * squares_ * (std::abs(f.duvdx.y()) + std::abs(f.duvdy.y()));
+  const float s = uv.x() * squares_, t = uv.y() * squares_;
+  if (!std::isfinite(ds) || !std::isfinite(dt) ||
+      (std::floor(s - ds) == std::floor(s + ds) && std::floor(t - dt) == std::floor(t + dt)))
+    return eval(uv);
+  const auto bump = [](float x) {
+    const float half = std::floor(0.5f * x);
+    return half + 2.0f * std::max(0.5f * x - half - 0.5f, 0.0f);
+  };
+  const float bs = ds > 0 ? (bump(s + ds) - bump(s - ds)) / (2 * ds) : float(int(std::floor(s)) & 1);
+  const float bt = dt > 0 ? (bump(t + dt) - bump(t - dt)) / (2 * dt) : float(int(std::floor(t)) & 1);
+  const float share_b = bs + bt - 2 * bs * bt;  // odd squares: exactly one of the two coordinates odd
+  return (1 - share_b) * a_ + share_b * b_;
 }
 
 namespace {
@@ -21,26 +59,77 @@ float hash01(long k) {
   return static_cast<float>(x >> 8) * 0x1p-24f;
 }
 
+// sin(x) to within 1e-3 (a parabola refined once): the grain needs its shape, not libm's last bits, and the texture
+// is evaluated up to 16 times per first hit when filtered.
+float fastSin(float x) {
+  float t = x * (0.5f / std::numbers::pi_v<float>);
+  t -= std::floor(t + 0.5f);  // [-0.5, 0.5): one period
+  const float y = 8.0f * t - 16.0f * t * std::abs(t);
+  return 0.225f * (y * std::abs(y) - y) + y;
+}
+
+// The share of [x - width/2, x + width/2] within `half` of an integer (bands of width 2 half around each integer);
+// width 0 is the indicator at x.
+float bandCoverage(float x, float width, float half) {
+  if (!(width > 1e-6f)) {
+    const float d = x - std::floor(x + 0.5f);
+    return std::abs(d) < half ? 1.0f : 0.0f;
+  }
+  // Integral of the indicator from a fixed origin: whole periods, then the part of the last one.
+  const auto integral = [half](float z) {  // z = y + half: the band is [0, 2 half) of each period
+    const float whole = std::floor(z);
+    return whole * 2.0f * half + std::min(z - whole, 2.0f * half);
+  };
+  return std::clamp((integral(x + 0.5f * width + half) - integral(x - 0.5f * width + half)) / width, 0.0f, 1.0f);
+}
+
+// A sine's amplitude after a box filter spanning `phase_width` radians: sinc(phase_width / 2), cut at its first
+// zero so the wave fades out instead of flipping sign.
+float boxedSineAmplitude(float phase_width) {
+  const float z = 0.5f * phase_width;
+  if (z < 1e-3f) return 1.0f;
+  return z >= std::numbers::pi_v<float> ? 0.0f : fastSin(z) / z;
+}
+
 }  // namespace
 
-Color WoodTexture::eval(const Eigen::Vector2f& uv) const {
+float WoodTexture::featureSize() const { return 2.0f * std::numbers::pi_v<float> / 240.0f / planks_; }
+
+Color WoodTexture::evalFootprint(const Eigen::Vector2f& uv, const TextureFootprint& f) const {
+  const float fu = std::abs(f.duvdx.x()) + std::abs(f.duvdy.x());
+  const float fw = (std::abs(f.duvdx.y()) + std::abs(f.duvdy.y())) * planks_;
+  if (!std::isfinite(fu) || !std::isfinite(fw)) return shade(uv, 0, 0);
+  return shade(uv, fu, fw);
+}
+
+Color WoodTexture::shade(const Eigen::Vector2f& uv, float fu, float fw) const {
   const float u = uv.x(), across = uv.y() * planks_;
   const auto plank = static_cast<long>(std::floor(across));
   const float w = across - static_cast<float>(plank);  // position across the board, [0, 1)
   const float h1 = hash01(plank), h2 = hash01(plank + 7919), h3 = hash01(plank + 104729);
-  // Boards are 2 UV units long, their ends staggered from row to row.
+  // Boards are 2 UV units long, their ends staggered from row to row; joints are the dark bands between them.
   const float along = 0.5f * u + h1;
-  const float end = along - std::floor(along);
-  if (w < 0.025f || w > 0.975f || end < 0.004f || end > 0.996f) return 0.35f * dark_;  // joints
+  const float side = bandCoverage(across, fw, 0.025f), end = bandCoverage(along, 0.5f * fu, 0.004f);
+  const float joint = side + end - side * end;
+  const Color joint_color = 0.35f * dark_;
+  if (joint >= 1) return joint_color;
   // Grain: lines along the board, bent by slow waves so each board looks sawn from a different log.
-  const float bend = 0.25f * std::sin(1.7f * u + 6.2832f * h2) + 0.06f * std::sin(7.3f * u + 3.0f * h3);
+  const float bend = 0.25f * fastSin(1.7f * u + 6.2832f * h2) + 0.06f * fastSin(7.3f * u + 3.0f * h3);
   const float phase = rings_ * (w + bend) + 10.0f * h3;
   const float ring = phase - std::floor(phase);
-  const float late = std::pow(ring, 5.0f);  // late wood: a narrow dark band at the end of each ring
-  const float fibre = 0.5f + 0.5f * std::sin(240.0f * w + 13.0f * std::sin(2.3f * u + 5.0f * h1));
+  const float ring2 = ring * ring;
+  // ring^5: late wood, a narrow dark band at the end of each ring; its mean over a whole ring is 1/6. The phase
+  // moves by rings per board across and by up to 0.86 rings per unit along (the bend's slope).
+  const float rings_spanned = std::min(1.0f, rings_ * (fw + 0.86f * fu));
+  const float late = (1 - rings_spanned) * ring2 * ring2 * ring + rings_spanned / 6.0f;
+  // Fibre: 240 radians per board across, up to 13 * 2.3 = 30 per unit along.
+  const float fibre = 0.5f + 0.5f * fastSin(240.0f * w + 13.0f * fastSin(2.3f * u + 5.0f * h1)) *
+                                boxedSineAmplitude(240.0f * fw + 30.0f * fu);
   const float t = std::min(1.0f, 0.8f * late + 0.1f * fibre);
-  const float tone = 0.88f + 0.24f * h2;  // board-to-board colour variation
-  return (tone * (light_ + t * (dark_ - light_))).cwiseMin(1.0f);
+  // Board-to-board colour variation, averaging out (to 1) as the box spans several boards.
+  const float tone = 0.88f + 0.24f * h2 + std::min(1.0f, fw) * (0.12f - 0.24f * h2);
+  const Color wood = (tone * (light_ + t * (dark_ - light_))).cwiseMin(1.0f);
+  return (1 - joint) * wood + joint * joint_color;
 }
 
 }  // namespace wobble::render
