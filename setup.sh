@@ -8,7 +8,7 @@ packages=(
   cmake ninja-build g++ pkg-config                      # build tools
   libeigen3-dev libtbb-dev                              # simulator numerics, threads
   libassimp-dev                                         # OBJ export/import
-  libembree-dev libstb-dev libopenexr-dev               # renderer, images
+  libembree-dev libstb-dev libopenexr-dev libpng-dev   # renderer, images
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev   # scene files, command line, run.json
   libgtest-dev libgmock-dev libbenchmark-dev            # tests, benchmarks
   ffmpeg gnuplot-nox                                    # video and plots (external programs)

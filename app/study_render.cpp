@@ -32,7 +32,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Bumped whenever the renderer's converged picture changes, so cached references of older builds are not reused.
-constexpr int kRendererVersion = 3;
+constexpr int kRendererVersion = 4;
 // The second half of the reference uses this seed offset: far from any frame number.
 constexpr std::uint32_t kSecondHalfSeed = 0x80000000u;
 
@@ -72,7 +72,7 @@ std::uint64_t fnv1a(const std::string& text) {
 render::RenderSettings settingsFor(const RenderVariant& v, int spp, double threshold, int bounces, int frame) {
   render::RenderSettings s;
   s.samples_per_pixel = spp;
-  s.max_bounces = bounces;
+  s.max_bounces = v.bounces >= 0 ? v.bounces : bounces;
   render::parseSamplerKind(v.sampler, s.sampler);
   s.sample_sky = v.sky_sampling;
   s.noise_threshold = v.adaptive ? static_cast<float>(threshold) : 0.0f;
@@ -102,6 +102,8 @@ const std::vector<RenderVariant>& renderStudyVariants() {
       {"adaptive", "Sobol, adaptive sampling (4 to max spp) over noise thresholds, no denoising", "sobol", false,
        false, true},
       {"adaptive+denoise", "Sobol, adaptive sampling over noise thresholds, denoised", "sobol", false, true, true},
+      {"sobol+denoise-1bounce", "Sobol samples, denoised, one bounce fewer than the reference (at most 1)", "sobol",
+       false, true, false, 1},
   };
   return variants;
 }
@@ -238,6 +240,7 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
       }
       if (!v.denoise) p.denoise_seconds = 0;
       p.mean_spp = double(stats.camera_rays) / double(std::size_t(w) * h);
+      p.rays_per_sample = double(stats.rays) / double(stats.camera_rays);
       const render::ImageError e = render::imageError(w, h, image, reference, tone);
       p.rmse = e.rmse, p.relmse = e.relmse, p.worst_tile_rmse = e.worst_tile_rmse, p.worst_tile_relmse = e.worst_tile_relmse;
       std::string file = v.name + "_" + (v.adaptive ? "t" + formatNumber(threshold, 3) : std::to_string(spp)) + ".png";
@@ -326,12 +329,13 @@ std::string renderStudyMarkdown(const RenderStudyResult& r) {
 PlotResult writeRenderStudyOutputs(const RenderStudyResult& r, const fs::path& out, const std::string& gnuplot) {
   fs::create_directories(out);
   TextTable csv{{"scene", "frame", "width", "height", "variant", "spp", "threshold", "mean_spp", "rmse", "relmse",
-                 "worst_tile_rmse", "worst_tile_relmse", "seconds", "denoise_seconds", "reference_rmse"}};
+                 "worst_tile_rmse", "worst_tile_relmse", "seconds", "denoise_seconds", "rays_per_sample", "reference_rmse"}};
   for (const RenderPoint& p : r.points)
     csv.add({r.scene_name, std::to_string(r.frame), std::to_string(r.width), std::to_string(r.height), p.variant,
              std::to_string(p.spp), formatNumber(p.threshold, 4), formatNumber(p.mean_spp, 6), formatNumber(p.rmse, 6),
              formatNumber(p.relmse, 6), formatNumber(p.worst_tile_rmse, 6), formatNumber(p.worst_tile_relmse, 6),
-             formatNumber(p.seconds, 6), formatNumber(p.denoise_seconds, 6), formatNumber(r.reference_rmse, 6)});
+             formatNumber(p.seconds, 6), formatNumber(p.denoise_seconds, 6), formatNumber(p.rays_per_sample, 4),
+             formatNumber(r.reference_rmse, 6)});
   writeTextFile(out / "render.csv", csv.csv());
   writeTextFile(out / "render.md", renderStudyMarkdown(r));
 

@@ -44,6 +44,7 @@ struct RenderVariant {
   bool sky_sampling = false;
   bool denoise = false;
   bool adaptive = false;   // swept over thresholds instead of spp
+  int bounces = -1;        // -1: the scene's (render.bounces), as the reference
 };
 const std::vector<RenderVariant>& renderStudyVariants();
 
@@ -52,6 +53,7 @@ struct RenderPoint {
   int spp = 0;              // fixed count, or the adaptive cap
   double threshold = 0;     // adaptive only
   double mean_spp = 0;      // samples taken / pixels
+  double rays_per_sample = 0;  // camera, bounce and shadow rays
   double rmse = 0, relmse = 0, worst_tile_rmse = 0, worst_tile_relmse = 0;
   double seconds = 0, denoise_seconds = 0;
 };

@@ -25,13 +25,18 @@ float linearToSrgb(float v) {
 }
 
 std::uint8_t linearToSrgb8(float linear) {
+  // thresholds[k]: the linear value from which the code is k + 1 (its encoding is (k + 0.5) / 255, rounded up).
+  static const std::array<float, 255> thresholds = [] {
+    std::array<float, 255> t{};
+    for (int k = 0; k < 255; ++k) t[k] = srgbToLinear((static_cast<float>(k) + 0.5f) / 255.0f);
+    return t;
+  }();
   // !(x > 0) also sends NaN to black rather than to an arbitrary code.
-  const float v = !(linear > 0) ? 0.0f : std::min(linear, 1.0f);
-  return static_cast<std::uint8_t>(std::lround(linearToSrgb(v) * 255.0f));
+  if (!(linear > 0)) return 0;
+  return static_cast<std::uint8_t>(std::upper_bound(thresholds.begin(), thresholds.end(), linear) - thresholds.begin());
 }
 
-float ToneMap::apply(float linear) const {
-  const float x = std::max(0.0f, linear) * std::exp2(exposure);
+float ToneMap::curveOf(float x) const {
   float y = x;
   switch (curve) {
     case Curve::Aces: y = x * (2.51f * x + 0.03f) / (x * (2.43f * x + 0.59f) + 0.14f); break;

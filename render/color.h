@@ -9,6 +9,8 @@
 //              Clamp:    min(x, 1), no curve (tests, albedo previews)
 // The result is clamped to [0, 1], encoded with the sRGB transfer function and rounded to 8 bits.
 #pragma once
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 #include <Eigen/Core>
@@ -23,7 +25,8 @@ float srgbToLinear(float encoded);
 float srgb8ToLinear(std::uint8_t code);
 // Linear in [0, 1] -> sRGB encoded value in [0, 1].
 float linearToSrgb(float linear);
-// Linear -> 8-bit sRGB code, clamping to [0, 1] and rounding to nearest.
+// Linear -> 8-bit sRGB code, clamping to [0, 1] and rounding to nearest (a binary search of the 255 linear values
+// where the code changes, rather than a pow per value).
 std::uint8_t linearToSrgb8(float linear);
 
 inline float luminance(const Color& c) { return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z(); }
@@ -34,7 +37,10 @@ struct ToneMap {
   Curve curve = Curve::Aces;
 
   // Linear radiance -> display-linear value in [0, 1] (before the sRGB encoding).
-  float apply(float linear) const;
+  float apply(float linear) const { return curveOf(std::max(0.0f, linear) * scale()); }
+  float scale() const { return std::exp2(exposure); }
+  // The curve alone, of an already exposed value >= 0.
+  float curveOf(float x) const;
 };
 
 }  // namespace wobble::render

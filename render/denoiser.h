@@ -4,15 +4,16 @@
 //
 // The film's colour is filtered in two parts (film.h): the diffuse part divided by the albedo (the lighting, which is
 // smooth across texture detail, so the cat's fur survives: it is multiplied back afterwards), and the rest (the
-// coat's reflections, the sky seen directly). Each iteration i (step 2^i pixels) takes a 5 x 5 B3-spline kernel of
-// taps weighted by
+// coat's reflections, the sky seen directly). Each iteration i (step 2^i pixels) takes a 3 x 3 ([1 2 1] / 4) or, as
+// in the paper, a 5 x 5 B3-spline kernel of taps weighted by
 //   normal     max(0, n_p . n_q)^sigma_normal (as exp(-sigma_normal (1 - n_p . n_q)), its value near 1)
 //   depth      exp(-|z_p - z_q| / (sigma_depth |grad z_p . (p - q)| + 1% of z_p)), z along the optical axis; sky
 //              pixels (no depth) mix only with sky pixels
 //   luminance  exp(-|l_p - l_q| / (sigma_luminance sqrt(3x3 Gaussian of the variance at p) + 1e-4)), the variance
 //              filtered along (by the squared weights) from one iteration to the next
-// Parameters (DenoiseSettings): iterations (the filter's reach is 2^(iterations + 1) pixels), sigma_luminance,
-// sigma_normal, sigma_depth. Deterministic: every output pixel is a fixed sum over its neighbours.
+// Parameters (DenoiseSettings): iterations, radius (1: 3 x 3 kernel, 2: 5 x 5; the filter reaches
+// radius (2^iterations - 1) pixels), sigma_luminance, sigma_normal, sigma_depth. Deterministic: every output pixel is
+// a fixed sum over its neighbours.
 #pragma once
 #include <vector>
 
@@ -22,6 +23,7 @@ namespace wobble::render {
 
 struct DenoiseSettings {
   int iterations = 5;
+  int radius = 1;
   float sigma_luminance = 4;
   float sigma_normal = 128;
   float sigma_depth = 1;

@@ -6,7 +6,7 @@
 //   ns         unit shading normal: interpolated vertex normals (ng where the mesh has none)
 //   uv         interpolated texture coordinates
 //   dpdu, dpdv how the point moves with u and v (the surface's UV parametrisation; zero where it has none), for
-//              texture filtering
+//              texture filtering: zero until Scene::uvDerivatives fills them
 //   shape, primitive   the Scene's shape id and the triangle index within it (0 for a sphere)
 //   material   the shape's material id
 #pragma once

@@ -15,17 +15,17 @@ float powerHeuristic(float chosen, float other) {
   return a > 0 ? a / (a + b) : 0.0f;
 }
 
-// The first hit's footprint in UV space: where the camera's neighbouring pixel rays (differentials ddx, ddy) meet
-// the hit's tangent plane, mapped through the surface's UV parametrisation (least squares, as pbrt).
+// The first hit's pixel footprint in UV space: where the camera's neighbouring pixel rays (differentials ddx, ddy)
+// meet the hit's tangent plane, mapped through the surface's UV parametrisation (least squares, as pbrt).
 TextureFootprint footprint(const Ray& ray, const Eigen::Vector3f& ddx, const Eigen::Vector3f& ddy,
-                           const SurfaceHit& hit, float scale) {
+                           const SurfaceHit& hit) {
   TextureFootprint f;
   const float a11 = hit.dpdu.squaredNorm(), a12 = hit.dpdu.dot(hit.dpdv), a22 = hit.dpdv.squaredNorm();
   const float det = a11 * a22 - a12 * a12;
-  if (!(det > 1e-20f) || !(scale > 0)) return f;
+  if (!(det > 1e-20f)) return f;
   const float plane = hit.ng.dot(hit.p - ray.origin);
   const auto toUv = [&](const Eigen::Vector3f& dd) {
-    const Eigen::Vector3f d = ray.direction + scale * dd;
+    const Eigen::Vector3f d = ray.direction + dd;
     const Eigen::Vector3f dp = ray.origin + (plane / hit.ng.dot(d)) * d - hit.p;
     const float b1 = hit.dpdu.dot(dp), b2 = hit.dpdv.dot(dp);
     return Eigen::Vector2f((a22 * b1 - a12 * b2) / det, (a11 * b2 - a12 * b1) / det);
@@ -49,8 +49,8 @@ Eigen::Vector3f offsetFromSurface(const Eigen::Vector3f& p, const Eigen::Vector3
   return p + (1e-4f * (1.0f + p.cwiseAbs().maxCoeff())) * n;
 }
 
-PathResult tracePath(const PathContext& context, Ray ray, const Eigen::Vector3f& ddx, const Eigen::Vector3f& ddy,
-                     const PixelSampler& sampler, std::uint32_t sample) {
+PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& camera, const PixelSampler& sampler,
+                     std::uint32_t sample) {
   const Scene& scene = context.scene;
   const Lights& lights = scene.lights;
   const SampleLayout& layout = context.layout;
@@ -71,7 +71,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const Eigen::Vector3f&
 
   for (int bounce = 0;; ++bounce) {
     ++result.rays;
-    const auto hit = scene.intersect(ray);
+    auto hit = scene.intersect(ray);
     if (bounce > 0) {  // a BSDF continuation may pass through an area light before whatever it hits
       const float tmax = hit ? hit->t : ray.tfar;
       for (const RectLight& rect : lights.rects) {
@@ -100,9 +100,11 @@ PathResult tracePath(const PathContext& context, Ray ray, const Eigen::Vector3f&
     const Material& material = scene.material(hit->material);
     Color base;
     if (bounce == 0 && material.texture) {
-      TextureFootprint f = footprint(ray, ddx, ddy, *hit, context.settings.footprint_scale);
+      scene.uvDerivatives(*hit);
+      TextureFootprint f = footprint(ray, camera.ddx, camera.ddy, *hit);
       f.jitter = sampler.get2D(sample, SampleLayout::kTexture);
-      base = material.baseColor(hit->uv, f);
+      const Eigen::Vector2f centre = hit->uv - camera.offset.x() * f.duvdx - camera.offset.y() * f.duvdy;
+      base = material.baseColor(centre.allFinite() ? centre : hit->uv, f);
     } else {
       base = material.baseColor(hit->uv);
     }

@@ -31,9 +31,15 @@ class Scene;
 struct PathSettings {
   int max_bounces = 2;
   bool sample_sky = false;  // next-event estimation of the sky, with MIS against BSDF sampling
-  // The first hit's texture lookups average over the pixel's footprint times this (1 at one sample per pixel; pbrt
-  // takes max(1/8, 1/sqrt(spp)), since the pixel's samples filter too). 0: no texture filtering.
-  float footprint_scale = 1;
+};
+
+// What the first hit's texture filter needs of the camera ray. The first surface's texture is averaged over the
+// whole pixel's footprint (the neighbouring pixels' rays met on the hit's tangent plane), centred on the pixel's
+// centre rather than on the sample: every sample of a pixel then sees the same box-filtered texture, so texture
+// detail adds no noise at any sample count, and its mean is the pixel's box filter, as the reference's.
+struct CameraSample {
+  Eigen::Vector3f ddx = Eigen::Vector3f::Zero(), ddy = Eigen::Vector3f::Zero();  // ray differentials (camera.h)
+  Eigen::Vector2f offset = Eigen::Vector2f::Zero();  // the sample's position in its pixel minus the centre (pixels)
 };
 
 // What a path needs besides its ray, built once per frame (render()).
@@ -60,9 +66,8 @@ struct PathResult {
   std::uint32_t rays = 0;  // rays traced (intersection and shadow), for statistics
 };
 
-// ddx, ddy: the camera ray's differentials (camera.h), for the first hit's texture filter.
-PathResult tracePath(const PathContext& context, Ray ray, const Eigen::Vector3f& ddx, const Eigen::Vector3f& ddy,
-                     const PixelSampler& sampler, std::uint32_t sample);
+PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& camera, const PixelSampler& sampler,
+                     std::uint32_t sample);
 
 // Origin for rays leaving a surface at p on the side of the unit normal n: far enough to not hit the same surface
 // again through rounding (relative to the coordinates' magnitude), close enough to keep contact shadows.

@@ -5,8 +5,12 @@
 #include <stdexcept>
 #include <string>
 
+#include <csetjmp>
+#include <cstdio>
+#include <vector>
+
+#include <png.h>
 #include <stb/stb_image.h>
-#include <stb/stb_image_write.h>
 
 #include "atomic_file.h"
 
@@ -24,14 +28,52 @@ Image8 readImage(const std::filesystem::path& file) {
   return image;
 }
 
+namespace {
+
+void appendBytes(png_structp png, png_bytep data, png_size_t length) {
+  auto* out = static_cast<std::vector<unsigned char>*>(png_get_io_ptr(png));
+  out->insert(out->end(), data, data + length);
+}
+
+// The whole PNG in memory. libpng reports errors by longjmp: nothing with a destructor lives between setjmp and the
+// calls that may jump. Returns false on a libpng error.
+bool encodePng(const Image8& image, std::vector<unsigned char>& out) {
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  if (!png) return false;
+  png_infop info = png_create_info_struct(png);
+  if (!info || setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    return false;
+  }
+  png_set_write_fn(png, &out, appendBytes, nullptr);
+  png_set_compression_level(png, kPngCompressionLevel);
+  png_set_filter(png, 0, PNG_FILTER_SUB);
+  static constexpr int kColorTypes[] = {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
+                                        PNG_COLOR_TYPE_RGB_ALPHA};
+  png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), 8, kColorTypes[image.channels - 1],
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  for (int y = 0; y < image.height; ++y)
+    png_write_row(png, image.pixels.data() + std::size_t(y) * image.width * image.channels);
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  return true;
+}
+
+}  // namespace
+
 void writePng(const std::filesystem::path& file, const Image8& image) {
   if (image.width <= 0 || image.height <= 0 || image.channels < 1 || image.channels > 4 ||
       image.pixels.size() != std::size_t(image.width) * image.height * image.channels)
     throw std::invalid_argument(file.string() + ": cannot write PNG of an empty or inconsistent image");
+  std::vector<unsigned char> bytes;
+  bytes.reserve(image.pixels.size() / 2);
+  if (!encodePng(image, bytes)) throw std::runtime_error(file.string() + ": cannot encode PNG (libpng error)");
   writeAtomically(file, [&](const std::filesystem::path& temp) {
-    if (!stbi_write_png(temp.c_str(), image.width, image.height, image.channels, image.pixels.data(),
-                        image.width * image.channels))
-      throw std::runtime_error(file.string() + ": cannot write PNG");
+    std::FILE* f = std::fopen(temp.c_str(), "wb");
+    if (!f) throw std::runtime_error(file.string() + ": cannot write PNG");
+    const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+    if (std::fclose(f) != 0 || !written) throw std::runtime_error(file.string() + ": cannot write PNG");
   });
 }
 

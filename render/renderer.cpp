@@ -68,16 +68,16 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
   const int spp = settings.samples_per_pixel;
   const bool adaptive = settings.noise_threshold > 0;
   int target = adaptive ? std::min(spp, settings.min_samples > 0 ? settings.min_samples : 4) : spp;
-  // Texture filters shrink as the pixel's own samples take over the filtering (pbrt's rule); adaptive sampling
-  // keeps the first pass's footprint, so every sample of a pixel uses the same filter.
-  const float footprint_scale = std::max(0.125f, 1.0f / std::sqrt(static_cast<float>(target)));
-  const PathContext context(scene, PathSettings{settings.max_bounces, settings.sample_sky, footprint_scale});
+  const PathContext context(scene, PathSettings{settings.max_bounces, settings.sample_sky});
   const int w = camera.width(), h = camera.height(), ts = settings.tile_size;
   const int tiles_x = (w + ts - 1) / ts, tiles_y = (h + ts - 1) / ts;
   Film film(w, h);
   std::vector<PixelState> state(film.color.size());
   std::vector<std::uint64_t> tile_rays(std::size_t(tiles_x) * tiles_y, 0);
 
+  // A pixel's only sample is a uniform random point in every slot, whichever the pattern: hashing it directly
+  // (Independent) gives the same distribution for half the work of the shuffled, scrambled Sobol point.
+  const SamplerKind sampler_kind = spp == 1 ? SamplerKind::Independent : settings.sampler;
   int passes = 0;
   for (;;) {
     ++passes;
@@ -91,14 +91,15 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
             const std::size_t i = film.index(x, y);
             PixelState& p = state[i];
             if (!p.active) continue;
-            const PixelSampler sampler(settings.sampler, i, settings.frame, context.layout.slots(settings.max_bounces));
+            const PixelSampler sampler(sampler_kind, i, settings.frame);
             for (auto s = film.samples[i]; s < std::uint32_t(target); ++s) {
               if (s == std::uint32_t(target / 2)) p.half = film.color[i];
               const Eigen::Vector2f jitter = sampler.get2D(s, SampleLayout::kPixel);
               const Ray ray = camera.ray(static_cast<float>(x) + jitter.x(), static_cast<float>(y) + jitter.y());
-              Eigen::Vector3f ddx, ddy;
-              camera.differentials(ray.direction, ddx, ddy);
-              const PathResult r = tracePath(context, ray, ddx, ddy, sampler, s);
+              CameraSample cs;
+              camera.differentials(ray.direction, cs.ddx, cs.ddy);
+              cs.offset = jitter.array() - 0.5f;
+              const PathResult r = tracePath(context, ray, cs, sampler, s);
               if (r.radiance.allFinite()) {  // one bad sample must not blacken the pixel
                 film.color[i] += r.radiance;
                 film.diffuse[i] += r.diffuse;

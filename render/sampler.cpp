@@ -94,17 +94,22 @@ std::uint32_t hash(std::uint32_t a, std::uint32_t b) { return mix(a ^ mix(b + 0x
 
 }  // namespace sobol
 
-PixelSampler::PixelSampler(SamplerKind kind, std::uint64_t pixel, std::uint32_t frame, int slots)
+PixelSampler::PixelSampler(SamplerKind kind, std::uint64_t pixel, std::uint32_t frame)
     : kind_(kind),
       seed_(sobol::hash(sobol::hash(static_cast<std::uint32_t>(pixel), static_cast<std::uint32_t>(pixel >> 32)),
-                        frame)),
-      cached_(0) {
-  for (int slot = 0; slot < std::min(slots, kCachedSlots); ++slot) cache_[slot] = seeds(slot);
-  cached_ = std::min(slots, kCachedSlots);
-}
+                        frame)) {}
 
 PixelSampler::SlotSeeds PixelSampler::seeds(int slot) const {
-  if (slot < cached_) return cache_[slot];
+  if (slot >= kCachedSlots) return hashSeeds(slot);
+  const std::uint32_t bit = 1u << slot;
+  if (!(cached_ & bit)) {
+    cache_[slot] = hashSeeds(slot);
+    cached_ |= bit;
+  }
+  return cache_[slot];
+}
+
+PixelSampler::SlotSeeds PixelSampler::hashSeeds(int slot) const {
   // One full mix per slot; the two coordinate seeds from it by a cheaper multiply-xorshift, which still spreads the
   // high bits into the low ones (the scramble's first step adds the seed, so its low bits matter most).
   const std::uint32_t s = sobol::hash(seed_, static_cast<std::uint32_t>(slot));

@@ -36,15 +36,14 @@ struct SampleLayout {
   int light(int bounce, int light_index) const { return kFirstBounce + bounce * perBounce() + light_index; }
   int bsdfLobe(int bounce) const { return kFirstBounce + bounce * perBounce() + lights; }
   int bsdfDirection(int bounce) const { return kFirstBounce + bounce * perBounce() + lights + 1; }
-  int slots(int max_bounces) const { return kFirstBounce + (max_bounces + 1) * perBounce(); }
 };
 
-// The sample stream of one pixel of one frame. The seeds of the first kCachedSlots slots are hashed once, at
-// construction (no allocation); further slots hash theirs on every draw.
+// The sample stream of one pixel of one frame. A slot's seeds are hashed at its first use and kept for the pixel's
+// later samples (the first kCachedSlots slots; no allocation); further slots hash theirs on every draw.
 class PixelSampler {
  public:
-  static constexpr int kCachedSlots = 24;
-  PixelSampler(SamplerKind kind, std::uint64_t pixel, std::uint32_t frame, int slots = kCachedSlots);
+  static constexpr int kCachedSlots = 32;
+  PixelSampler(SamplerKind kind, std::uint64_t pixel, std::uint32_t frame);
 
   float get1D(std::uint32_t sample, int slot) const;
   Eigen::Vector2f get2D(std::uint32_t sample, int slot) const;
@@ -55,10 +54,12 @@ class PixelSampler {
   };
   SlotSeeds seeds(int slot) const;
 
+  SlotSeeds hashSeeds(int slot) const;
+
   SamplerKind kind_;
   std::uint32_t seed_;
-  int cached_;
-  SlotSeeds cache_[kCachedSlots];
+  mutable std::uint32_t cached_ = 0;  // bit k: slot k's seeds are in cache_
+  mutable SlotSeeds cache_[kCachedSlots];
 };
 
 // The building blocks, exposed for tests.

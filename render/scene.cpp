@@ -181,11 +181,6 @@ std::optional<SurfaceHit> Scene::intersect(const Ray& ray) const {
     h.ng = h.ns = d;
     const float pi = std::numbers::pi_v<float>;
     h.uv = Vector2f(0.5f + std::atan2(d.x(), d.z()) / (2 * pi), 0.5f + std::asin(std::clamp(d.y(), -1.0f, 1.0f)) / pi);
-    // u = 1/2 + longitude / 2 pi, v = 1/2 + latitude / pi (cos(latitude) = sqrt(x^2 + z^2)).
-    const float r = s.sphere.radius, cos_lat = std::sqrt(d.x() * d.x() + d.z() * d.z());
-    h.dpdu = 2 * pi * r * Vector3f(d.z(), 0, -d.x());
-    if (cos_lat > 1e-6f)
-      h.dpdv = pi * r * Vector3f(-d.x() * d.y() / cos_lat, cos_lat, -d.z() * d.y() / cos_lat);
     return h;
   }
   const auto& tri = s.mesh.triangles[rh.hit.primID];
@@ -199,21 +194,34 @@ std::optional<SurfaceHit> Scene::intersect(const Ray& ray) const {
     const Vector3f ns = b0 * s.mesh.normals[tri[0]] + b1 * s.mesh.normals[tri[1]] + b2 * s.mesh.normals[tri[2]];
     if (ns.norm() > 1e-12f) h.ns = ns.normalized();
   }
-  if (s.mesh.uv.empty()) {
-    h.uv = Vector2f::Zero();
-    return h;
+  h.uv = s.mesh.uv.empty() ? Vector2f::Zero()
+                           : Vector2f(b0 * s.mesh.uv[tri[0]] + b1 * s.mesh.uv[tri[1]] + b2 * s.mesh.uv[tri[2]]);
+  return h;
+}
+
+void Scene::uvDerivatives(SurfaceHit& h) const {
+  h.dpdu = h.dpdv = Vector3f::Zero();
+  const Shape& s = *shapes_.at(h.shape);
+  if (s.kind == Shape::Kind::Sphere) {
+    // u = 1/2 + longitude / 2 pi, v = 1/2 + latitude / pi (cos(latitude) = sqrt(x^2 + z^2)).
+    const float pi = std::numbers::pi_v<float>, r = s.sphere.radius;
+    const Vector3f d = (h.p - s.sphere.center) / r;
+    const float cos_lat = std::sqrt(d.x() * d.x() + d.z() * d.z());
+    h.dpdu = 2 * pi * r * Vector3f(d.z(), 0, -d.x());
+    if (cos_lat > 1e-6f) h.dpdv = pi * r * Vector3f(-d.x() * d.y() / cos_lat, cos_lat, -d.z() * d.y() / cos_lat);
+    return;
   }
-  const Vector2f &t0 = s.mesh.uv[tri[0]], &t1 = s.mesh.uv[tri[1]], &t2 = s.mesh.uv[tri[2]];
-  h.uv = b0 * t0 + b1 * t1 + b2 * t2;
+  if (s.mesh.uv.empty()) return;
+  const auto& tri = s.mesh.triangles[h.primitive];
+  const Vector3f &p0 = s.mesh.positions[tri[0]], &p1 = s.mesh.positions[tri[1]], &p2 = s.mesh.positions[tri[2]];
   // Solve p1 - p0 = dpdu du1 + dpdv dv1, p2 - p0 = dpdu du2 + dpdv dv2 (pbrt's triangle derivatives).
-  const Vector2f d1 = t1 - t0, d2 = t2 - t0;
+  const Vector2f d1 = s.mesh.uv[tri[1]] - s.mesh.uv[tri[0]], d2 = s.mesh.uv[tri[2]] - s.mesh.uv[tri[0]];
   const float det = d1.x() * d2.y() - d1.y() * d2.x();
   if (std::abs(det) > 1e-12f) {
     const Vector3f e1 = p1 - p0, e2 = p2 - p0;
     h.dpdu = (d2.y() * e1 - d1.y() * e2) / det;
     h.dpdv = (d1.x() * e2 - d2.x() * e1) / det;
   }
-  return h;
 }
 
 }  // namespace wobble::render

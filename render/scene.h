@@ -64,6 +64,8 @@ class Scene {
   Lights lights;
 
   std::optional<SurfaceHit> intersect(const Ray& ray) const;
+  // Fills hit.dpdu and hit.dpdv (left zero by intersect(): only texture filtering needs them).
+  void uvDerivatives(SurfaceHit& hit) const;
   bool occluded(const Ray& ray) const;
 
   std::size_t shapeCount() const { return shapes_.size(); }
