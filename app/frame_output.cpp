@@ -44,20 +44,26 @@ void FrameOutput::frame(int frame, std::span<const SurfaceFrame> surfaces, bool 
 
 void FrameOutput::render(int frame) {
   const RenderOptionsConfig& o = scene_.render.options;
-  const render::Film film =
-      render::render(render_scene_.scene(), render::Camera(rig_.params()), renderSettings(o, frame));
-  const std::vector<render::Color> denoised = o.denoise ? render::denoise(film) : std::vector<render::Color>{};
-  const std::span<const render::Color> final_color = o.denoise ? denoised : film.color;
-  if (o.png) {
-    render::ToneMap tone;
-    tone.exposure = static_cast<float>(o.exposure);
-    render::writePng(pngPath(out_, scene_.name, frame), render::develop(film.width, film.height, final_color, tone));
-  }
-  if (o.exr) render::writeExr(exrPath(out_, scene_.name, frame), film, denoised);
+  auto film = std::make_shared<render::Film>(
+      render::render(render_scene_.scene(), render::Camera(rig_.params()), renderSettings(o, frame)));
+  auto denoised = std::make_shared<std::vector<render::Color>>();
+  if (o.denoise) *denoised = render::denoise(*film);
+  if (writing_.valid()) writing_.get();  // the previous frame's files, and any error writing them
+  writing_ = std::async(std::launch::async, [this, frame, film, denoised] {
+    const RenderOptionsConfig& options = scene_.render.options;
+    if (options.png) {
+      render::ToneMap tone;
+      tone.exposure = static_cast<float>(options.exposure);
+      const std::span<const render::Color> color = options.denoise ? *denoised : film->color;
+      render::writePng(pngPath(out_, scene_.name, frame), render::develop(film->width, film->height, color, tone));
+    }
+    if (options.exr) render::writeExr(exrPath(out_, scene_.name, frame), *film, *denoised);
+  });
   ++rendered_;
 }
 
-std::optional<fs::path> FrameOutput::finish(int first, int last) const {
+std::optional<fs::path> FrameOutput::finish(int first, int last) {
+  if (writing_.valid()) writing_.get();
   if (!scene_.render.options.video || !scene_.render.options.png || last < first) return std::nullopt;
   return encodeVideo(out_ / "frames", scene_.name, first, last, scene_.fps, out_ / (scene_.name + ".mp4"));
 }

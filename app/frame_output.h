@@ -5,6 +5,7 @@
 // (a run, or `wobble render` of its OBJ sequence) and whatever the thread count.
 #pragma once
 #include <filesystem>
+#include <future>
 #include <optional>
 #include <span>
 #include <vector>
@@ -28,9 +29,9 @@ class FrameOutput {
   // A frame that is not drawn, from the simulation's flat state: only the follow camera sees it.
   void observe(int frame, const VecX& x);
 
-  // After the last frame: encodes OUT/<scene>.mp4 from frames first..last when render.video is set. Returns the
-  // video's path, or nothing (not asked, or ffmpeg is missing: then it says so on stderr).
-  std::optional<std::filesystem::path> finish(int first, int last) const;
+  // After the last frame: waits for the last files, then encodes OUT/<scene>.mp4 from frames first..last when
+  // render.video is set. Returns the video's path, or nothing (not asked, or ffmpeg is missing: then it says so).
+  std::optional<std::filesystem::path> finish(int first, int last);
 
   // Index of the body the camera follows in scene.system->bodies(), or -1 for a fixed camera.
   int followedBody() const { return rig_.followedBody(); }
@@ -46,6 +47,9 @@ class FrameOutput {
   RenderScene render_scene_;
   CameraRig rig_;
   int rendered_ = 0;
+  // A frame's files (tone mapping, PNG and EXR encoding: single-threaded) are written while the next frame is
+  // simulated and rendered; at most one frame waits. get() rethrows a write error.
+  std::future<void> writing_;
 };
 
 }  // namespace wobble

@@ -32,7 +32,7 @@ std::optional<fs::path> encodeVideo(const fs::path& frames_dir, const std::strin
                                    "-i", (frames_dir / (name + "_%04d.png")).string(),
                                    "-frames:v", std::to_string(last - first + 1),
                                    "-vf", "crop=trunc(iw/2)*2:trunc(ih/2)*2", "-c:v", "libx264",
-                                   "-pix_fmt", "yuv420p", "-r", rate.str(), "-f", "mp4", temp.string()};
+                                   "-preset", "veryfast", "-crf", "20", "-pix_fmt", "yuv420p", "-r", rate.str(), "-f", "mp4", temp.string()};
   const int status = runProgram(args);
   if (status != 0) {
     fs::remove(temp);

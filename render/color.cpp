@@ -24,16 +24,35 @@ float linearToSrgb(float v) {
   return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
 }
 
+namespace {
+
+// thresholds[k]: the linear value from which the code is k + 1 (its encoding is (k + 0.5) / 255, rounded up);
+// start[i]: the code at linear value i / kBuckets. A bucket spans at most one threshold (the steepest part of the
+// curve, near 0, has 12.92 * 255 / kBuckets < 1 code per bucket), so one comparison finishes the lookup.
+constexpr int kBuckets = 4096;
+struct SrgbTable {
+  std::array<float, 256> thresholds{};
+  std::array<std::uint8_t, kBuckets + 1> start{};
+  SrgbTable() {
+    for (int k = 0; k < 255; ++k) thresholds[k] = srgbToLinear((static_cast<float>(k) + 0.5f) / 255.0f);
+    thresholds[255] = 2.0f;  // never reached: inputs are clamped to 1
+    for (int i = 0; i <= kBuckets; ++i)
+      start[i] = static_cast<std::uint8_t>(
+          std::upper_bound(thresholds.begin(), thresholds.begin() + 255, static_cast<float>(i) / kBuckets) -
+          thresholds.begin());
+  }
+};
+
+}  // namespace
+
 std::uint8_t linearToSrgb8(float linear) {
-  // thresholds[k]: the linear value from which the code is k + 1 (its encoding is (k + 0.5) / 255, rounded up).
-  static const std::array<float, 255> thresholds = [] {
-    std::array<float, 255> t{};
-    for (int k = 0; k < 255; ++k) t[k] = srgbToLinear((static_cast<float>(k) + 0.5f) / 255.0f);
-    return t;
-  }();
+  static const SrgbTable table;
   // !(x > 0) also sends NaN to black rather than to an arbitrary code.
   if (!(linear > 0)) return 0;
-  return static_cast<std::uint8_t>(std::upper_bound(thresholds.begin(), thresholds.end(), linear) - thresholds.begin());
+  const float v = std::min(linear, 1.0f);
+  std::uint8_t code = table.start[static_cast<int>(v * kBuckets)];
+  while (v >= table.thresholds[code]) ++code;  // at most once or twice
+  return code;
 }
 
 float ToneMap::curveOf(float x) const {

@@ -56,30 +56,29 @@ void forRows(int begin, int end, const Body& body) {
 
 inline float lum(float r, float g, float b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
 
-// One tap (offset dx, dy, kernel weight k) of one iteration, for a row of n pixels starting at p (pointers into the
-// padded planes at the row's first pixel). Accumulates into the sums.
-struct RowSums {
-  float *dr, *dg, *db, *dw, *dv, *orr, *og, *ob, *ow, *ov;
+// The planes one pass reads, at the first pixel of a row span.
+struct TapInput {
+  const float *cls, *z, *gx, *gy, *nx, *ny, *nz;  // guides
+  const float *r, *g, *b, *var;                   // the signal
+  const float* inv;  // 1 / (sigma_l sqrt(blurred variance) + eps) at the output pixel
 };
-struct RowIn {
-  const float *cls, *z, *gx, *gy, *nx, *ny, *nz;
-  const float *dr, *dg, *db, *dv, *or_, *og, *ob, *ov;
-  const float *inv_d, *inv_o;  // 1 / (sigma_l sqrt(blurred variance) + eps) at p
+struct TapSums {
+  float *r, *g, *b, *weight, *var;
 };
 
-__attribute__((target_clones("avx2", "default"))) void accumulateTap(const RowIn in, const RowSums out, int n,
+// One tap (offset dx, dy, kernel weight k) of one iteration, for a span of n output pixels: adds the tap's weighted
+// value, weight and squared-weight variance into the sums.
+__attribute__((target_clones("avx2", "default"))) void accumulateTap(const TapInput in, const TapSums out, int n,
                                                                        std::ptrdiff_t offset, float dx, float dy,
                                                                        float k, float sigma_n, float sigma_z) {
   // The planes never overlap; GCC ignores restrict on locals, so `ivdep` says it (too many planes for run-time alias
   // checks otherwise, and the loop would stay scalar).
   const float *__restrict cls = in.cls, *__restrict z = in.z, *__restrict gx = in.gx, *__restrict gy = in.gy;
   const float *__restrict nx = in.nx, *__restrict ny = in.ny, *__restrict nz = in.nz;
-  const float *__restrict ir = in.dr, *__restrict ig = in.dg, *__restrict ib = in.db, *__restrict iv = in.dv;
-  const float *__restrict jr = in.or_, *__restrict jg = in.og, *__restrict jb = in.ob, *__restrict jv = in.ov;
-  const float *__restrict inv_d = in.inv_d, *__restrict inv_o = in.inv_o;
-  float *__restrict dr = out.dr, *__restrict dg = out.dg, *__restrict db = out.db, *__restrict dw = out.dw;
-  float *__restrict dv = out.dv, *__restrict orr = out.orr, *__restrict og = out.og, *__restrict ob = out.ob;
-  float *__restrict ow = out.ow, *__restrict ov = out.ov;
+  const float *__restrict ir = in.r, *__restrict ig = in.g, *__restrict ib = in.b, *__restrict iv = in.var;
+  const float *__restrict inv = in.inv;
+  float *__restrict sr = out.r, *__restrict sg = out.g, *__restrict sb = out.b, *__restrict sw = out.weight;
+  float *__restrict sv = out.var;
 #pragma GCC ivdep
   for (int x = 0; x < n; ++x) {
     const std::ptrdiff_t q = x + offset;
@@ -88,16 +87,25 @@ __attribute__((target_clones("avx2", "default"))) void accumulateTap(const RowIn
     const float geometry = std::abs(z[x] - z[q]) / (sigma_z * expected + 0.01f * z[x] + 1e-6f) +
                            sigma_n * std::max(0.0f, 1.0f - normal);
     const float same = cls[x] == cls[q] ? k : 0.0f;
-    const float ld = std::abs(lum(ir[x], ig[x], ib[x]) - lum(ir[q], ig[q], ib[q]));
-    const float lo = std::abs(lum(jr[x], jg[x], jb[x]) - lum(jr[q], jg[q], jb[q]));
-    const float wd = same * fastExp(-geometry - ld * inv_d[x]);
-    const float wo = same * fastExp(-geometry - lo * inv_o[x]);
-    dr[x] += wd * ir[q], dg[x] += wd * ig[q], db[x] += wd * ib[q];
-    dw[x] += wd, dv[x] += wd * wd * iv[q];
-    orr[x] += wo * jr[q], og[x] += wo * jg[q], ob[x] += wo * jb[q];
-    ow[x] += wo, ov[x] += wo * wo * jv[q];
+    const float l = std::abs(lum(ir[x], ig[x], ib[x]) - lum(ir[q], ig[q], ib[q]));
+    const float w = same * fastExp(-geometry - l * inv[x]);
+    sr[x] += w * ir[q], sg[x] += w * ig[q], sb[x] += w * ib[q];
+    sw[x] += w, sv[x] += w * w * iv[q];
   }
 }
+
+// The output pixels a signal is filtered over (image coordinates, half-open); empty when x1 <= x0.
+struct Window {
+  int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+  void add(int x, int y) {
+    if (x1 <= x0) {
+      *this = {x, x + 1, y, y + 1};
+      return;
+    }
+    x0 = std::min(x0, x), x1 = std::max(x1, x + 1), y0 = std::min(y0, y), y1 = std::max(y1, y + 1);
+  }
+  bool empty() const { return x1 <= x0; }
+};
 
 // Where a pixel has one sample its variance is unknown (-1): the luminance variance over its 3 x 3 neighbourhood
 // (padding counts as zero; large at silhouettes, which keeps the filter off them).
@@ -121,14 +129,15 @@ void fillMissingVariance(Signal& s, int stride, int pad, int w, int h) {
   s.var = std::move(filled);
 }
 
-// 1 / (sigma_l sqrt(3 x 3 Gaussian of the variance) + eps) per pixel: the luminance weight's scale.
-void inverseDeviation(const Plane& var, Plane& out, float sigma, int stride, int pad, int w, int h) {
-  forRows(pad, pad + h, [&](int y) {
+// 1 / (sigma_l sqrt(3 x 3 Gaussian of the variance) + eps) per pixel of rows y0..y1, columns x0..x1 (padded
+// coordinates): the luminance weight's scale.
+void inverseDeviation(const Plane& var, Plane& out, float sigma, int stride, int x0, int x1, int y0, int y1) {
+  forRows(y0, y1, [&](int y) {
     const float* up = var.row(y - 1, stride);
     const float* mid = var.row(y, stride);
     const float* down = var.row(y + 1, stride);
     float* o = out.row(y, stride);
-    for (int x = pad; x < pad + w; ++x) {
+    for (int x = x0; x < x1; ++x) {
       const float blurred = (up[x - 1] + 2 * up[x] + up[x + 1] + 2 * (mid[x - 1] + 2 * mid[x] + mid[x + 1]) +
                              down[x - 1] + 2 * down[x] + down[x + 1]) / 16.0f;
       o[x] = 1.0f / (sigma * std::sqrt(blurred) + 1e-4f);
@@ -160,6 +169,9 @@ std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
   // their class keeps them apart from surfaces).
   Guide guide{planeOf(-1), planeOf(0), planeOf(0), planeOf(0), planeOf(0), planeOf(0), planeOf(1)};
   Signal diffuse{planeOf(0), planeOf(0), planeOf(0), planeOf(0)}, other = diffuse;
+  // Only surfaces need filtering (the sky seen directly is exact up to anti-aliasing), and of `other` only where
+  // it is not zero: the coat's reflections (usually a small part of the frame).
+  Window surfaces, coated;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const std::size_t i = film.index(x, y), p = at(x, y);
@@ -171,6 +183,10 @@ std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
       }
       const Color d = film.diffuse[i].cwiseQuotient(film.albedo[i].cwiseMax(kAlbedoFloor));
       const Color o = film.color[i] - film.diffuse[i];
+      if (!sky) {
+        surfaces.add(x, y);
+        if (!o.isZero()) coated.add(x, y);
+      }
       diffuse.r.v[p] = d.x(), diffuse.g.v[p] = d.y(), diffuse.b.v[p] = d.z(), diffuse.var.v[p] = film.variance_diffuse[i];
       other.r.v[p] = o.x(), other.g.v[p] = o.y(), other.b.v[p] = o.z(), other.var.v[p] = film.variance_other[i];
     }
@@ -197,53 +213,51 @@ std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
   const float b1[3] = {1.0f / 4, 1.0f / 2, 1.0f / 4};
   const float* kernel = settings.radius == 2 ? b3 : b1;
   const int r = settings.radius;
-  Signal next_diffuse = diffuse, next_other = other;
-  Plane inv_d = planeOf(0), inv_o = planeOf(0);
-  for (int iteration = 0; iteration < settings.iterations; ++iteration) {
-    const int step = 1 << iteration;
-    inverseDeviation(diffuse.var, inv_d, settings.sigma_luminance, stride, pad, w, h);
-    inverseDeviation(other.var, inv_o, settings.sigma_luminance, stride, pad, w, h);
-    forRows(pad, pad + h, [&](int y) {
-      const std::size_t first = std::size_t(y) * stride + pad;
-      const RowIn in{guide.cls.v.data() + first, guide.z.v.data() + first, guide.gx.v.data() + first,
-                     guide.gy.v.data() + first, guide.nx.v.data() + first, guide.ny.v.data() + first,
-                     guide.nz.v.data() + first, diffuse.r.v.data() + first, diffuse.g.v.data() + first,
-                     diffuse.b.v.data() + first, diffuse.var.v.data() + first, other.r.v.data() + first,
-                     other.g.v.data() + first, other.b.v.data() + first, other.var.v.data() + first,
-                     inv_d.v.data() + first, inv_o.v.data() + first};
+  Plane inv = planeOf(0);
+  // One a-trous iteration of one signal over its window, from `in` into `out` (pixels outside the window keep their
+  // values: both buffers start equal and only the window is written).
+  const auto pass = [&](const Signal& in, Signal& out, const Window& window, int step) {
+    inverseDeviation(in.var, inv, settings.sigma_luminance, stride, window.x0 + pad, window.x1 + pad, window.y0 + pad,
+                     window.y1 + pad);
+    forRows(window.y0, window.y1, [&](int y) {
+      const std::size_t first = at(window.x0, y);
+      const int span = window.x1 - window.x0;
+      const TapInput tap_in{guide.cls.v.data() + first, guide.z.v.data() + first, guide.gx.v.data() + first,
+                            guide.gy.v.data() + first,  guide.nx.v.data() + first, guide.ny.v.data() + first,
+                            guide.nz.v.data() + first,  in.r.v.data() + first,     in.g.v.data() + first,
+                            in.b.v.data() + first,      in.var.v.data() + first,   inv.v.data() + first};
       // Sums start with the centre tap (weight = its kernel value).
       const float centre = kernel[r] * kernel[r];
-      float* dr = next_diffuse.r.v.data() + first;
-      float* dg = next_diffuse.g.v.data() + first;
-      float* db = next_diffuse.b.v.data() + first;
-      float* dv = next_diffuse.var.v.data() + first;
-      float* orr = next_other.r.v.data() + first;
-      float* og = next_other.g.v.data() + first;
-      float* ob = next_other.b.v.data() + first;
-      float* ov = next_other.var.v.data() + first;
-      std::vector<float> dw(w, centre), ow(w, centre);
-      for (int x = 0; x < w; ++x) {
-        dr[x] = centre * in.dr[x], dg[x] = centre * in.dg[x], db[x] = centre * in.db[x];
-        dv[x] = centre * centre * in.dv[x];
-        orr[x] = centre * in.or_[x], og[x] = centre * in.og[x], ob[x] = centre * in.ob[x];
-        ov[x] = centre * centre * in.ov[x];
+      float* sr = out.r.v.data() + first;
+      float* sg = out.g.v.data() + first;
+      float* sb = out.b.v.data() + first;
+      float* sv = out.var.v.data() + first;
+      std::vector<float> weight(span, centre);
+      for (int x = 0; x < span; ++x) {
+        sr[x] = centre * tap_in.r[x], sg[x] = centre * tap_in.g[x], sb[x] = centre * tap_in.b[x];
+        sv[x] = centre * centre * tap_in.var[x];
       }
-      const RowSums out{dr, dg, db, dw.data(), dv, orr, og, ob, ow.data(), ov};
+      const TapSums sums{sr, sg, sb, weight.data(), sv};
       for (int ky = -r; ky <= r; ++ky)
         for (int kx = -r; kx <= r; ++kx) {
           if (kx == 0 && ky == 0) continue;
           const int dx = kx * step, dy = ky * step;
-          accumulateTap(in, out, w, std::ptrdiff_t(dy) * stride + dx, float(dx), float(dy),
+          accumulateTap(tap_in, sums, span, std::ptrdiff_t(dy) * stride + dx, float(dx), float(dy),
                         kernel[kx + r] * kernel[ky + r], settings.sigma_normal, settings.sigma_depth);
         }
-      for (int x = 0; x < w; ++x) {
-        const float id = 1.0f / dw[x], io = 1.0f / ow[x];
-        dr[x] *= id, dg[x] *= id, db[x] *= id, dv[x] *= id * id;
-        orr[x] *= io, og[x] *= io, ob[x] *= io, ov[x] *= io * io;
+      for (int x = 0; x < span; ++x) {
+        const float iw = 1.0f / weight[x];
+        sr[x] *= iw, sg[x] *= iw, sb[x] *= iw, sv[x] *= iw * iw;
       }
     });
-    std::swap(diffuse, next_diffuse);
-    std::swap(other, next_other);
+  };
+  for (const auto& [signal, window] : {std::pair{&diffuse, surfaces}, std::pair{&other, coated}}) {
+    if (window.empty()) continue;
+    Signal next = *signal;
+    for (int iteration = 0; iteration < settings.iterations; ++iteration) {
+      pass(*signal, next, window, 1 << iteration);
+      std::swap(*signal, next);
+    }
   }
 
   std::vector<Color> out(n);

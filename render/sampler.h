@@ -55,6 +55,7 @@ class PixelSampler {
   SlotSeeds seeds(int slot) const;
 
   SlotSeeds hashSeeds(int slot) const;
+  float independent(std::uint32_t sample, int slot, std::uint32_t coordinate) const;
 
   SamplerKind kind_;
   std::uint32_t seed_;
