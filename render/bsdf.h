@@ -1,9 +1,11 @@
-// Bsdf: the reflection model of a Material at one surface point (see material.h), in a shading frame.
+// Bsdf: the reflection model of a Material at one surface point (see material.h), in a shading frame, for one
+// outgoing direction wo (towards the viewer), which is fixed at construction.
 //   f(wo, wi) = (1 - coat F(n.wo)) base / pi  +  coat F(wi.h) D(h) G(wo, wi) / (4 |n.wo| |n.wi|)
 // with D the GGX distribution, G Smith's separable shadowing term and F Schlick's Fresnel with F0 from the ior.
 // Sampling picks the coat lobe (GGX half vectors drawn with density D(h) cos(h)) with a probability that grows with
 // the Fresnel term, otherwise the cosine-weighted diffuse lobe; the pdf is the mixture of both, so the estimate is
-// unbiased whichever lobe was picked. Directions point away from the surface; wo is towards the viewer.
+// unbiased whichever lobe was picked. A surface without coat (coat = 0) is plain Lambertian and takes a short path.
+// Directions point away from the surface, in world space.
 #pragma once
 #include <optional>
 
@@ -28,21 +30,25 @@ struct BsdfSample {
 class Bsdf {
  public:
   // n: unit shading normal on the side of wo.
-  Bsdf(const Material& material, const Color& base, const Eigen::Vector3f& n);
+  Bsdf(const Material& material, const Color& base, const Eigen::Vector3f& n, const Eigen::Vector3f& wo);
 
-  Color eval(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi) const;  // f, without the cosine
-  BsdfLobes evalLobes(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi) const;
+  Color eval(const Eigen::Vector3f& wi) const;  // f, without the cosine
+  BsdfLobes evalLobes(const Eigen::Vector3f& wi) const;
+  float pdf(const Eigen::Vector3f& wi) const;   // solid-angle density of sample()
+  std::optional<BsdfSample> sample(float u_lobe, float u1, float u2) const;
   const Color& base() const { return base_; }
-  float pdf(const Eigen::Vector3f& wo, const Eigen::Vector3f& wi) const;   // solid-angle density of sample()
-  std::optional<BsdfSample> sample(const Eigen::Vector3f& wo, float u_lobe, float u1, float u2) const;
 
  private:
   float fresnel(float cos_theta) const;
-  float coatProbability(float cos_o) const;
+  BsdfLobes evalLocal(const Eigen::Vector3f& wi) const;
+  float pdfLocal(const Eigen::Vector3f& wi) const;
 
   Frame frame_;
   Color base_;
+  Eigen::Vector3f wo_;  // local
   float coat_, f0_, alpha_;
+  float coat_probability_ = 0;  // of sampling the coat lobe
+  float diffuse_weight_ = 0;    // (1 - coat F(n.wo)) / pi
 };
 
 }  // namespace wobble::render

@@ -10,7 +10,9 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
+#include <utility>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -31,9 +33,27 @@ inline float fastExp(float x) {
   return p * std::bit_cast<float>((whole + 127) << 23);
 }
 
+// std::allocator without value-initialisation: planes are filled in parallel right after allocation, so zeroing
+// tens of megabytes on one thread first (a third of the filter's time at 720p) is wasted.
+template <typename T>
+struct UninitializedAllocator : std::allocator<T> {
+  template <typename U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  template <typename U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <typename U, typename... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
 // A padded float plane.
 struct Plane {
-  std::vector<float> v;
+  std::vector<float, UninitializedAllocator<float>> v;
   float* row(int y, int stride) { return v.data() + std::size_t(y) * stride; }
   const float* row(int y, int stride) const { return v.data() + std::size_t(y) * stride; }
 };
@@ -63,34 +83,50 @@ struct TapInput {
   const float* inv;  // 1 / (sigma_l sqrt(blurred variance) + eps) at the output pixel
 };
 struct TapSums {
-  float *r, *g, *b, *weight, *var;
+  float *r, *g, *b, *var;
 };
 
-// One tap (offset dx, dy, kernel weight k) of one iteration, for a span of n output pixels: adds the tap's weighted
-// value, weight and squared-weight variance into the sums.
-__attribute__((target_clones("avx2", "default"))) void accumulateTap(const TapInput in, const TapSums out, int n,
-                                                                       std::ptrdiff_t offset, float dx, float dy,
-                                                                       float k, float sigma_n, float sigma_z) {
+// The taps of one iteration besides the centre: offset in the padded plane, offset in pixels, kernel weight.
+struct Taps {
+  static constexpr int kMax = 24;  // 5 x 5 - 1
+  int count = 0;
+  std::ptrdiff_t offset[kMax];
+  float dx[kMax], dy[kMax], k[kMax];
+};
+
+// One iteration for a span of n output pixels: every tap's weighted value, weight and squared-weight variance,
+// summed in registers and written once (the taps in the inner loop, so each pixel's own guides are loaded once).
+// kTaps is the tap count, a constant so that the inner loop unrolls and the outer one vectorises.
+template <int kTaps>
+__attribute__((target_clones("avx2", "default"))) void filterSpan(const TapInput in, const TapSums out, int n,
+                                                                    const Taps taps, float centre, float sigma_n,
+                                                                    float sigma_z) {
   // The planes never overlap; GCC ignores restrict on locals, so `ivdep` says it (too many planes for run-time alias
   // checks otherwise, and the loop would stay scalar).
   const float *__restrict cls = in.cls, *__restrict z = in.z, *__restrict gx = in.gx, *__restrict gy = in.gy;
   const float *__restrict nx = in.nx, *__restrict ny = in.ny, *__restrict nz = in.nz;
   const float *__restrict ir = in.r, *__restrict ig = in.g, *__restrict ib = in.b, *__restrict iv = in.var;
   const float *__restrict inv = in.inv;
-  float *__restrict sr = out.r, *__restrict sg = out.g, *__restrict sb = out.b, *__restrict sw = out.weight;
-  float *__restrict sv = out.var;
+  float *__restrict sr = out.r, *__restrict sg = out.g, *__restrict sb = out.b, *__restrict sv = out.var;
 #pragma GCC ivdep
   for (int x = 0; x < n; ++x) {
-    const std::ptrdiff_t q = x + offset;
-    const float expected = std::abs(gx[x] * dx + gy[x] * dy);
-    const float normal = nx[x] * nx[q] + ny[x] * ny[q] + nz[x] * nz[q];
-    const float geometry = std::abs(z[x] - z[q]) / (sigma_z * expected + 0.01f * z[x] + 1e-6f) +
-                           sigma_n * std::max(0.0f, 1.0f - normal);
-    const float same = cls[x] == cls[q] ? k : 0.0f;
-    const float l = std::abs(lum(ir[x], ig[x], ib[x]) - lum(ir[q], ig[q], ib[q]));
-    const float w = same * fastExp(-geometry - l * inv[x]);
-    sr[x] += w * ir[q], sg[x] += w * ig[q], sb[x] += w * ib[q];
-    sw[x] += w, sv[x] += w * w * iv[q];
+    const float lp = lum(ir[x], ig[x], ib[x]);
+    float r = centre * ir[x], g = centre * ig[x], b = centre * ib[x], wsum = centre, var = centre * centre * iv[x];
+#pragma GCC unroll 24
+    for (int t = 0; t < kTaps; ++t) {
+      const std::ptrdiff_t q = x + taps.offset[t];
+      const float expected = std::abs(gx[x] * taps.dx[t] + gy[x] * taps.dy[t]);
+      const float normal = nx[x] * nx[q] + ny[x] * ny[q] + nz[x] * nz[q];
+      const float geometry = std::abs(z[x] - z[q]) / (sigma_z * expected + 0.01f * z[x] + 1e-6f) +
+                             sigma_n * std::max(0.0f, 1.0f - normal);
+      const float same = cls[x] == cls[q] ? taps.k[t] : 0.0f;
+      const float l = std::abs(lp - lum(ir[q], ig[q], ib[q]));
+      const float w = same * fastExp(-geometry - l * inv[x]);
+      r += w * ir[q], g += w * ig[q], b += w * ib[q];
+      wsum += w, var += w * w * iv[q];
+    }
+    const float iw = 1.0f / wsum;
+    sr[x] = r * iw, sg[x] = g * iw, sb[x] = b * iw, sv[x] = var * iw * iw;
   }
 }
 
@@ -105,12 +141,20 @@ struct Window {
     x0 = std::min(x0, x), x1 = std::max(x1, x + 1), y0 = std::min(y0, y), y1 = std::max(y1, y + 1);
   }
   bool empty() const { return x1 <= x0; }
+  void merge(const Window& o) {
+    if (o.empty()) return;
+    if (empty()) {
+      *this = o;
+      return;
+    }
+    x0 = std::min(x0, o.x0), x1 = std::max(x1, o.x1), y0 = std::min(y0, o.y0), y1 = std::max(y1, o.y1);
+  }
 };
 
 // Where a pixel has one sample its variance is unknown (-1): the luminance variance over its 3 x 3 neighbourhood
 // (padding counts as zero; large at silhouettes, which keeps the filter off them).
 void fillMissingVariance(Signal& s, int stride, int pad, int w, int h) {
-  Plane l{std::vector<float>(s.r.v.size())}, filled = s.var;
+  Plane l{decltype(Plane::v)(s.r.v.size())}, filled = s.var;
   for (std::size_t i = 0; i < l.v.size(); ++i) l.v[i] = lum(s.r.v[i], s.g.v[i], s.b.v[i]);
   forRows(pad, pad + h, [&](int y) {
     const float* up = l.row(y - 1, stride);
@@ -162,7 +206,13 @@ std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
   const int pad = std::max(1, settings.iterations > 0 ? settings.radius << (settings.iterations - 1) : 0);
   const int stride = w + 2 * pad, rows = h + 2 * pad;
   const std::size_t padded = std::size_t(stride) * rows;
-  const auto planeOf = [&](float fill) { return Plane{std::vector<float>(padded, fill)}; };
+  const auto planeOf = [&](float fill) {
+    Plane plane{decltype(Plane::v)(padded)};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, padded, 1 << 16), [&](const auto& range) {
+      std::fill(plane.v.begin() + std::ptrdiff_t(range.begin()), plane.v.begin() + std::ptrdiff_t(range.end()), fill);
+    });
+    return plane;
+  };
   const auto at = [&](int x, int y) { return std::size_t(y + pad) * stride + (x + pad); };
 
   // Guides: class, depth and its screen-space gradient, normal (sky pixels get a fixed normal and depth 0, so only
@@ -171,25 +221,29 @@ std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
   Signal diffuse{planeOf(0), planeOf(0), planeOf(0), planeOf(0)}, other = diffuse;
   // Only surfaces need filtering (the sky seen directly is exact up to anti-aliasing), and of `other` only where
   // it is not zero: the coat's reflections (usually a small part of the frame).
-  Window surfaces, coated;
-  for (int y = 0; y < h; ++y)
+  std::vector<Window> row_surfaces(h), row_coated(h);  // per row, merged below (rows are filled in parallel)
+  forRows(0, h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       const std::size_t i = film.index(x, y), p = at(x, y);
       const bool sky = !std::isfinite(film.depth[i]);
       guide.cls.v[p] = sky ? 0.0f : 1.0f;
-      if (!sky) {
-        guide.z.v[p] = film.depth[i];
-        guide.nx.v[p] = film.normal[i].x(), guide.ny.v[p] = film.normal[i].y(), guide.nz.v[p] = film.normal[i].z();
-      }
       const Color d = film.diffuse[i].cwiseQuotient(film.albedo[i].cwiseMax(kAlbedoFloor));
       const Color o = film.color[i] - film.diffuse[i];
       if (!sky) {
-        surfaces.add(x, y);
-        if (!o.isZero()) coated.add(x, y);
+        guide.z.v[p] = film.depth[i];
+        guide.nx.v[p] = film.normal[i].x(), guide.ny.v[p] = film.normal[i].y(), guide.nz.v[p] = film.normal[i].z();
+        row_surfaces[y].add(x, y);
+        if (!o.isZero()) row_coated[y].add(x, y);
       }
       diffuse.r.v[p] = d.x(), diffuse.g.v[p] = d.y(), diffuse.b.v[p] = d.z(), diffuse.var.v[p] = film.variance_diffuse[i];
       other.r.v[p] = o.x(), other.g.v[p] = o.y(), other.b.v[p] = o.z(), other.var.v[p] = film.variance_other[i];
     }
+  });
+  Window surfaces, coated;
+  for (int y = 0; y < h; ++y) {
+    surfaces.merge(row_surfaces[y]);
+    coated.merge(row_coated[y]);
+  }
   // Depth gradient: per axis the smaller one-sided difference to a surface neighbour, so it does not jump at
   // silhouettes.
   forRows(0, h, [&](int y) {
@@ -217,6 +271,15 @@ std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
   // One a-trous iteration of one signal over its window, from `in` into `out` (pixels outside the window keep their
   // values: both buffers start equal and only the window is written).
   const auto pass = [&](const Signal& in, Signal& out, const Window& window, int step) {
+    Taps taps;
+    for (int ky = -r; ky <= r; ++ky)
+      for (int kx = -r; kx <= r; ++kx) {
+        if (kx == 0 && ky == 0) continue;
+        const int dx = kx * step, dy = ky * step;
+        taps.offset[taps.count] = std::ptrdiff_t(dy) * stride + dx;
+        taps.dx[taps.count] = float(dx), taps.dy[taps.count] = float(dy);
+        taps.k[taps.count++] = kernel[kx + r] * kernel[ky + r];
+      }
     inverseDeviation(in.var, inv, settings.sigma_luminance, stride, window.x0 + pad, window.x1 + pad, window.y0 + pad,
                      window.y1 + pad);
     forRows(window.y0, window.y1, [&](int y) {
@@ -226,29 +289,13 @@ std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
                             guide.gy.v.data() + first,  guide.nx.v.data() + first, guide.ny.v.data() + first,
                             guide.nz.v.data() + first,  in.r.v.data() + first,     in.g.v.data() + first,
                             in.b.v.data() + first,      in.var.v.data() + first,   inv.v.data() + first};
-      // Sums start with the centre tap (weight = its kernel value).
+      const TapSums sums{out.r.v.data() + first, out.g.v.data() + first, out.b.v.data() + first,
+                         out.var.v.data() + first};
       const float centre = kernel[r] * kernel[r];
-      float* sr = out.r.v.data() + first;
-      float* sg = out.g.v.data() + first;
-      float* sb = out.b.v.data() + first;
-      float* sv = out.var.v.data() + first;
-      std::vector<float> weight(span, centre);
-      for (int x = 0; x < span; ++x) {
-        sr[x] = centre * tap_in.r[x], sg[x] = centre * tap_in.g[x], sb[x] = centre * tap_in.b[x];
-        sv[x] = centre * centre * tap_in.var[x];
-      }
-      const TapSums sums{sr, sg, sb, weight.data(), sv};
-      for (int ky = -r; ky <= r; ++ky)
-        for (int kx = -r; kx <= r; ++kx) {
-          if (kx == 0 && ky == 0) continue;
-          const int dx = kx * step, dy = ky * step;
-          accumulateTap(tap_in, sums, span, std::ptrdiff_t(dy) * stride + dx, float(dx), float(dy),
-                        kernel[kx + r] * kernel[ky + r], settings.sigma_normal, settings.sigma_depth);
-        }
-      for (int x = 0; x < span; ++x) {
-        const float iw = 1.0f / weight[x];
-        sr[x] *= iw, sg[x] *= iw, sb[x] *= iw, sv[x] *= iw * iw;
-      }
+      if (r == 1)
+        filterSpan<8>(tap_in, sums, span, taps, centre, settings.sigma_normal, settings.sigma_depth);
+      else
+        filterSpan<24>(tap_in, sums, span, taps, centre, settings.sigma_normal, settings.sigma_depth);
     });
   };
   for (const auto& [signal, window] : {std::pair{&diffuse, surfaces}, std::pair{&other, coated}}) {
@@ -261,12 +308,13 @@ std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
   }
 
   std::vector<Color> out(n);
-  for (int y = 0; y < h; ++y)
+  forRows(0, h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       const std::size_t i = film.index(x, y), p = at(x, y);
       out[i] = Color(diffuse.r.v[p], diffuse.g.v[p], diffuse.b.v[p]).cwiseProduct(film.albedo[i].cwiseMax(kAlbedoFloor)) +
                Color(other.r.v[p], other.g.v[p], other.b.v[p]);
     }
+  });
   return out;
 }
 

@@ -114,13 +114,13 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
       result.normal = ns;
       result.position = hit->p;
     }
-    const Bsdf bsdf(material, base, ns);
+    const Bsdf bsdf(material, base, ns, wo);
     const Eigen::Vector3f origin = offsetFromSurface(hit->p, ng);
     const bool continues = bounce < max_bounces;
 
     // Light arriving at this surface from direction wi, already divided by its sampling density and weighted.
     const auto reflect = [&](const Eigen::Vector3f& wi, const Color& incoming) {
-      const BsdfLobes f = bsdf.evalLobes(wo, wi);
+      const BsdfLobes f = bsdf.evalLobes(wi);
       const float cos_i = ns.dot(wi);
       if (bounce == 0) {
         diffuse += (f.diffuse * cos_i) * incoming;
@@ -133,7 +133,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
       result.rays += s.traced;
       if (s.value.isZero() || ns.dot(s.wi) <= 0) return;
       // With no continuation from here, light samples are the only strategy: full weight.
-      const float weight = continues && s.pdf > 0 ? powerHeuristic(s.pdf, bsdf.pdf(wo, s.wi)) : 1.0f;
+      const float weight = continues && s.pdf > 0 ? powerHeuristic(s.pdf, bsdf.pdf(s.wi)) : 1.0f;
       reflect(s.wi, s.value * weight);
     };
     int light_index = 0;
@@ -153,13 +153,13 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
       if (pdf > 0 && wi.dot(ng) > 0 && ns.dot(wi) > 0) {
         ++result.rays;
         if (!scene.occluded(Ray{origin, wi}))
-          reflect(wi, context.sky.eval(wi) * (powerHeuristic(pdf, bsdf.pdf(wo, wi)) / pdf));
+          reflect(wi, context.sky.eval(wi) * (powerHeuristic(pdf, bsdf.pdf(wi)) / pdf));
       }
     }
 
     const float u_lobe = sampler.get1D(sample, layout.bsdfLobe(bounce));
     const Eigen::Vector2f u = sampler.get2D(sample, layout.bsdfDirection(bounce));
-    const auto s = bsdf.sample(wo, u_lobe, u.x(), u.y());
+    const auto s = bsdf.sample(u_lobe, u.x(), u.y());
     if (!s || s->wi.dot(ng) <= 0) break;  // absorbed, or headed into the surface it left
     if (bounce == 0) {
       t_diffuse = Color::Constant(s->lobes.diffuse);

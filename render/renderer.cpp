@@ -144,18 +144,20 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
     target = std::min(spp, 2 * target);
   }
 
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, film.color.size()), [&](const auto& pixels) {
+    for (std::size_t i = pixels.begin(); i != pixels.end(); ++i) {
+      const std::uint32_t n = film.samples[i];
+      const float inv = 1.0f / float(n);
+      film.color[i] *= inv;
+      film.diffuse[i] *= inv;
+      film.albedo[i] *= inv;
+      film.normal[i] *= inv;
+      film.variance_diffuse[i] = varianceOfMean(state[i].diffuse_sum, state[i].diffuse_sq, n);
+      film.variance_other[i] = varianceOfMean(state[i].other_sum, state[i].other_sq, n);
+    }
+  });
   std::uint64_t samples_taken = 0;
-  for (std::size_t i = 0; i < film.color.size(); ++i) {
-    const std::uint32_t n = film.samples[i];
-    samples_taken += n;
-    const float inv = 1.0f / float(n);
-    film.color[i] *= inv;
-    film.diffuse[i] *= inv;
-    film.albedo[i] *= inv;
-    film.normal[i] *= inv;
-    film.variance_diffuse[i] = varianceOfMean(state[i].diffuse_sum, state[i].diffuse_sq, n);
-    film.variance_other[i] = varianceOfMean(state[i].other_sum, state[i].other_sq, n);
-  }
+  for (const std::uint32_t n : film.samples) samples_taken += n;
   if (stats) {
     stats->camera_rays = samples_taken;
     stats->passes = passes;
