@@ -80,6 +80,27 @@ TEST(Exr, EveryLayerRoundTrips) {
   for (std::size_t i = 0; i < depth.size(); ++i) EXPECT_EQ(depth[i], film.depth[i]) << i;  // float: exact
 }
 
+// With a denoised colour, R, G, B hold it and the film's own (noisy) colour moves to the noisy layer.
+TEST(Exr, DenoisedColourGoesToRgbAndTheNoisyOneIsKept) {
+  test::TempDir dir;
+  const Film film = madeUpFilm();
+  std::vector<Color> denoised(film.color.size());
+  for (std::size_t i = 0; i < denoised.size(); ++i) denoised[i] = Color(0.5f, 0.25f, 2.0f) * float(i + 1);
+  writeExr(dir / "frame.exr", film, denoised);
+  Imf::InputFile file((dir / "frame.exr").c_str());
+  int count = 0;
+  for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it) ++count;
+  EXPECT_EQ(count, 13);
+  for (const auto& [values, prefix] : {std::pair{static_cast<const std::vector<Color>*>(&denoised), std::string()}, std::pair{&film.color, std::string("noisy.")}})
+    for (int k = 0; k < 3; ++k) {
+      const std::string name = prefix + "RGB"[k];
+      ASSERT_NE(file.header().channels().findChannel(name), nullptr) << name;
+      const std::vector<float> got = readChannel(file, name);
+      for (std::size_t i = 0; i < values->size(); ++i) EXPECT_EQ(got[i], asHalf((*values)[i][k])) << name << " " << i;
+    }
+  EXPECT_THROW(writeExr(dir / "bad.exr", film, std::vector<Color>(3)), std::invalid_argument);
+}
+
 TEST(Exr, OverwritesAtomicallyAndReportsBadPaths) {
   test::TempDir dir;
   writeExr(dir / "frame.exr", madeUpFilm());
