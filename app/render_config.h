@@ -30,10 +30,12 @@ struct CameraConfig {
 // on its own (an explicit key or flag wins over the preset). Chosen from `wobble study render` (README).
 struct QualityPreset {
   const char* name;
-  int samples;             // the most per pixel
-  int min_samples;         // adaptive sampling's first pass
-  double noise_threshold;  // 0: no adaptive sampling
+  int samples;              // the most per pixel
+  int min_samples;          // adaptive sampling's first pass
+  double noise_threshold;   // 0: no adaptive sampling
   bool denoise;
+  double resolution_scale;  // of camera.resolution (preview: half each way, a quarter of the pixels)
+  const char* summary;      // for --help and the docs
 };
 const QualityPreset& qualityPreset(const std::string& name);  // "preview" or "final"; throws std::out_of_range
 std::vector<std::string> qualityNames();

@@ -3,6 +3,7 @@
 #include <regex>
 #include <sstream>
 
+#include "render_config.h"
 #include "scene_error.h"
 
 namespace wobble {
@@ -11,9 +12,10 @@ void addRenderFlags(CLI::App& cmd, RenderFlags& flags) {
   cmd.add_option("--render", flags.render,
                  "Images per frame: png, exr, png,exr or none (overrides render.png / render.exr; none also turns "
                  "the video off)");
-  cmd.add_option("--quality", flags.quality,
-                 "Render quality preset: preview (fast, for checking a run) or final (overrides render.quality)")
-      ->check(CLI::IsMember({"preview", "final"}));
+  std::string presets;
+  for (const std::string& name : qualityNames()) presets += "; " + name + ": " + qualityPreset(name).summary;
+  cmd.add_option("--quality", flags.quality, "Render quality preset (overrides render.quality)" + presets)
+      ->check(CLI::IsMember(qualityNames()));
   cmd.add_option("--spp", flags.spp, "Samples per pixel, the most with adaptive sampling (overrides render.samples)")
       ->check(CLI::Range(1, 65536));
   cmd.add_option("--denoise", flags.denoise, "Denoise the PNG frames and video: on or off (overrides render.denoise)")

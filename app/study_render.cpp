@@ -76,7 +76,7 @@ render::RenderSettings settingsFor(const RenderVariant& v, int spp, double thres
   render::parseSamplerKind(v.sampler, s.sampler);
   s.sample_sky = v.sky_sampling;
   s.noise_threshold = v.adaptive ? static_cast<float>(threshold) : 0.0f;
-  s.min_samples = v.adaptive ? std::min(spp, 4) : 0;
+  s.min_samples = v.adaptive ? 1 : 0;
   s.frame = static_cast<std::uint32_t>(frame);
   return s;
 }
