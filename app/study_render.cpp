@@ -13,6 +13,7 @@
 #include "render/denoiser.h"
 #include "render/image_error.h"
 #include "render/pfm_io.h"
+#include "render/scene_export.h"
 #include "render/png_io.h"
 #include "render/renderer.h"
 #include "render_flags.h"
@@ -162,6 +163,7 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
 
   const FrameView view = simulateTo(scene, frame);
   const render::Camera camera(view.camera);
+  render::exportScene(view.scene.scene(), camera, out / "frame");
   render::ToneMap tone;
   tone.exposure = static_cast<float>(scene.render.options.exposure);
   const int w = result.width, h = result.height;

@@ -11,7 +11,8 @@
 // `repeats` runs) are recorded.
 // Outputs: render.csv (every point), render.md (per variant: the fitted slope of log RMSE against log spp, where
 // -0.5 is plain Monte Carlo and steeper is better; the spp and time each needs to reach given errors; every point),
-// render.png (gnuplot: RMSE against time, and against spp), and images/<variant>_<spp>.png of every point.
+// render.png (gnuplot: RMSE against time, and against spp), images/<variant>_<spp>.png of every point, and the frame
+// itself for other renderers in frame/ (render/scene_export.h: OBJ, JSON, baked textures; bench/cycles_compare.sh).
 #pragma once
 #include <filesystem>
 #include <string>
