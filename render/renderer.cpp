@@ -56,6 +56,32 @@ float adaptiveError(const Color& sum, const Color& half, std::uint32_t n) {
   return (all - first).cwiseAbs().sum() / (1e-4f + std::sqrt(std::max(0.0f, all.sum())));
 }
 
+// The light a pixel receives, per sample: its colour with the diffuse part divided by the albedo, so that texture
+// detail does not count as noise.
+Color receivedLight(const Film& film, std::size_t i) {
+  const Color light = film.diffuse[i].cwiseQuotient(film.albedo[i].cwiseMax(0.05f * film.samples[i])) +
+                      (film.color[i] - film.diffuse[i]) / float(film.samples[i]);
+  return light;
+}
+
+// One sample has no spread of its own: estimate it from the 3 x 3 neighbourhood's spread of received light. The
+// spread over sqrt(2) stands for the difference of two samples' mean and one sample's, in the same measure as
+// adaptiveError. Lighting that varies across the neighbourhood (a shadow's edge) counts too, so the estimate errs
+// towards more samples.
+float neighbourhoodError(const std::vector<Color>& light, int w, int h, int x, int y) {
+  Color sum = Color::Zero(), sq = Color::Zero();
+  int n = 0;
+  for (int ny = std::max(0, y - 1); ny <= std::min(h - 1, y + 1); ++ny)
+    for (int nx = std::max(0, x - 1); nx <= std::min(w - 1, x + 1); ++nx) {
+      const Color& c = light[std::size_t(ny) * w + nx];
+      sum += c, sq += c.cwiseProduct(c), ++n;
+    }
+  const Color mean = sum / float(n);
+  const Color spread = (sq / float(n) - mean.cwiseProduct(mean)).cwiseMax(0.0f).cwiseSqrt();
+  const Color& own = light[std::size_t(y) * w + x];
+  return spread.sum() / std::sqrt(2.0f) / (1e-4f + std::sqrt(std::max(0.0f, own.sum())));
+}
+
 }  // namespace
 
 Film render(const Scene& scene, const Camera& camera, const RenderSettings& settings, RenderStats* stats) {
@@ -119,27 +145,36 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
     if (!adaptive || target >= spp) break;
 
     // Which pixels go on: those not converged and their 3 x 3 neighbours.
-    std::vector<char> unconverged(state.size(), 0);
-    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
-      for (int y = rows.begin(); y != rows.end(); ++y)
-        for (int x = 0; x < w; ++x) {
-          const std::size_t i = film.index(x, y);
-          const std::uint32_t n = film.samples[i];
-          unconverged[i] = n < 2 || adaptiveError(film.color[i], state[i].half, n) >= settings.noise_threshold;
-        }
+    const auto rows = [&](const auto& body) {
+      tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& r) {
+        for (int y = r.begin(); y != r.end(); ++y) body(y);
+      });
+    };
+    std::vector<Color> light(state.size());
+    rows([&](int y) {
+      for (int x = 0; x < w; ++x) light[film.index(x, y)] = receivedLight(film, film.index(x, y));
     });
-    bool any = false;
-    for (int y = 0; y < h; ++y)
+    std::vector<char> unconverged(state.size(), 0);
+    rows([&](int y) {
+      for (int x = 0; x < w; ++x) {
+        const std::size_t i = film.index(x, y);
+        const std::uint32_t n = film.samples[i];
+        const float error = n < 2 ? neighbourhoodError(light, w, h, x, y) : adaptiveError(film.color[i], state[i].half, n);
+        unconverged[i] = error >= settings.noise_threshold;
+      }
+    });
+    std::vector<char> row_active(h, 0);
+    rows([&](int y) {
       for (int x = 0; x < w; ++x) {
         bool go_on = false;
-        for (int dy = -1; dy <= 1 && !go_on; ++dy)
-          for (int dx = -1; dx <= 1 && !go_on; ++dx) {
-            const int nx = x + dx, ny = y + dy;
-            go_on = nx >= 0 && ny >= 0 && nx < w && ny < h && unconverged[film.index(nx, ny)];
-          }
+        for (int ny = std::max(0, y - 1); ny <= std::min(h - 1, y + 1) && !go_on; ++ny)
+          for (int nx = std::max(0, x - 1); nx <= std::min(w - 1, x + 1) && !go_on; ++nx)
+            go_on = unconverged[film.index(nx, ny)];
         state[film.index(x, y)].active = go_on;
-        any = any || go_on;
+        row_active[y] |= go_on;
       }
+    });
+    const bool any = std::find(row_active.begin(), row_active.end(), 1) != row_active.end();
     if (!any) break;
     target = std::min(spp, 2 * target);
   }

@@ -8,8 +8,10 @@
 //   noise_threshold    0 = no adaptive sampling. Otherwise a pixel stops once Cycles' error estimate (Hachisuka et
 //                      al.'s, as in Cycles' adaptive sampling) falls below it: the RGB difference between the mean
 //                      of all its samples and of the first half, over the square root of the mean's RGB sum. A pixel
-//                      next to one that goes on goes on too (a 3 x 3 dilation, as Cycles), so isolated pixels that
-//                      stopped by luck do not show. Cycles' default threshold is 0.01.
+//                      with a single sample (min_samples 1) estimates that from its 3 x 3 neighbourhood's spread of
+//                      received light (colour with the diffuse part divided by the albedo, so texture is not noise),
+//                      so easy pixels can stop at one sample. A pixel next to one that goes on goes on too (a 3 x 3
+//                      dilation, as Cycles), so isolated pixels that stopped by luck do not show.
 //   max_bounces        path continuations after the first hit (integrator.h); 2 by default
 //   sampler            SamplerKind::Sobol (default) or Independent (sampler.h)
 //   sample_sky         next-event estimation of the sky with MIS (integrator.h)

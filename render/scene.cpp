@@ -45,6 +45,12 @@ MaterialId Scene::addMaterial(Material material) {
 
 const std::string& Scene::shapeName(ShapeId id) const { return shapes_.at(id)->name; }
 
+Scene::ShapeView Scene::shapeView(ShapeId id) const {
+  const Shape& s = *shapes_.at(id);
+  const bool sphere = s.kind == Shape::Kind::Sphere;
+  return {s.name, sphere ? nullptr : &s.mesh, sphere ? &s.sphere : nullptr, s.material};
+}
+
 RTCScene Scene::embreeScene() const { return rtc_->get(); }
 
 Scene::Shape& Scene::shape(ShapeId id, const char* expected_kind) {

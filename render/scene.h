@@ -70,6 +70,16 @@ class Scene {
 
   std::size_t shapeCount() const { return shapes_.size(); }
   const std::string& shapeName(ShapeId id) const;
+  // What a shape is, for exporters (scene_export.h): a triangle mesh (simulator meshes, quads and boxes) or an
+  // analytic sphere, and its material.
+  struct ShapeView {
+    const std::string& name;
+    const TriangleMesh* mesh;  // null for a sphere
+    const Sphere* sphere;      // null for a mesh
+    MaterialId material;
+  };
+  ShapeView shapeView(ShapeId id) const;
+  std::size_t materialCount() const { return materials_.size(); }
   // The raw Embree scene, for benchmarks and experiments.
   RTCScene embreeScene() const;
 

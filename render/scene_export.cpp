@@ -1,0 +1,103 @@
+// Scene + camera as OBJ, JSON and baked textures (see scene_export.h).
+#include "scene_export.h"
+
+#include <fstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "png_io.h"
+
+namespace wobble::render {
+
+namespace {
+
+nlohmann::json vec(const Eigen::Vector3f& v) { return {v.x(), v.y(), v.z()}; }
+
+void bakeTexture(const Texture& texture, const std::filesystem::path& file) {
+  constexpr int kSize = 1024;
+  Image8 image(kSize, kSize, 3);
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      // Row 0 is the top of the image, v = 1 (OBJ convention, as ImageTexture reads it).
+      const Color c = texture.eval({(x + 0.5f) / kSize, 1.0f - (y + 0.5f) / kSize});
+      for (int k = 0; k < 3; ++k) image.at(x, y, k) = linearToSrgb8(c[k]);
+    }
+  writePng(file, image);
+}
+
+}  // namespace
+
+void exportScene(const Scene& scene, const Camera& camera, const std::filesystem::path& dir) {
+  std::filesystem::create_directories(dir);
+  nlohmann::ordered_json j;
+  const CameraParams& c = camera.params();
+  j["camera"] = {{"position", vec(c.position)}, {"look_at", vec(c.look_at)}, {"up", vec(c.up)},
+                 {"vfov_deg", c.vfov_deg}, {"width", c.width}, {"height", c.height}};
+  j["suns"] = nlohmann::json::array();
+  for (const SunLight& s : scene.lights.suns)
+    j["suns"].push_back({{"direction", vec(s.direction.normalized())}, {"irradiance", vec(s.irradiance)},
+                         {"angular_radius_deg", s.angular_radius_deg}});
+  j["area_lights"] = nlohmann::json::array();
+  for (const RectLight& r : scene.lights.rects)
+    j["area_lights"].push_back({{"corner", vec(r.corner)}, {"edge_u", vec(r.edge_u)}, {"edge_v", vec(r.edge_v)},
+                                {"radiance", vec(r.radiance)}});
+  const Sky& sky = scene.lights.sky;
+  j["sky"] = {{"zenith", vec(sky.zenith)}, {"horizon", vec(sky.horizon)}, {"ground", vec(sky.ground)},
+              {"up", vec(sky.up.normalized())},
+              {"model", "elevation e = d.up: horizon + sqrt(e) (zenith - horizon) for e >= 0, "
+                        "horizon + sqrt(min(1, -4 e)) (ground - horizon) below"}};
+  j["materials"] = nlohmann::json::array();
+  for (std::size_t m = 0; m < scene.materialCount(); ++m) {
+    const Material& mat = scene.material(MaterialId(m));
+    nlohmann::ordered_json entry = {{"name", mat.name}, {"color", vec(mat.color)}, {"coat", mat.coat},
+                                    {"ior", mat.ior}, {"roughness", mat.roughness}, {"texture", nullptr}};
+    if (mat.texture) {
+      const std::string file = "texture_" + std::to_string(m) + ".png";
+      bakeTexture(*mat.texture, dir / file);
+      entry["texture"] = file;
+    }
+    j["materials"].push_back(entry);
+  }
+
+  std::ofstream obj(dir / "scene.obj");
+  obj << "# wobble frame: every triangle mesh of the scene, world space, Y up (scene.json has the rest)\n";
+  std::size_t base = 1;  // OBJ indices are 1-based and global
+  j["shapes"] = nlohmann::json::array();
+  for (std::size_t id = 0; id < scene.shapeCount(); ++id) {
+    const Scene::ShapeView s = scene.shapeView(ShapeId(id));
+    nlohmann::ordered_json shape = {{"name", s.name}, {"material", s.material}};
+    if (s.sphere) {
+      shape["sphere"] = {{"center", vec(s.sphere->center)}, {"radius", s.sphere->radius}};
+      j["shapes"].push_back(shape);
+      continue;
+    }
+    shape["obj_object"] = s.name;
+    j["shapes"].push_back(shape);
+    const TriangleMesh& m = *s.mesh;
+    obj << "o " << s.name << "\n";
+    for (const auto& p : m.positions) obj << "v " << p.x() << " " << p.y() << " " << p.z() << "\n";
+    for (const auto& t : m.uv) obj << "vt " << t.x() << " " << t.y() << "\n";
+    for (const auto& n : m.normals) obj << "vn " << n.x() << " " << n.y() << " " << n.z() << "\n";
+    const bool uv = !m.uv.empty(), normals = !m.normals.empty();
+    for (const auto& tri : m.triangles) {
+      obj << "f";
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t i = base + std::size_t(tri[k]);
+        obj << " " << i;
+        if (uv || normals) obj << "/" << (uv ? std::to_string(i) : "");
+        if (normals) obj << "/" << i;
+      }
+      obj << "\n";
+    }
+    base += m.positions.size();
+  }
+  obj.close();
+  if (!obj) throw std::runtime_error((dir / "scene.obj").string() + ": cannot write");
+  std::ofstream out(dir / "scene.json");
+  out << j.dump(2) << "\n";
+  out.close();
+  if (!out) throw std::runtime_error((dir / "scene.json").string() + ": cannot write");
+}
+
+}  // namespace wobble::render

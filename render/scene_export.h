@@ -1,0 +1,20 @@
+// exportScene: a committed Scene and a Camera written for other renderers (the Cycles comparison in bench/), so the
+// same frame can be rendered elsewhere and each renderer's error measured against its own converged picture.
+//   DIR/scene.obj    every triangle mesh (simulator meshes, quads, boxes) as an object named after its shape, with
+//                    normals and UVs where it has them; world space, Y up, metres
+//   DIR/scene.json   camera (position, look_at, up, vertical fov, resolution), suns (direction, irradiance, angular
+//                    radius), area lights, sky (zenith, horizon, ground colours, up), analytic spheres (centre, radius),
+//                    and per shape its material (colour, coat, ior, roughness, texture image)
+//   DIR/texture_<material>.png   each material's texture baked over UV [0, 1]^2 (sRGB, 1024 x 1024)
+// Throws std::runtime_error naming the file when a file cannot be written.
+#pragma once
+#include <filesystem>
+
+#include "camera.h"
+#include "scene.h"
+
+namespace wobble::render {
+
+void exportScene(const Scene& scene, const Camera& camera, const std::filesystem::path& dir);
+
+}  // namespace wobble::render
