@@ -150,14 +150,20 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
         for (int y = r.begin(); y != r.end(); ++y) body(y);
       });
     };
-    std::vector<Color> light(state.size());
-    rows([&](int y) {
-      for (int x = 0; x < w; ++x) light[film.index(x, y)] = receivedLight(film, film.index(x, y));
-    });
+    // Only pixels sampled in this pass can change their mind; the first pass samples every pixel, each with one
+    // sample when min_samples is 1, and needs the neighbourhood estimate (received light per pixel) once.
+    std::vector<Color> light;
+    if (passes == 1 && target < 2) {
+      light.resize(state.size());
+      rows([&](int y) {
+        for (int x = 0; x < w; ++x) light[film.index(x, y)] = receivedLight(film, film.index(x, y));
+      });
+    }
     std::vector<char> unconverged(state.size(), 0);
     rows([&](int y) {
       for (int x = 0; x < w; ++x) {
         const std::size_t i = film.index(x, y);
+        if (!state[i].active) continue;
         const std::uint32_t n = film.samples[i];
         const float error = n < 2 ? neighbourhoodError(light, w, h, x, y) : adaptiveError(film.color[i], state[i].half, n);
         unconverged[i] = error >= settings.noise_threshold;

@@ -122,26 +122,35 @@ PixelSampler::SlotSeeds PixelSampler::hashSeeds(int slot) const {
   return {s, derive(0x68E31DA4u), derive(0xB5297A4Du)};
 }
 
-// Sobol points of a slot: the sample order shuffled (an Owen scramble of the index keeps power-of-two prefixes aligned
-// blocks of the sequence, so they stay nets), then each coordinate scrambled. Worked in bit-reversed order, where
-// dimension 0 is the index itself, so the scrambles need no reversals in between.
 // Independent samples: one full-avalanche mix of a counter made of (pixel seed, slot, sample, coordinate).
 float PixelSampler::independent(std::uint32_t sample, int slot, std::uint32_t coordinate) const {
   return sobol::toUnitFloat(sobol::hash(seed_ + static_cast<std::uint32_t>(slot) * 0x9E3779B9u,
                                         2 * sample + coordinate));
 }
 
+// Sobol points of a slot: the sample order shuffled (an Owen scramble of the index keeps power-of-two prefixes aligned
+// blocks of the sequence, so they stay nets), then each coordinate scrambled. Worked in bit-reversed order, where
+// dimension 0 is the index itself, so the scrambles need no reversals in between; the sample's own reversal is
+// shared by all the slots of a sample.
+std::uint32_t PixelSampler::shuffledIndex(std::uint32_t sample, std::uint32_t seed) const {
+  if (sample != last_sample_) {
+    last_sample_ = sample;
+    last_reversed_ = sobol::reverseBits(sample);
+  }
+  return sobol::reverseBits(sobol::scrambleReversed(last_reversed_, seed));
+}
+
 float PixelSampler::get1D(std::uint32_t sample, int slot) const {
   if (kind_ == SamplerKind::Independent) return independent(sample, slot, 0);
   const SlotSeeds s = seeds(slot);
-  const std::uint32_t index = sobol::reverseBits(sobol::scrambleReversed(sobol::reverseBits(sample), s.shuffle));
+  const std::uint32_t index = shuffledIndex(sample, s.shuffle);
   return sobol::toUnitFloat(sobol::reverseBits(sobol::scrambleReversed(index, s.x)));
 }
 
 Eigen::Vector2f PixelSampler::get2D(std::uint32_t sample, int slot) const {
   if (kind_ == SamplerKind::Independent) return {independent(sample, slot, 0), independent(sample, slot, 1)};
   const SlotSeeds s = seeds(slot);
-  const std::uint32_t index = sobol::reverseBits(sobol::scrambleReversed(sobol::reverseBits(sample), s.shuffle));
+  const std::uint32_t index = shuffledIndex(sample, s.shuffle);
   return {sobol::toUnitFloat(sobol::reverseBits(sobol::scrambleReversed(index, s.x))),
           sobol::toUnitFloat(sobol::reverseBits(sobol::scrambleReversed(sobol::dimension1Reversed(index), s.y)))};
 }

@@ -158,6 +158,31 @@ TEST_F(Render, ExrHasItsLayers) {
   EXPECT_FALSE(fs::exists(dir() / "exr_only/frames"));
 }
 
+// --quality preview halves the camera's resolution; --denoise off keeps the film's own noisy colour, which differs
+// from the default denoised frame; an EXR of a denoised frame keeps the noisy colour as its `noisy` layer.
+TEST_F(Render, QualityAndDenoiseFlags) {
+  const fs::path s = scene();
+  const std::string run = "run " + s.string() + " --resolution 64x36 --frames 3 --render png,exr --out ";
+  ASSERT_EQ(wobble(run + (dir() / "final").string()), 0) << log();
+  ASSERT_EQ(wobble(run + (dir() / "preview").string() + " --quality preview"), 0) << log();
+  ASSERT_EQ(wobble(run + (dir() / "noisy").string() + " --denoise off"), 0) << log();
+  const render::Image8 final_frame = render::readImage(dir() / "final/frames/small_0003.png");
+  const render::Image8 preview = render::readImage(dir() / "preview/frames/small_0003.png");
+  const render::Image8 noisy = render::readImage(dir() / "noisy/frames/small_0003.png");
+  EXPECT_EQ(final_frame.width, 64);
+  EXPECT_EQ(final_frame.height, 36);
+  EXPECT_EQ(preview.width, 32);
+  EXPECT_EQ(preview.height, 18);
+  EXPECT_NE(noisy.pixels, final_frame.pixels);
+  EXPECT_NE(slurp(dir() / "final/exr/small_0003.exr").find("noisy.R"), std::string::npos);
+  EXPECT_EQ(slurp(dir() / "noisy/exr/small_0003.exr").find("noisy.R"), std::string::npos);
+  for (const char* flags : {"--quality best", "--denoise maybe", "--set render.quality=fast",
+                            "--set render.min_samples=8", "--set render.noise_threshold=2", "--set render.sampler=halton"}) {
+    EXPECT_EQ(wobble(run + out().string() + " " + flags), 2) << flags << "\n" << log();
+    EXPECT_FALSE(fs::exists(out())) << flags;
+  }
+}
+
 TEST_F(Render, BadRenderFlagsWriteNothing) {
   const fs::path s = scene();
   for (const char* flags : {"--resolution 12", "--resolution 0x10", "--resolution 64x", "--resolution 1x1",
