@@ -76,6 +76,7 @@ render::RenderSettings settingsFor(const RenderVariant& v, int spp, double thres
   s.max_bounces = v.bounces >= 0 ? v.bounces : bounces;
   render::parseSamplerKind(v.sampler, s.sampler);
   s.sample_sky = v.sky_sampling;
+  s.mis = v.mis;
   s.noise_threshold = v.adaptive ? static_cast<float>(threshold) : 0.0f;
   s.min_samples = v.adaptive ? 1 : 0;
   s.frame = static_cast<std::uint32_t>(frame);
@@ -94,8 +95,9 @@ void check(bool ok, const std::string& message) {
 
 const std::vector<RenderVariant>& renderStudyVariants() {
   static const std::vector<RenderVariant> variants = {
-      {"independent", "independent random samples (the renderer's sampling before Sobol), no denoising",
-       "independent"},
+      {"independent-nomis", "independent random samples, no MIS (suns and area lights by light sampling alone), no denoising",
+       "independent", false, false, false, -1, false},
+      {"independent", "independent random samples, no denoising", "independent"},
       {"sobol", "Owen-scrambled Sobol samples, no denoising", "sobol"},
       {"sobol+sky", "Sobol, with next-event estimation of the sky (MIS), no denoising", "sobol", true},
       {"independent+denoise", "independent samples, denoised", "independent", false, true},

@@ -46,6 +46,7 @@ struct RenderVariant {
   bool denoise = false;
   bool adaptive = false;   // swept over thresholds instead of spp
   int bounces = -1;        // -1: the scene's (render.bounces), as the reference
+  bool mis = true;         // false: lights by light sampling alone, as before MIS
 };
 const std::vector<RenderVariant>& renderStudyVariants();
 

@@ -72,7 +72,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
   for (int bounce = 0;; ++bounce) {
     ++result.rays;
     auto hit = scene.intersect(ray);
-    if (bounce > 0) {  // a BSDF continuation may pass through an area light before whatever it hits
+    if (bounce > 0 && context.settings.mis) {  // a BSDF continuation may pass an area light before what it hits
       const float tmax = hit ? hit->t : ray.tfar;
       for (const RectLight& rect : lights.rects) {
         const LightHit h = rectAlongRay(rect, ray.origin, ray.direction, tmax);
@@ -86,7 +86,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
           light *= powerHeuristic(previous_pdf, context.sky_distribution.pdf(ray.direction));
         for (const SunCone& sun : context.suns) {
           const LightHit h = sunInDirection(sun, ray.direction);
-          if (h.pdf > 0) light += h.radiance * powerHeuristic(previous_pdf, h.pdf);
+          if (h.pdf > 0 && context.settings.mis) light += h.radiance * powerHeuristic(previous_pdf, h.pdf);
         }
       }
       arrive(light);
@@ -133,7 +133,8 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
       result.rays += s.traced;
       if (s.value.isZero() || ns.dot(s.wi) <= 0) return;
       // With no continuation from here, light samples are the only strategy: full weight.
-      const float weight = continues && s.pdf > 0 ? powerHeuristic(s.pdf, bsdf.pdf(s.wi)) : 1.0f;
+      const bool combined = continues && s.pdf > 0 && context.settings.mis;
+      const float weight = combined ? powerHeuristic(s.pdf, bsdf.pdf(s.wi)) : 1.0f;
       reflect(s.wi, s.value * weight);
     };
     int light_index = 0;

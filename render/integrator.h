@@ -31,6 +31,9 @@ class Scene;
 struct PathSettings {
   int max_bounces = 2;
   bool sample_sky = false;  // next-event estimation of the sky, with MIS against BSDF sampling
+  // false: suns and area lights by light sampling alone (full weight; BSDF samples that find them are ignored), as
+  // the renderer did before MIS. For the render study's comparison.
+  bool mis = true;
 };
 
 // What the first hit's texture filter needs of the camera ray. The first surface's texture is averaged over the

@@ -94,7 +94,7 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
   const int spp = settings.samples_per_pixel;
   const bool adaptive = settings.noise_threshold > 0;
   int target = adaptive ? std::min(spp, settings.min_samples > 0 ? settings.min_samples : 4) : spp;
-  const PathContext context(scene, PathSettings{settings.max_bounces, settings.sample_sky});
+  const PathContext context(scene, PathSettings{settings.max_bounces, settings.sample_sky, settings.mis});
   const int w = camera.width(), h = camera.height(), ts = settings.tile_size;
   const int tiles_x = (w + ts - 1) / ts, tiles_y = (h + ts - 1) / ts;
   Film film(w, h);

@@ -15,6 +15,7 @@
 //   max_bounces        path continuations after the first hit (integrator.h); 2 by default
 //   sampler            SamplerKind::Sobol (default) or Independent (sampler.h)
 //   sample_sky         next-event estimation of the sky with MIS (integrator.h)
+//   mis                multiple importance sampling of suns and area lights (integrator.h); off only for comparisons
 //   tile_size          tiles of tile_size^2 pixels are the units of parallel work (tbb::parallel_for)
 //   frame              animation frame index: seeds the per-pixel sample streams, so consecutive frames get
 //                      different noise and the same frame is always the same
@@ -41,6 +42,7 @@ struct RenderSettings {
   int max_bounces = 2;
   SamplerKind sampler = SamplerKind::Sobol;
   bool sample_sky = false;
+  bool mis = true;
   int tile_size = 16;
   std::uint32_t frame = 0;
 };
