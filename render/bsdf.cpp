@@ -32,6 +32,7 @@ Bsdf::Bsdf(const Material& m, const Color& base, const Eigen::Vector3f& n, const
     // small, and that reflection is what reads as "glossy".
     coat_probability_ = coat_ > 0 ? std::clamp(0.25f + coat_ * f, 0.0f, 0.9f) : 0.0f;
     diffuse_weight_ = (1.0f - coat_ * f) / kPi;
+    coat_fresnel_ = coat_ * f;
   }
 }
 
@@ -47,8 +48,7 @@ BsdfLobes Bsdf::evalLocal(const Eigen::Vector3f& wi) const {
   if (coat_ > 0) {
     const Eigen::Vector3f h = (wo_ + wi).normalized();
     const float a2 = alpha_ * alpha_;
-    f.specular = coat_ * fresnel(wi.dot(h)) * ggxD(h.z(), a2) * smithG1(wo_.z(), a2) * smithG1(wi.z(), a2) /
-                 (4.0f * wo_.z() * wi.z());
+    f.specular = coat_fresnel_ * ggxD(h.z(), a2) * smithG1(wo_.z(), a2) * smithG1(wi.z(), a2) / (4.0f * wo_.z() * wi.z());
   }
   return f;
 }

@@ -125,8 +125,11 @@ __attribute__((target_clones("avx2", "default"))) void filterSpan(const TapInput
       r += w * ir[q], g += w * ig[q], b += w * ib[q];
       wsum += w, var += w * w * iv[q];
     }
+    // Only surfaces are filtered: the sky seen directly is exact up to anti-aliasing, and stays as rendered.
     const float iw = 1.0f / wsum;
-    sr[x] = r * iw, sg[x] = g * iw, sb[x] = b * iw, sv[x] = var * iw * iw;
+    const bool surface = cls[x] == 1.0f;
+    sr[x] = surface ? r * iw : ir[x], sg[x] = surface ? g * iw : ig[x], sb[x] = surface ? b * iw : ib[x];
+    sv[x] = surface ? var * iw * iw : iv[x];
   }
 }
 

@@ -91,6 +91,29 @@ float boxedSineAmplitude(float phase_width) {
   return z >= std::numbers::pi_v<float> ? 0.0f : fastSin(z) / z;
 }
 
+// Mean of frac(x)^5 over [x - width/2, x + width/2]: from its integral floor(x) / 6 + frac(x)^6 / 6.
+float boxedLateWood(float x, float width) {
+  const auto integral = [](float z) {
+    const float whole = std::floor(z), f = z - whole, f2 = f * f;
+    return (whole + f2 * f2 * f2) / 6.0f;
+  };
+  return (integral(x + 0.5f * width) - integral(x - 0.5f * width)) / width;
+}
+
+// A board's tone, 0.88 to 1.12 (mean 1), averaged over the boards in [across - width/2, across + width/2] by their
+// share of it.
+float boardTone(float across, float width) {
+  const auto tone = [](long board) { return 0.88f + 0.24f * hash01(board + 7919); };
+  const float a = across - 0.5f * width, b = across + 0.5f * width;
+  const auto first = static_cast<long>(std::floor(a)), last = static_cast<long>(std::floor(b));
+  if (first == last) return tone(first);
+  if (last - first > 16) return 1.0f;  // the mean, to within the spread of a few dozen boards
+  float sum = 0;
+  for (long board = first; board <= last; ++board)
+    sum += tone(board) * (std::min(b, static_cast<float>(board + 1)) - std::max(a, static_cast<float>(board)));
+  return sum / width;
+}
+
 }  // namespace
 
 float WoodTexture::featureSize() const { return 2.0f * std::numbers::pi_v<float> / 240.0f / planks_; }
@@ -103,9 +126,23 @@ Color WoodTexture::evalFootprint(const Eigen::Vector2f& uv, const TextureFootpri
 }
 
 Color WoodTexture::shade(const Eigen::Vector2f& uv, float fu, float fw) const {
-  const float u = uv.x(), across = uv.y() * planks_;
-  const auto plank = static_cast<long>(std::floor(across));
-  const float w = across - static_cast<float>(plank);  // position across the board, [0, 1)
+  const float across = uv.y() * planks_;
+  if (!(fw > 1e-6f)) return board(static_cast<long>(std::floor(across)), uv.x(), across, 0, fu);
+  // The boards the box [across - fw/2, across + fw/2] spans, each over its own part of the box, by its share; beyond a
+  // few boards their grain has averaged out, and each counts with its mean colour.
+  const float a = across - 0.5f * fw, b = across + 0.5f * fw;
+  const auto first = static_cast<long>(std::floor(a)), last = static_cast<long>(std::floor(b));
+  if (last - first > kMaxBoards) return meanColor(a, b, uv.x(), fu);
+  Color sum = Color::Zero();
+  for (long p = first; p <= last; ++p) {
+    const float lo = std::max(a, static_cast<float>(p)), hi = std::min(b, static_cast<float>(p + 1));
+    if (hi > lo) sum += (hi - lo) * board(p, uv.x(), 0.5f * (lo + hi), hi - lo, fu);
+  }
+  return sum / fw;
+}
+
+Color WoodTexture::board(long plank, float u, float across, float fw, float fu) const {
+  const float w = across - static_cast<float>(plank);  // position across the board, [0, 1]
   const float h1 = hash01(plank), h2 = hash01(plank + 7919), h3 = hash01(plank + 104729);
   // Boards are 2 UV units long, their ends staggered from row to row; joints are the dark bands between them.
   const float along = 0.5f * u + h1;
@@ -116,20 +153,39 @@ Color WoodTexture::shade(const Eigen::Vector2f& uv, float fu, float fw) const {
   // Grain: lines along the board, bent by slow waves so each board looks sawn from a different log.
   const float bend = 0.25f * fastSin(1.7f * u + 6.2832f * h2) + 0.06f * fastSin(7.3f * u + 3.0f * h3);
   const float phase = rings_ * (w + bend) + 10.0f * h3;
-  const float ring = phase - std::floor(phase);
-  const float ring2 = ring * ring;
-  // ring^5: late wood, a narrow dark band at the end of each ring; its mean over a whole ring is 1/6. The phase
-  // moves by rings per board across and by up to 0.86 rings per unit along (the bend's slope).
-  const float rings_spanned = std::min(1.0f, rings_ * (fw + 0.86f * fu));
-  const float late = (1 - rings_spanned) * ring2 * ring2 * ring + rings_spanned / 6.0f;
-  // Fibre: 240 radians per board across, up to 13 * 2.3 = 30 per unit along.
+  // ring^5: late wood, a narrow dark band at the end of each ring. Box-filtered exactly over a box of phases as wide
+  // (in the sense of its spread) as those the footprint spans: rings per board across, rings times the bend's slope
+  // along.
+  constexpr float kQuarter = 1.5707963f;  // cos(x) = sin(x + pi / 2)
+  const float slope = 0.25f * 1.7f * fastSin(1.7f * u + 6.2832f * h2 + kQuarter) +
+                      0.06f * 7.3f * fastSin(7.3f * u + 3.0f * h3 + kQuarter);
+  const float phase_width = rings_ * std::sqrt(fw * fw + slope * slope * fu * fu);
+  float late;
+  if (phase_width > 1e-4f) {
+    late = boxedLateWood(phase, phase_width);
+  } else {
+    const float ring = phase - std::floor(phase), ring2 = ring * ring;
+    late = ring2 * ring2 * ring;
+  }
+  // Fibre: 240 radians per board across, 13 * 2.3 cos(2.3 u + 5 h1) per unit along; a box damps a sine wave by the
+  // sinc of each axis' phase width.
+  const float fibre_slope = 13.0f * 2.3f * fastSin(2.3f * u + 5.0f * h1 + kQuarter);
   const float fibre = 0.5f + 0.5f * fastSin(240.0f * w + 13.0f * fastSin(2.3f * u + 5.0f * h1)) *
-                                boxedSineAmplitude(240.0f * fw + 30.0f * fu);
-  const float t = std::min(1.0f, 0.8f * late + 0.1f * fibre);
-  // Board-to-board colour variation, averaging out (to 1) as the box spans several boards.
-  const float tone = 0.88f + 0.24f * h2 + std::min(1.0f, fw) * (0.12f - 0.24f * h2);
-  const Color wood = (tone * (light_ + t * (dark_ - light_))).cwiseMin(1.0f);
+                                boxedSineAmplitude(240.0f * fw) * boxedSineAmplitude(std::abs(fibre_slope) * fu);
+  const float t = 0.8f * late + 0.1f * fibre;  // at most 0.9
+  const float tone = 0.88f + 0.24f * h2;       // board-to-board colour variation, mean 1
+  const Color wood = tone * (light_ + t * (dark_ - light_));
   return (1 - joint) * wood + joint * joint_color;
+}
+
+Color WoodTexture::meanColor(float a, float b, float u, float fu) const {
+  // Mean grain: late wood 1/6, fibre 1/2; the side joints' share of [a, b] exactly; the end joints' share along u.
+  const float t = 0.8f / 6.0f + 0.1f * 0.5f;
+  const float side = bandCoverage(0.5f * (a + b), b - a, 0.025f);
+  const float end = bandCoverage(0.5f * u, std::max(0.5f * fu, 1.0f), 0.004f);  // ends staggered: their mean share
+  const float joint = side + end - side * end;
+  const Color wood = boardTone(0.5f * (a + b), b - a) * (light_ + t * (dark_ - light_));
+  return (1 - joint) * wood + joint * 0.35f * dark_;
 }
 
 }  // namespace wobble::render

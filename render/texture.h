@@ -76,6 +76,11 @@ class WoodTexture final : public Texture {
  private:
   // Box-filtered over fu along u and fw across the boards (in boards); 0, 0 is a point sample.
   Color shade(const Eigen::Vector2f& uv, float fu, float fw) const;
+  // One board (index plank) over [across - fw/2, across + fw/2] (within it) by fu along u.
+  Color board(long plank, float u, float across, float fw, float fu) const;
+  // Over many boards [a, b]: each board's mean grain and tone, the joints by their share.
+  Color meanColor(float a, float b, float u, float fu) const;
+  static constexpr long kMaxBoards = 4;
 
   Color light_, dark_;
   float rings_, planks_;
