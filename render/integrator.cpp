@@ -117,6 +117,8 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
     const Bsdf bsdf(material, base, ns, wo);
     const Eigen::Vector3f origin = offsetFromSurface(hit->p, ng);
     const bool continues = bounce < max_bounces;
+    // The BSDF strategy's density as MIS sees it: what BSDF sampling draws times the chance of continuing at all.
+    const float q = continues ? context.settings.continuation : 0.0f;
 
     // Light arriving at this surface from direction wi, already divided by its sampling density and weighted.
     const auto reflect = [&](const Eigen::Vector3f& wi, const Color& incoming) {
@@ -134,7 +136,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
       if (s.value.isZero() || ns.dot(s.wi) <= 0) return;
       // With no continuation from here, light samples are the only strategy: full weight.
       const bool combined = continues && s.pdf > 0 && context.settings.mis;
-      const float weight = combined ? powerHeuristic(s.pdf, bsdf.pdf(s.wi)) : 1.0f;
+      const float weight = combined ? powerHeuristic(s.pdf, q * bsdf.pdf(s.wi)) : 1.0f;
       reflect(s.wi, s.value * weight);
     };
     int light_index = 0;
@@ -154,23 +156,24 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
       if (pdf > 0 && wi.dot(ng) > 0 && ns.dot(wi) > 0) {
         ++result.rays;
         if (!scene.occluded(Ray{origin, wi}))
-          reflect(wi, context.sky.eval(wi) * (powerHeuristic(pdf, bsdf.pdf(wi)) / pdf));
+          reflect(wi, context.sky.eval(wi) * (powerHeuristic(pdf, q * bsdf.pdf(wi)) / pdf));
       }
     }
 
+    if (q < 1 && sampler.get1D(sample, layout.roulette(bounce)) >= q) break;
     const float u_lobe = sampler.get1D(sample, layout.bsdfLobe(bounce));
     const Eigen::Vector2f u = sampler.get2D(sample, layout.bsdfDirection(bounce));
     const auto s = bsdf.sample(u_lobe, u.x(), u.y());
     if (!s || s->wi.dot(ng) <= 0) break;  // absorbed, or headed into the surface it left
     if (bounce == 0) {
-      t_diffuse = Color::Constant(s->lobes.diffuse);
-      t_other = Color::Constant(s->lobes.specular);
+      t_diffuse = Color::Constant(s->lobes.diffuse / q);
+      t_other = Color::Constant(s->lobes.specular / q);
     } else {
-      t_diffuse = t_diffuse.cwiseProduct(s->weight);
-      t_other = t_other.cwiseProduct(s->weight);
+      t_diffuse = t_diffuse.cwiseProduct(s->weight) / q;
+      t_other = t_other.cwiseProduct(s->weight) / q;
     }
     if (t_diffuse.isZero() && t_other.isZero()) break;
-    previous_pdf = s->pdf;
+    previous_pdf = q * s->pdf;
     ray = Ray{origin, s->wi};
   }
   result.diffuse = first_base.cwiseProduct(diffuse);

@@ -11,8 +11,8 @@
 //   Independent  hashed uniform random numbers (the renderer's sampler before Sobol): error falls as 1/sqrt(n).
 // Dimension layout (SampleLayout) is fixed per scene: slot 0 is the pixel jitter, slot 1 the offset of the first
 // hit's texture filter (texture.h); then, for every bounce, one 2D
-// slot per light (suns, rectangles, the sky when sampled), one 1D slot for the BSDF lobe and one 2D slot for the
-// BSDF direction. A slot's numbers never depend on what earlier slots were used for.
+// slot per light (suns, rectangles, the sky when sampled), one 1D slot for the BSDF lobe, one 2D slot for the BSDF
+// direction and one 1D slot for Russian roulette. A slot's numbers never depend on what earlier slots were used for.
 #pragma once
 #include <cstdint>
 #include <string_view>
@@ -32,10 +32,11 @@ struct SampleLayout {
   int lights = 0;
 
   static constexpr int kPixel = 0, kTexture = 1, kFirstBounce = 2;
-  int perBounce() const { return lights + 2; }
+  int perBounce() const { return lights + 3; }
   int light(int bounce, int light_index) const { return kFirstBounce + bounce * perBounce() + light_index; }
   int bsdfLobe(int bounce) const { return kFirstBounce + bounce * perBounce() + lights; }
   int bsdfDirection(int bounce) const { return kFirstBounce + bounce * perBounce() + lights + 1; }
+  int roulette(int bounce) const { return kFirstBounce + bounce * perBounce() + lights + 2; }
 };
 
 // The sample stream of one pixel of one frame. A slot's seeds are hashed at its first use and kept for the pixel's
