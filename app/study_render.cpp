@@ -286,7 +286,7 @@ std::string renderStudyMarkdown(const RenderStudyResult& r) {
   md << "## Samples per pixel and time to reach an error\n\n"
         "Interpolated (log-log) between the two sweep points around each target RMSE; \"-\" where the sweep never "
         "reached it.\n\n";
-  const std::vector<double> targets = {0.05, 0.03, 0.02, 0.01, 0.005};
+  const std::vector<double> targets = {0.05, 0.02, 0.01, 0.005, 0.002, 0.001};
   std::vector<std::string> header = {"variant"};
   for (double t : targets) header.push_back("RMSE " + formatNumber(t) + ": spp / s");
   TextTable reach{header};

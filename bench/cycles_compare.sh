@@ -38,7 +38,6 @@
 # sky as a world shader; wobble's light paths (sky light at vertices 0..B-1, sun at 0..B); box pixel filter, no
 # clamping, no light threshold, no glossy filter, caustics on, no denoising, no adaptive sampling.
 # Known mismatches:
-#   - the coat's Fresnel is taken at n.wo in Cycles, at wi.h in wobble (close for the jelly's alpha 0.06);
 #   - textures: Cycles reads the baked 1024 x 1024 8-bit PNG (bilinear, no mip-maps), wobble evaluates the
 #     procedural texture filtered over the pixel's footprint: the converged floors differ by about 1% (wood) and
 #     Cycles gets texture aliasing noise that wobble filters away (a wobble feature, measured as such);

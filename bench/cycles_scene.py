@@ -19,7 +19,7 @@ the known mismatches:
   - Materials: coat 0 -> Diffuse BSDF (Lambert, roughness 0) of colour x texture. coat > 0 -> Diffuse weighted by
     (1 - coat F) plus Glossy BSDF (GGX, not multiscatter) weighted by coat F, with F Schlick's Fresnel from the ior,
     evaluated at n.wo (Layer Weight "Facing" = 1 - |n.wo|), and Glossy roughness sqrt(alpha) (Cycles squares it).
-    wobble evaluates the coat's F at wi.h; for the jelly's alpha 0.06 h is within a few degrees of n on the lobe.
+    wobble's coat takes F at n.wo too (render/bsdf.h), so the two coats are the same model.
   - Sun: a Sun light, strength = irradiance (max channel) times colour, angle = 2 x angular radius, invisible to
     camera rays (wobble's camera rays see only the sky).
   - Sky: world shader from the ray direction D: e = D.up; horizon + sqrt(max(e, 0)) (zenith - horizon)
@@ -203,16 +203,19 @@ def make_world(scene, sky, bounces, sky_bounces):
             n.inputs[k].default_value = float(v[k])
         return n.outputs[0]
 
-    def vmath(op, a, b=None, scale=None):
-        n = nodes.new("ShaderNodeVectorMath")
-        n.operation = op
-        for k, s in enumerate((a, b)):
+    def connect(n, inputs):  # each input a socket to link from, a value to set, or None to leave
+        for k, s in enumerate(inputs):
             if s is None:
                 continue
             if isinstance(s, bpy.types.NodeSocket):
                 links.new(s, n.inputs[k])
             else:
                 n.inputs[k].default_value = s
+
+    def vmath(op, a, b=None, scale=None):
+        n = nodes.new("ShaderNodeVectorMath")
+        n.operation = op
+        connect(n, (a, b))
         if scale is not None:
             if isinstance(scale, bpy.types.NodeSocket):
                 links.new(scale, n.inputs["Scale"])
@@ -224,13 +227,7 @@ def make_world(scene, sky, bounces, sky_bounces):
         n = nodes.new("ShaderNodeMath")
         n.operation = op
         n.use_clamp = clamp
-        for k, s in enumerate((a, b)):
-            if s is None:
-                continue
-            if isinstance(s, bpy.types.NodeSocket):
-                links.new(s, n.inputs[k])
-            else:
-                n.inputs[k].default_value = s
+        connect(n, (a, b))
         return n.outputs[0]
 
     coord = nodes.new("ShaderNodeTexCoord")  # in the world, Generated is the ray direction (unit)

@@ -157,8 +157,11 @@ Color WoodTexture::board(long plank, float u, float across, float fw, float fu) 
   // (in the sense of its spread) as those the footprint spans: rings per board across, rings times the bend's slope
   // along.
   constexpr float kQuarter = 1.5707963f;  // cos(x) = sin(x + pi / 2)
-  const float slope = 0.25f * 1.7f * fastSin(1.7f * u + 6.2832f * h2 + kQuarter) +
-                      0.06f * 7.3f * fastSin(7.3f * u + 3.0f * h3 + kQuarter);
+  // The slopes along u matter only once the footprint's extent along u spans a visible part of a wave (far floor).
+  const bool along_matters = fu > 1e-3f;  // below: under 0.007 of a ring and 0.03 radians of fibre
+  const float slope = along_matters ? 0.25f * 1.7f * fastSin(1.7f * u + 6.2832f * h2 + kQuarter) +
+                                          0.06f * 7.3f * fastSin(7.3f * u + 3.0f * h3 + kQuarter)
+                                    : 0.0f;
   const float phase_width = rings_ * std::sqrt(fw * fw + slope * slope * fu * fu);
   float late;
   if (phase_width > 1e-4f) {
@@ -169,7 +172,7 @@ Color WoodTexture::board(long plank, float u, float across, float fw, float fu) 
   }
   // Fibre: 240 radians per board across, 13 * 2.3 cos(2.3 u + 5 h1) per unit along; a box damps a sine wave by the
   // sinc of each axis' phase width.
-  const float fibre_slope = 13.0f * 2.3f * fastSin(2.3f * u + 5.0f * h1 + kQuarter);
+  const float fibre_slope = along_matters ? 13.0f * 2.3f * fastSin(2.3f * u + 5.0f * h1 + kQuarter) : 0.0f;
   const float fibre = 0.5f + 0.5f * fastSin(240.0f * w + 13.0f * fastSin(2.3f * u + 5.0f * h1)) *
                                 boxedSineAmplitude(240.0f * fw) * boxedSineAmplitude(std::abs(fibre_slope) * fu);
   const float t = 0.8f * late + 0.1f * fibre;  // at most 0.9
