@@ -10,8 +10,9 @@
 // light and colour bleeding onto surfaces: the "ambient" term), 2 = two bounces (the default; light between the jelly
 // and the floor). Camera rays see the sky only (suns and area lights are not drawn).
 //
-// Every random number comes from the pixel's sampler at a fixed slot (sampler.h: pixel jitter, then per bounce one
-// 2D slot per light, the sky, the lobe and the direction), so the path is a pure function of (pixel, frame, sample).
+// Every random number comes from the pixel's sampler at a fixed slot (sampler.h: pixel jitter, texture filter, then
+// per bounce one 2D slot per light, the sky, the lobe, the direction and Russian roulette), so the path is a pure
+// function of (pixel, frame, sample).
 //
 // For the denoiser the result is split at the first surface: `diffuse` is the light its diffuse lobe reflects
 // (a multiple of its base colour, which the denoiser divides out), the rest of `radiance` comes from the coat,
