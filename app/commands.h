@@ -6,7 +6,18 @@
 namespace wobble {
 
 // Exit statuses shared by every command.
-enum ExitStatus : int { kExitOk = 0, kExitError = 1, kExitBadInput = 2, kExitBlowUp = 3 };
+// 128 + the signal for a run stopped by SIGINT (Ctrl-C) or SIGTERM, as a shell reports a process killed by it.
+enum ExitStatus : int {
+  kExitOk = 0,
+  kExitError = 1,
+  kExitBadInput = 2,
+  kExitBlowUp = 3,
+  kExitInterrupted = 130,
+  kExitTerminated = 143
+};
+
+// kExitInterrupted or kExitTerminated when a signal stopped the command (interrupt.h), else `status`.
+int exitStatusAfterSignals(int status);
 
 void addRunCommand(CLI::App& app, int& status);
 void addRenderCommand(CLI::App& app, int& status);  // render_cli.cpp

@@ -5,11 +5,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <csignal>
+
 #include <cerrno>
 #include <cstdlib>
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
+
+#include "interrupt.h"
 
 extern char** environ;
 
@@ -48,9 +52,16 @@ int runProgram(const std::vector<std::string>& args, const std::optional<fs::pat
   posix_spawn_file_actions_destroy(&actions);
   if (error != 0)
     throw std::runtime_error("cannot start " + args[0] + ": " + std::generic_category().message(error));
+  // Polled rather than blocking: a SIGINT/SIGTERM to wobble may land on any thread, and then the program is ended.
   int status = 0;
-  while (::waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) throw std::runtime_error("lost track of " + args[0]);
+  bool killed = false;
+  for (;;) {
+    const pid_t done = ::waitpid(pid, &status, WNOHANG);
+    if (done == pid) break;
+    if (done < 0 && errno != EINTR) throw std::runtime_error("lost track of " + args[0]);
+    if (interrupted() && !killed) killed = ::kill(pid, SIGTERM) == 0;
+    ::usleep(10'000);
+  }
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "interrupt.h"
 #include "obj_sequence.h"
 #include "render/denoiser.h"
 #include "render/exr_writer.h"
@@ -64,7 +65,7 @@ void FrameOutput::render(int frame) {
 
 std::optional<fs::path> FrameOutput::finish(int first, int last) {
   if (writing_.valid()) writing_.get();
-  if (!scene_.render.options.video || !scene_.render.options.png || last < first) return std::nullopt;
+  if (!scene_.render.options.video || !scene_.render.options.png || last < first || interrupted()) return std::nullopt;
   return encodeVideo(out_ / "frames", scene_.name, first, last, scene_.fps, out_ / (scene_.name + ".mp4"));
 }
 

@@ -30,7 +30,7 @@ class FrameOutput {
   void observe(int frame, const VecX& x);
 
   // After the last frame: waits for the last files, then encodes OUT/<scene>.mp4 from frames first..last when
-  // render.video is set. Returns the video's path, or nothing (not asked, or ffmpeg is missing: then it says so).
+  // render.video is set and the run was not interrupted. Returns the video's path, or nothing (not asked, or ffmpeg is missing: then it says so).
   std::optional<std::filesystem::path> finish(int first, int last);
 
   // Index of the body the camera follows in scene.system->bodies(), or -1 for a fixed camera.

@@ -1,11 +1,10 @@
 #include "gnuplot.h"
 
-#include <unistd.h>
-
 #include <stdexcept>
 #include <system_error>
 
 #include "external_program.h"
+#include "render/atomic_file.h"
 
 namespace fs = std::filesystem;
 
@@ -23,10 +22,7 @@ PlotResult runGnuplot(const fs::path& script, const fs::path& output, const std:
     return {false, "no plot " + output.filename().string() + ": the program '" + program +
                        "' was not found (install gnuplot, e.g. apt-get install gnuplot-nox, or name it with "
                        "--gnuplot); the CSV and Markdown are written. Plot later with: gnuplot " + script.string()};
-  std::string temp_name = ".";  // appended piecewise: GCC 12 warns falsely (-Wrestrict) on "." + std::string
-  temp_name += output.filename().string();
-  temp_name += ".tmp" + std::to_string(::getpid());
-  const fs::path temp = output.parent_path() / temp_name;
+  const fs::path temp = render::temporarySibling(output);
   const fs::path log = script.string() + ".log";
   const std::string set_out = "out=" + gnuplotQuote(temp.string());
   int status = 0;

@@ -1,9 +1,14 @@
 #include "obj_sequence.h"
 
 #include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
 #include <stdexcept>
 
 #include <assimp/Exporter.hpp>
+#include <assimp/IOStream.hpp>
+#include <assimp/IOSystem.hpp>
 #include <assimp/material.h>
 #include <assimp/scene.h>
 
@@ -68,6 +73,43 @@ std::unique_ptr<aiScene> makeScene(const Body& body, const SurfaceFrame& surface
   return scene;
 }
 
+// Keeps what assimp's exporter writes in memory, by path: the files are then written by the one checked writer
+// (render/atomic_file.h), so a full disk is reported and no truncated OBJ or MTL ever gets its final name.
+class CapturingIOSystem : public Assimp::IOSystem {
+ public:
+  std::map<std::string, std::string> files;
+
+  bool Exists(const char* path) const override { return files.count(path) != 0; }
+  char getOsSeparator() const override { return '/'; }
+  Assimp::IOStream* Open(const char* path, const char* /*mode*/) override { return new Stream(files[path]); }
+  void Close(Assimp::IOStream* stream) override { delete stream; }
+
+ private:
+  class Stream : public Assimp::IOStream {
+   public:
+    explicit Stream(std::string& bytes) : bytes_(bytes) { bytes_.clear(); }
+    size_t Read(void*, size_t, size_t) override { return 0; }
+    size_t Write(const void* data, size_t size, size_t count) override {
+      bytes_.append(static_cast<const char*>(data), size * count);
+      return count;
+    }
+    aiReturn Seek(size_t, aiOrigin) override { return aiReturn_FAILURE; }
+    size_t Tell() const override { return bytes_.size(); }
+    size_t FileSize() const override { return bytes_.size(); }
+    void Flush() override {}
+
+   private:
+    std::string& bytes_;
+  };
+};
+
+std::string readFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  if (!(in && bytes << in.rdbuf())) throw std::runtime_error(path.string() + ": cannot read");
+  return bytes.str();
+}
+
 }  // namespace
 
 std::string ObjSequenceWriter::fileName(const std::string& body, int frame, std::string_view extension) {
@@ -81,21 +123,23 @@ ObjSequenceWriter::ObjSequenceWriter(fs::path mesh_dir, const Body& body, std::o
   fs::create_directories(dir_);
   if (texture) {
     texture_name_ = texture->filename().string();
-    render::writeAtomically(dir_ / texture_name_, [&](const fs::path& temp) { fs::copy_file(*texture, temp); });
+    render::writeFileAtomically(dir_ / texture_name_, readFile(*texture));
   }
 }
 
 fs::path ObjSequenceWriter::write(int frame, const SurfaceFrame& surface) const {
-  const fs::path partial = dir_ / ".partial";
-  fs::create_directories(partial);
-  const std::string obj = fileName(body_.name, frame, "obj"), mtl = fileName(body_.name, frame, "mtl");
+  const fs::path obj = dir_ / fileName(body_.name, frame, "obj"), mtl = dir_ / fileName(body_.name, frame, "mtl");
   const auto scene = makeScene(body_, surface, texture_name_);
   Assimp::Exporter exporter;
-  if (exporter.Export(scene.get(), "obj", (partial / obj).string()) != AI_SUCCESS)
-    throw std::runtime_error("exporting " + (dir_ / obj).string() + ": " + exporter.GetErrorString());
-  fs::rename(partial / mtl, dir_ / mtl);  // the material first: an .obj in place always has its .mtl
-  fs::rename(partial / obj, dir_ / obj);
-  return dir_ / obj;
+  auto* io = new CapturingIOSystem;  // owned by the exporter
+  exporter.SetIOHandler(io);
+  if (exporter.Export(scene.get(), "obj", obj.string()) != AI_SUCCESS)
+    throw std::runtime_error("exporting " + obj.string() + ": " + exporter.GetErrorString());
+  if (io->files.size() != 2 || !io->files.count(obj.string()) || !io->files.count(mtl.string()))
+    throw std::runtime_error("exporting " + obj.string() + ": assimp did not produce the .obj and its .mtl");
+  render::writeFileAtomically(mtl, io->files[mtl.string()]);  // the material first: an .obj in place has its .mtl
+  render::writeFileAtomically(obj, io->files[obj.string()]);
+  return obj;
 }
 
 }  // namespace wobble

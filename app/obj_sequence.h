@@ -1,6 +1,7 @@
 // Writes one body's surface as a numbered OBJ sequence for Blender: MESH_DIR/<body>_0001.obj with its .mtl, and the
 // body's texture copied next to them (referenced by a relative path). Exported through assimp; Y up, metres.
-// Each frame is exported into MESH_DIR/.partial/ and renamed into place, so a crash leaves no half-written frame.
+// Each frame is exported to memory, then written under temporary names and renamed into place (.mtl first), so a
+// crash or a full disk leaves no half-written frame.
 // Note: assimp's OBJ exporter merges equal positions, so the jelly's face seams (one particle, several UVs) share one
 // "v" line: every frame has one "v" per surface particle, in the same order.
 #pragma once

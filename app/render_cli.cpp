@@ -3,6 +3,8 @@
 #include <memory>
 
 #include "commands.h"
+#include "max_memory_option.h"
+#include "interrupt.h"
 #include "render_command.h"
 
 namespace wobble {
@@ -17,13 +19,17 @@ void addRenderCommand(CLI::App& app, int& status) {
   cmd->add_option("--frames", options->frames, "Frames to render, 1-based and inclusive: A:B or A (default: all)");
   cmd->add_option("--out", options->out, "Output folder (default: the folder that holds MESH_DIR)");
   cmd->add_option("--set", options->sets, "Override a scene key, KEY=VALUE in TOML syntax (repeatable)");
+  addMaxMemoryOption(*cmd);
   addRenderFlags(*cmd, options->render);
   cmd->footer("Example:\n  wobble render out/jelly_slope/mesh --scene scenes/jelly_slope.toml --frames 1:30 --spp 32");
   cmd->callback([options, &status] {
+    installInterruptHandlers();
     const RenderCommandReport r = renderSequence(*options);
     std::printf("rendered %d frame(s) %d..%d into %s (%.2f s)%s%s\n", r.frames_rendered, r.first_frame, r.last_frame,
                 r.out.c_str(), r.seconds, r.video ? "; video " : "", r.video ? r.video->c_str() : "");
-    status = kExitOk;
+    if (interrupted())
+      std::fprintf(stderr, "wobble: interrupted: stopped after frame %d\n", r.first_frame + r.frames_rendered - 1);
+    status = exitStatusAfterSignals(kExitOk);
   });
 }
 

@@ -3,8 +3,10 @@
 #include <chrono>
 
 #include "frame_output.h"
+#include "interrupt.h"
 #include "obj_sequence.h"
 #include "obj_sequence_reader.h"
+#include "output_folder.h"
 #include "progress.h"
 #include "run_command.h"
 #include "scene.h"
@@ -70,6 +72,7 @@ RenderCommandReport renderSequence(const RenderCommandOptions& options) {
   fs::path mesh_dir = options.mesh_dir.lexically_normal();
   if (mesh_dir.filename().empty()) mesh_dir = mesh_dir.parent_path();  // "out/x/mesh/" -> "out/x/mesh"
   report.out = options.out.value_or(mesh_dir.has_parent_path() ? mesh_dir.parent_path() : fs::path("."));
+  const OutputFolder folder(report.out);  // only the frames of the range are overwritten: split rendering
   const auto start = std::chrono::steady_clock::now();
   FrameOutput pictures(scene, report.out);
 
@@ -82,7 +85,7 @@ RenderCommandReport renderSequence(const RenderCommandOptions& options) {
   }
 
   Progress progress(scene.name + " (render)", report.last_frame - report.first_frame + 1);
-  for (int k = report.first_frame; k <= report.last_frame; ++k) {
+  for (int k = report.first_frame; k <= report.last_frame && !interrupted(); ++k) {
     pictures.frame(k, k == report.first_frame ? first : readFrame(options.mesh_dir, scene, k), true);
     progress.update(k - report.first_frame + 1);
   }

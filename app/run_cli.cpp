@@ -3,6 +3,8 @@
 #include <memory>
 
 #include "commands.h"
+#include "max_memory_option.h"
+#include "interrupt.h"
 #include "run_command.h"
 #include "sim/integrators/integrator.h"
 
@@ -44,16 +46,25 @@ void addRunCommand(CLI::App& app, int& status) {
   cmd->add_option("--set", options->sets,
                   "Override a scene key, KEY=VALUE in TOML syntax (repeatable), e.g. --set jelly.ks=2800");
   addRenderFlags(*cmd, options->render);
+  addMaxMemoryOption(*cmd);
   cmd->add_flag("--estimate-error", options->estimate_error,
                 "Also run at dt/2 and report the estimated position error at the frames (doubles the run time)");
   cmd->footer("Example:\n  wobble run scenes/cloth_sphere.toml --frames 1:30 --out out/test --set cloth.ks=25000");
   cmd->callback([options, &status] {
+    installInterruptHandlers();
     const RunReport report = runScene(*options);
+    if (report.files_cleared > 0)
+      std::fprintf(stderr, "wobble: removed %d file(s) of an earlier run from %s (meshes, frames, video)\n",
+                   report.files_cleared, report.out.c_str());
     printReport(report);
     if (report.blow_up) {
       std::fprintf(stderr, "wobble: %s\n", report.blow_up_message.c_str());
       status = kExitBlowUp;
     }
+    if (report.interrupted)
+      std::fprintf(stderr, "wobble: interrupted: stopped after frame %d; %s says so\n",
+                   report.first_frame + report.frames_written - 1, (report.out / "run.json").c_str());
+    status = exitStatusAfterSignals(status);
   });
 }
 

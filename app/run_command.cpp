@@ -6,7 +6,9 @@
 #include <nlohmann/json.hpp>
 
 #include "frame_output.h"
+#include "interrupt.h"
 #include "obj_sequence.h"
+#include "output_folder.h"
 #include "progress.h"
 #include "scene.h"
 #include "scene_error.h"
@@ -44,6 +46,7 @@ void writeRunJson(const Scene& scene, const Simulation& sim, const RunReport& r)
   j["max_speed"] = r.max_speed;
   j["particles"] = sim.system().particleCount();
   j["springs"] = sim.system().springs().size();
+  j["interrupted"] = r.interrupted;
   j["blew_up"] = r.blow_up.has_value();
   if (r.blow_up)
     j["blow_up"] = {{"step", r.blow_up->step}, {"time", r.blow_up->time}, {"particle", r.blow_up->particle},
@@ -99,7 +102,8 @@ RunReport runScene(const RunOptions& options) {
   Simulation sim(system, makeIntegrator(scene.integrator, scene.integrator_options), scene.dt);
   report.energy_start = system.energy(sim.x(), sim.v());
 
-  fs::create_directories(report.out);
+  const OutputFolder folder(report.out);
+  report.files_cleared = folder.clearEarlierRun(scene.name);
   std::vector<ObjSequenceWriter> writers;
   if (scene.write_obj)
     for (const BodySlot& slot : system.bodies()) {
@@ -116,7 +120,7 @@ RunReport runScene(const RunOptions& options) {
     estimator.emplace(loadScene(options.scene, overrides), scene.integrator, scene.integrator_options, scene.dt);
 
   Progress progress(scene.name, report.last_frame);
-  for (int frame = 1; frame <= report.last_frame; ++frame) {
+  for (int frame = 1; frame <= report.last_frame && !interrupted(); ++frame) {
     auto start = Clock::now();
     report.blow_up = sim.advanceTo(scene.frameTime(frame));
     report.seconds_simulate += secondsSince(start);
@@ -155,6 +159,7 @@ RunReport runScene(const RunOptions& options) {
   report.max_speed = sim.maxSpeed();
   if (report.blow_up) report.blow_up_message = report.blow_up->message(scene.dt);
   if (estimator) report.error_estimate = estimator->result();
+  report.interrupted = interrupted();  // between frames or during the video
   writeRunJson(scene, sim, report);
   return report;
 }

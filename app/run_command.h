@@ -33,10 +33,13 @@ struct RunReport {
   std::optional<BlowUp> blow_up;
   std::string blow_up_message;
   std::optional<ErrorEstimate> error_estimate;  // with RunOptions::estimate_error
+  bool interrupted = false;  // SIGINT/SIGTERM: stopped after the last complete frame, no video (interrupt.h)
+  int files_cleared = 0;     // of an earlier run in the folder (output_folder.h)
 };
 
-// Throws SceneError for bad input before anything is written. A blow-up stops the run at once: the frames
-// written so far stay, and the report says where it happened.
+// Throws SceneError for bad input before anything is written, and when another run holds OUT. Clears an earlier
+// run's files from OUT first. A blow-up or an interrupt stops the run at once: the frames written so far stay, and
+// the report (and run.json) says so.
 RunReport runScene(const RunOptions& options);
 
 // The 1-based inclusive frame range of "A:B" or "A" within [1, count]; throws SceneError naming what is allowed.

@@ -6,6 +6,8 @@
 #include <vector>
 
 #include "external_program.h"
+#include "interrupt.h"
+#include "render/atomic_file.h"
 
 namespace fs = std::filesystem;
 
@@ -22,10 +24,7 @@ std::optional<fs::path> encodeVideo(const fs::path& frames_dir, const std::strin
   std::ostringstream rate;
   rate.precision(17);
   rate << fps;
-  std::string temp_name = mp4.filename().string();  // appended piecewise: GCC 12 warns falsely (-Wrestrict)
-  temp_name.insert(0, 1, '.');
-  temp_name += ".partial";
-  const fs::path temp = mp4.parent_path() / temp_name;
+  const fs::path temp = render::temporarySibling(mp4, "partial");  // "-f mp4" below: the name needs no extension
   // Arguments passed directly (no shell), so paths need no quoting.
   const std::vector<std::string> args = {ffmpeg->string(), "-nostdin", "-y", "-loglevel", "error",
                                    "-framerate", rate.str(), "-start_number", std::to_string(first),
@@ -34,8 +33,13 @@ std::optional<fs::path> encodeVideo(const fs::path& frames_dir, const std::strin
                                    "-vf", "crop=trunc(iw/2)*2:trunc(ih/2)*2", "-c:v", "libx264",
                                    "-preset", "veryfast", "-crf", "20", "-pix_fmt", "yuv420p", "-r", rate.str(), "-f", "mp4", temp.string()};
   const int status = runProgram(args);
+  std::error_code ignored;
+  if (interrupted()) {  // ffmpeg was ended (or saw the terminal's Ctrl-C itself): no video, no partial file
+    fs::remove(temp, ignored);
+    return std::nullopt;
+  }
   if (status != 0) {
-    fs::remove(temp);
+    fs::remove(temp, ignored);
     throw std::runtime_error("ffmpeg failed encoding " + mp4.string() + " (exit status " + std::to_string(status) +
                              ")");
   }

@@ -1,7 +1,8 @@
 // encodeVideo: a numbered PNG sequence to an MP4 with ffmpeg (H.264 libx264, yuv420p, at the scene's frame rate).
 // yuv420p needs even dimensions, so an odd width or height loses its last column or row. The video is written under
 // a temporary name and renamed into place. ffmpeg is an external program (setup.sh installs it): when it is not on
-// PATH, encodeVideo says so on stderr and returns nothing: the frames stay, and the run still succeeds.
+// PATH, encodeVideo says so on stderr and returns nothing: the frames stay, and the run still succeeds. When wobble
+// is interrupted (interrupt.h) ffmpeg is ended, its partial file removed, and nothing is returned.
 #pragma once
 #include <filesystem>
 #include <optional>

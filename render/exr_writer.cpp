@@ -11,6 +11,7 @@
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStdIO.h>
 
 #include "atomic_file.h"
 
@@ -51,15 +52,16 @@ void writeExr(const std::filesystem::path& file, const Film& film, std::span<con
   frame.insert("depth.Z", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(const_cast<float*>(film.depth.data())),
                                      sizeof(float), sizeof(float) * film.width));
 
-  writeAtomically(file, [&](const std::filesystem::path& temp) {
-    try {
-      Imf::OutputFile out(temp.c_str(), header);
-      out.setFrameBuffer(frame);
-      out.writePixels(film.height);
-    } catch (const std::exception& e) {
-      throw std::runtime_error(file.string() + ": cannot write EXR: " + e.what());
-    }
-  });
+  // Encoded in memory, then written by the one checked writer: a full disk is reported with the OS reason.
+  Imf::StdOSStream bytes;
+  try {
+    Imf::OutputFile out(bytes, header);
+    out.setFrameBuffer(frame);
+    out.writePixels(film.height);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(file.string() + ": cannot encode EXR: " + e.what());
+  }
+  writeFileAtomically(file, bytes.str());
 }
 
 }  // namespace wobble::render

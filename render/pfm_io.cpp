@@ -16,18 +16,15 @@ static_assert(std::endian::native == std::endian::little, "PFM with scale -1 is 
 void writePfm(const std::filesystem::path& file, int width, int height, std::span<const Color> pixels) {
   if (width <= 0 || height <= 0 || pixels.size() != std::size_t(width) * height)
     throw std::invalid_argument(file.string() + ": cannot write PFM of an empty or inconsistent image");
-  writeAtomically(file, [&](const std::filesystem::path& temp) {
-    std::ofstream out(temp, std::ios::binary);
-    out << "PF\n" << width << " " << height << "\n-1.0\n";
-    std::vector<float> row(3 * std::size_t(width));
-    for (int y = height - 1; y >= 0; --y) {
-      for (int x = 0; x < width; ++x)
-        for (int c = 0; c < 3; ++c) row[3 * std::size_t(x) + c] = pixels[std::size_t(y) * width + x][c];
-      out.write(reinterpret_cast<const char*>(row.data()), std::streamsize(row.size() * sizeof(float)));
-    }
-    out.close();
-    if (!out) throw std::runtime_error(file.string() + ": cannot write PFM");
-  });
+  std::string bytes = "PF\n" + std::to_string(width) + " " + std::to_string(height) + "\n-1.0\n";
+  bytes.reserve(bytes.size() + pixels.size() * 3 * sizeof(float));
+  std::vector<float> row(3 * std::size_t(width));
+  for (int y = height - 1; y >= 0; --y) {
+    for (int x = 0; x < width; ++x)
+      for (int c = 0; c < 3; ++c) row[3 * std::size_t(x) + c] = pixels[std::size_t(y) * width + x][c];
+    bytes.append(reinterpret_cast<const char*>(row.data()), row.size() * sizeof(float));
+  }
+  writeFileAtomically(file, bytes);
 }
 
 FloatImage readPfm(const std::filesystem::path& file) {

@@ -69,12 +69,7 @@ void writePng(const std::filesystem::path& file, const Image8& image) {
   std::vector<unsigned char> bytes;
   bytes.reserve(image.pixels.size() / 2);
   if (!encodePng(image, bytes)) throw std::runtime_error(file.string() + ": cannot encode PNG (libpng error)");
-  writeAtomically(file, [&](const std::filesystem::path& temp) {
-    std::FILE* f = std::fopen(temp.c_str(), "wb");
-    if (!f) throw std::runtime_error(file.string() + ": cannot write PNG");
-    const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-    if (std::fclose(f) != 0 || !written) throw std::runtime_error(file.string() + ": cannot write PNG");
-  });
+  writeFileAtomically(file, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 }  // namespace wobble::render

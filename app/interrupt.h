@@ -1,0 +1,14 @@
+// SIGINT and SIGTERM during `wobble run` / `wobble render`: the handler only records the signal; the frame loops
+// check interrupted() between frames and stop there, so every file written is complete and run.json still says what
+// the folder holds. An external program being waited for (ffmpeg) is ended (external_program.cpp).
+#pragma once
+
+namespace wobble {
+
+// Installs the handlers (once; later calls do nothing).
+void installInterruptHandlers();
+// The signal that arrived (SIGINT or SIGTERM), or 0.
+int interruptSignal();
+inline bool interrupted() { return interruptSignal() != 0; }
+
+}  // namespace wobble
