@@ -1,7 +1,11 @@
 #include "scene.h"
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
+#include "identifier.h"
+#include "image_header.h"
 #include "overrides.h"
 #include "scene_error.h"
 #include "sim/bodies/cloth.h"
@@ -11,6 +15,7 @@
 #include "sim/colliders/sphere.h"
 #include "sim/simulation.h"
 #include "table_reader.h"
+#include "toml_depth.h"
 
 namespace fs = std::filesystem;
 
@@ -24,6 +29,18 @@ void readSimulation(TableReader r, Scene& scene, Vec3& gravity) {
   scene.dt = r.number("dt", 0.001, Range::positive());
   scene.duration = r.number("duration", 10, Range::positive());
   scene.fps = r.number("fps", 30, Range::positive());
+  // Frames and steps are bounded so that no scene runs for ever or fills the disk (scene_limits.h).
+  const double frames = std::floor(scene.duration * scene.fps + 1e-9);
+  if (frames > double(kMaxFrames))
+    r.fail(r.node("duration") || !r.node("fps") ? "duration" : "fps",
+           "duration * fps = " + std::to_string(std::llround(std::min(frames, 1e18))) + " frames (duration " +
+               std::to_string(scene.duration) + " s at " + std::to_string(scene.fps) + " fps), above the cap of " +
+               std::to_string(kMaxFrames) + " frames per run");
+  if (1 / (scene.fps * scene.dt) > kMaxStepsPerFrame)
+    r.fail("dt", "1 / (fps dt) = " + std::to_string(std::llround(std::min(1 / (scene.fps * scene.dt), 1e18))) +
+                     " steps per frame, above the cap of " + std::to_string(std::llround(kMaxStepsPerFrame)) +
+                     ": dt must be >= " + std::to_string(1 / (scene.fps * kMaxStepsPerFrame)) + " s at " +
+                     std::to_string(scene.fps) + " fps");
   gravity = r.vec3("gravity", Vec3(0, -9.8, 0));
   IntegratorOptions& o = scene.integrator_options;
   o.rtol = r.number("rtol", o.rtol, Range::positive());
@@ -46,9 +63,46 @@ void checkSpeed(TableReader& r, const Vec3& velocity) {
                            " m/s is above the blow-up threshold of 1000 m/s (|v|^2 > 1e6, sim/simulation.h)");
 }
 
-Body readJelly(TableReader& r, const std::string& name) {
+[[noreturn]] void failOverBudget(TableReader& r, const Scene& scene, std::string_view key, const SceneEstimate& e,
+                                 const std::string& hint) {
+  const bool implicit = scene.integrator == "backward-euler";
+  r.fail(key, "the scene would need " + e.describe(implicit) + ", above the memory budget of " +
+                  formatBytes(scene.memory_budget) + " (--max-memory; the default is half of physical memory)" + hint);
+}
+
+// Adds a body to the scene's estimate before it is built, or fails at key (value as read): over the particle count
+// one body may have, or over the memory budget. sizeOf(v) is the body's size with key = v; the message names the
+// largest v that would fit.
+template <typename SizeOf>
+void reserveBody(TableReader& r, Scene& scene, std::string_view key, int value, SizeOf sizeOf) {
+  const bool implicit = scene.integrator == "backward-euler";
+  const auto fits = [&](int v) {
+    const BodySize b = sizeOf(v);
+    SceneEstimate e = scene.estimate;
+    e.add(b);
+    return b.particles <= kMaxBodyParticles && e.bytes(implicit) <= scene.memory_budget;
+  };
+  if (fits(value)) {
+    scene.estimate.add(sizeOf(value));
+    return;
+  }
+  int lo = 1, hi = value;  // fits(lo) or lo == 1; !fits(hi)
+  while (hi - lo > 1) (fits(lo + (hi - lo) / 2) ? lo : hi) = lo + (hi - lo) / 2;
+  const std::string hint = lo >= 2 ? "; " + std::string(key) + " <= " + std::to_string(lo) + " would fit" : "";
+  const BodySize b = sizeOf(value);
+  if (b.particles > kMaxBodyParticles)
+    r.fail(key, std::to_string(b.particles) + " particles, above the " + std::to_string(kMaxBodyParticles) +
+                    " one body may have (32-bit particle indices)" + hint);
+  SceneEstimate e = scene.estimate;
+  e.add(b);
+  failOverBudget(r, scene, key, e, hint);
+}
+
+Body readJelly(TableReader& r, const std::string& name, Scene& scene) {
   JellyParams p;
-  p.n = r.integer("n", p.n, Range::atLeast(2));
+  // n^3 particles: the cube root of the most one body may have bounds n before anything is multiplied.
+  p.n = r.integer("n", p.n, Range{2, std::floor(std::cbrt(double(kMaxBodyParticles)))});
+  reserveBody(r, scene, "n", p.n, [](int n) { return jellySize(n); });
   p.size = r.number("size", p.size, Range::positive());
   p.mass = r.number("mass", p.mass, Range::positive());
   p.ks = r.number("ks", p.ks, Range::nonNegative());
@@ -86,10 +140,13 @@ void readPins(TableReader& r, ClothParams& p) {
   }
 }
 
-Body readCloth(TableReader& r, const std::string& name) {
+Body readCloth(TableReader& r, const std::string& name, Scene& scene) {
   ClothParams p;
-  p.nx = r.integer("nx", p.nx, Range::atLeast(2));
-  p.ny = r.integer("ny", p.ny, Range::atLeast(2));
+  // nx ny particles; bounding each by the most one body may have over 2 keeps 64-bit counts from overflowing.
+  const Range side{2, double(kMaxBodyParticles / 2)};
+  p.nx = r.integer("nx", p.nx, side);
+  p.ny = r.integer("ny", p.ny, side);
+  reserveBody(r, scene, "ny", p.ny, [nx = p.nx](int ny) { return clothSize(nx, ny); });
   const auto size = r.pair("size", {p.size_x, p.size_y}, Range::positive());
   p.size_x = size[0];
   p.size_y = size[1];
@@ -107,12 +164,24 @@ Body readCloth(TableReader& r, const std::string& name) {
 
 void readBody(TableReader r, const std::string& name, Scene& scene) {
   const std::string type = r.string("type", "", {"jelly", "cloth"});
-  Body body = type == "jelly" ? readJelly(r, name) : readCloth(r, name);
   if (const auto texture = r.optionalString("texture")) {
     const fs::path path = scene.file.parent_path() / *texture;
     if (!fs::is_regular_file(path)) r.fail("texture", "file not found: " + path.string());
+    std::string reason;
+    const auto header = readImageHeader(path, reason);
+    if (!header) r.fail("texture", "cannot read the image " + path.string() + " (" + reason + ")");
+    if (header->width > kMaxTextureSide || header->height > kMaxTextureSide)
+      r.fail("texture", path.string() + " is " + std::to_string(header->width) + " x " + std::to_string(header->height) +
+                            " pixels; a texture may have at most " + std::to_string(kMaxTextureSide) + " on each side");
+    SceneEstimate e = scene.estimate;
+    e.texture_pixels += std::int64_t(header->width) * header->height;
+    if (e.bytes(scene.integrator == "backward-euler") > scene.memory_budget) failOverBudget(r, scene, "texture", e, "");
+    scene.estimate = e;
     scene.textures[name] = path;
   }
+  // Built after every check of its table but the look (read below, cheap): nothing large is allocated for a body
+  // the reader refuses.
+  Body body = type == "jelly" ? readJelly(r, name, scene) : readCloth(r, name, scene);
   readBodyLook(r, type, name, scene);
   r.finish();
   scene.system->addBody(std::move(body));
@@ -160,15 +229,31 @@ void readGroup(TableReader& root, std::string_view group, Scene& scene, ReadOne 
   if (!table) return;
   for (const auto& [key, node] : *table) {
     const std::string name(key.str());
+    if (const std::string problem = identifierProblem(name); !problem.empty())
+      TableReader(*table, scene.file, std::string(group)).failName(name, problem);
     if (!node.is_table()) TableReader(*table, scene.file, std::string(group)).fail(name, "must be a table");
     readOne(TableReader(*node.as_table(), scene.file, std::string(group) + "." + name), name, scene);
   }
 }
 
+// Refuses text nested deeper than kMaxNestingDepth before toml++ (recursive) sees it; where: "file:" or "--set X:".
+void checkNesting(std::string_view text, const std::string& where) {
+  if (const auto excess = findExcessNesting(text, kMaxNestingDepth))
+    throw SceneError(where + std::to_string(excess->line) + ": nesting too deep: " + std::to_string(excess->depth) +
+                     " levels of [, { and dotted keys, above the limit of " + std::to_string(kMaxNestingDepth));
+}
+
 toml::table parseFile(const fs::path& file) {
   if (!fs::is_regular_file(file)) throw SceneError(file.string() + ": scene file not found");
+  if (const auto size = fs::file_size(file); size > kMaxSceneFileBytes)
+    throw SceneError(file.string() + ": " + std::to_string(size) + " bytes, above the limit of " +
+                     std::to_string(kMaxSceneFileBytes) + " bytes for a scene file");
+  std::ostringstream text;
+  text << std::ifstream(file, std::ios::binary).rdbuf();
+  const std::string content = text.str();
+  checkNesting(content, file.string() + ":");
   try {
-    return toml::parse_file(file.string());
+    return toml::parse(content, file.string());
   } catch (const toml::parse_error& e) {
     const auto& at = e.source().begin;
     throw SceneError(file.string() + ":" + std::to_string(at.line) + ":" + std::to_string(at.column) +
@@ -178,14 +263,22 @@ toml::table parseFile(const fs::path& file) {
 
 }  // namespace
 
+// Frames are capped at kMaxFrames when the scene is read: the int cannot overflow.
 int Scene::frameCount() const { return std::max(1, static_cast<int>(std::floor(duration * fps + 1e-9))); }
 
-Scene loadScene(const fs::path& file, const std::vector<std::string>& overrides) {
+Scene loadScene(const fs::path& file, const std::vector<std::string>& overrides, std::uint64_t max_memory) {
   Scene scene;
   scene.file = file;
   scene.name = file.stem().string();
+  if (const std::string problem = identifierProblem(scene.name); !problem.empty())
+    throw SceneError(file.string() + ": the scene name " + quotedName(scene.name) + " (the file name without .toml) is " +
+                     problem);
+  scene.memory_budget = max_memory > 0 ? max_memory : memoryBudget();
   scene.table = parseFile(file);
-  for (const std::string& o : overrides) applyOverride(scene.table, o);
+  for (const std::string& o : overrides) {
+    checkNesting(o, "--set " + o.substr(0, 40) + ": line ");
+    applyOverride(scene.table, o);
+  }
 
   TableReader root(scene.table, file, "");
   Vec3 gravity;

@@ -11,6 +11,7 @@
 #include <toml++/toml.h>
 
 #include "render_config.h"
+#include "scene_limits.h"
 #include "sim/integrators/integrator.h"
 #include "sim/system.h"
 
@@ -31,14 +32,19 @@ struct Scene {
   std::map<std::string, std::filesystem::path> textures;  // body name -> texture file, only for bodies naming one
   toml::table table;  // the file after overrides, for readers of other sections
   RenderConfig render;  // camera, render settings and the look of bodies and colliders (render_config.h)
+  std::uint64_t memory_budget = 0;  // bytes the scene's estimate may reach (scene_limits.h)
+  SceneEstimate estimate;           // summed as bodies and textures are read, before each is built or loaded
 
   // Frame k (1-based) shows simulated time (k - 1) / fps; duration * fps frames, at least one.
   int frameCount() const;
   double frameTime(int frame) const { return (frame - 1) / fps; }
 };
 
+// max_memory: the memory budget in bytes, 0 for memoryBudget(); a scene over it, or over any other limit of
+// scene_limits.h, is refused before its bodies are built.
 // overrides: "dotted.key=value" (value in TOML syntax; a bare word is taken as a string). A first component that
 // names a body or collider may omit "bodies." / "colliders.": "jelly.ks=2800". Throws SceneError.
-Scene loadScene(const std::filesystem::path& file, const std::vector<std::string>& overrides = {});
+Scene loadScene(const std::filesystem::path& file, const std::vector<std::string>& overrides = {},
+                std::uint64_t max_memory = 0);
 
 }  // namespace wobble

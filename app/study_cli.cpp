@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "commands.h"
+#include "max_memory_option.h"
 #include "scene_error.h"
 #include "study_accuracy.h"
 #include "study_render.h"
@@ -40,6 +41,7 @@ void addAccuracy(CLI::App& study, int& status) {
                   "colliders)")
       ->capture_default_str();
   cmd->add_option("--set", o->sets, "Override a scene key, KEY=VALUE (repeatable), as for `wobble run`");
+  addMaxMemoryOption(*cmd);
   cmd->add_option("--gnuplot", o->gnuplot, "The gnuplot program (name on PATH or a path)")->capture_default_str();
   cmd->footer("Example:\n  wobble study accuracy scenes/cloth_swing.toml --integrators rk4,midpoint --duration 0.5");
   cmd->callback([o, &status] {
@@ -87,6 +89,7 @@ void addStability(CLI::App& study, int& status) {
   cmd->add_option("--jobs", o->jobs, "Threads (0: one per hardware thread; results do not depend on it)")
       ->capture_default_str();
   cmd->add_option("--set", o->sets, "Override a scene key, KEY=VALUE (repeatable), as for `wobble run`");
+  addMaxMemoryOption(*cmd);
   cmd->add_option("--gnuplot", o->gnuplot, "The gnuplot program (name on PATH or a path)")->capture_default_str();
   cmd->footer("The users' cases (ks 5e4 at dt 1.2e-3, ks 1e5 at dt 1.4e-3) are always run in full.\nExample:\n"
               "  wobble study stability --integrators explicit-euler,rk4 --duration 0.3");
@@ -131,6 +134,7 @@ void addRender(CLI::App& study, int& status) {
   cmd->add_option("--repeats", o->repeats, "Timed renders per point (time = their minimum)")->capture_default_str();
   cmd->add_option("--out", o->out, "Output folder (default out/study-render-<scene name>)");
   cmd->add_option("--set", o->sets, "Override a scene key, KEY=VALUE (repeatable), as for `wobble run`");
+  addMaxMemoryOption(*cmd);
   cmd->add_option("--gnuplot", o->gnuplot, "The gnuplot program (name on PATH or a path)")->capture_default_str();
   cmd->footer("Example:\n  wobble study render scenes/cloth_sphere.toml --frame 60 --variants sobol,sobol+denoise");
   cmd->callback([o, &status] {

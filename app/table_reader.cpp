@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "identifier.h"
 #include "scene_error.h"
 
 namespace wobble {
@@ -93,6 +94,12 @@ void TableReader::fail(std::string_view key, const std::string& problem) const {
   throw SceneError(message + ": " + problem);
 }
 
+void TableReader::failName(std::string_view key, const std::string& problem) const {
+  const toml::node* node = table_.get(key);
+  const std::string path = path_.empty() ? quotedName(key) : path_ + "." + quotedName(key);
+  throw SceneError(where(node) + ": " + path + ": " + problem);
+}
+
 const toml::node* TableReader::get(std::string_view key) {
   known_.insert(std::string(key));
   return table_.get(key);
@@ -100,13 +107,22 @@ const toml::node* TableReader::get(std::string_view key) {
 
 const toml::node* TableReader::node(std::string_view key) { return get(key); }
 
+// Every number of a float key passes here: inf and nan are refused whatever the range (TOML allows them, no key
+// means them), and so are integers a double cannot hold exactly (toml++ gives no value for those).
+double TableReader::toDouble(std::string_view key, const toml::node& node, const Range& range) const {
+  constexpr std::int64_t kExact = std::int64_t{1} << 53;
+  if (!node.is_number()) fail(key, "must be a number (" + range.describe() + ")");
+  if (const auto* i = node.as_integer(); i && (i->get() > kExact || i->get() < -kExact))
+    fail(key, "an integer beyond 2^53 is not exactly a float; write it as a float, e.g. 1e16");
+  const double value = node.value<double>().value();
+  const bool bounded = std::isfinite(range.min) || std::isfinite(range.max);
+  if (!std::isfinite(value)) fail(key, "must be a finite number" + (bounded ? " (" + range.describe() + ")" : ""));
+  return value;
+}
+
 double TableReader::number(std::string_view key, double fallback, Range range) {
   const toml::node* node = get(key);
-  double value = fallback;
-  if (node) {
-    if (!node->is_number()) fail(key, "must be a number (" + range.describe() + ")");
-    value = node->value<double>().value();
-  }
+  const double value = node ? toDouble(key, *node, range) : fallback;
   if (!range.contains(value)) fail(key, "must be " + range.describe());
   return value;
 }
@@ -118,8 +134,9 @@ int TableReader::integer(std::string_view key, int fallback, Range range) {
     if (!node->is_integer()) fail(key, "must be a whole number (" + range.describe() + ")");
     value = node->as_integer()->get();
   }
-  if (!range.contains(double(value)) || value > std::numeric_limits<int>::max())
-    fail(key, "must be " + range.describe());
+  if (!range.contains(double(value))) fail(key, "must be " + range.describe());
+  if (value > std::numeric_limits<int>::max() || value < std::numeric_limits<int>::min())
+    fail(key, "must be a 32-bit whole number (" + range.describe() + ")");
   return static_cast<int>(value);
 }
 
@@ -161,8 +178,7 @@ Vec3 TableReader::vec3(std::string_view key, const Vec3& fallback) {
   if (!array || array->size() != 3 || !std::all_of(array->begin(), array->end(), numeric))
     fail(key, "must be an array of three numbers, e.g. [0, 1, 0]");
   Vec3 v;
-  for (int i = 0; i < 3; ++i) v[i] = (*array)[i].value<double>().value();
-  if (!v.allFinite()) fail(key, "must be finite");
+  for (int i = 0; i < 3; ++i) v[i] = toDouble(key, (*array)[i], {});
   return v;
 }
 
@@ -172,7 +188,7 @@ std::array<double, 2> TableReader::pair(std::string_view key, std::array<double,
     const toml::array* array = node->as_array();
     if (!array || array->size() != 2 || !(*array)[0].is_number() || !(*array)[1].is_number())
       fail(key, "must be an array of two numbers (" + range.describe() + ")");
-    fallback = {(*array)[0].value<double>().value(), (*array)[1].value<double>().value()};
+    fallback = {toDouble(key, (*array)[0], range), toDouble(key, (*array)[1], range)};
   }
   if (!range.contains(fallback[0]) || !range.contains(fallback[1])) fail(key, "both must be " + range.describe());
   return fallback;

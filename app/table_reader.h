@@ -54,11 +54,14 @@ class TableReader {
 
   // "file:line:col: key.path = value: problem" — for checks across several keys.
   [[noreturn]] void fail(std::string_view key, const std::string& problem) const;
+  // "file:line:col: path.\"key\": problem" — for a problem with the key itself (a name), whose value may be a table.
+  [[noreturn]] void failName(std::string_view key, const std::string& problem) const;
   std::string keyPath(std::string_view key) const;
   const std::filesystem::path& file() const { return file_; }
 
  private:
   const toml::node* get(std::string_view key);
+  double toDouble(std::string_view key, const toml::node& node, const Range& range) const;
   std::string where(const toml::node* node) const;
 
   const toml::table& table_;

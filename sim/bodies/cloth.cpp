@@ -24,7 +24,14 @@ std::vector<int> clothPinSet(std::string_view name, int nx, int ny) {
   throw std::invalid_argument("unknown pin set '" + std::string(name) + "' (allowed: corners, top-edge)");
 }
 
+BodySize clothSize(std::int64_t nx, std::int64_t ny) {
+  return {nx * ny, latticeSpringCount({nx, ny, 1}, kClothOffsets), nx * ny, 2 * (nx - 1) * (ny - 1)};
+}
+
 Body buildCloth(const std::string& name, const ClothParams& p) {
+  if (std::int64_t(p.nx) * p.ny > kMaxBodyParticles)
+    throw std::length_error("cloth '" + name + "': " + std::to_string(p.nx) + " x " + std::to_string(p.ny) +
+                            " particles are too many");
   const int count = p.nx * p.ny;
   Body body;
   body.name = name;

@@ -34,6 +34,9 @@ struct ClothParams {
 // Indices of a named particle set; throws std::invalid_argument naming the allowed names.
 std::vector<int> clothPinSet(std::string_view name, int nx, int ny);
 
+BodySize clothSize(std::int64_t nx, std::int64_t ny);
+
+// Throws std::length_error for more than kMaxBodyParticles particles.
 Body buildCloth(const std::string& name, const ClothParams& p);
 
 }  // namespace wobble

@@ -1,5 +1,7 @@
 #include "jelly.h"
 
+#include <stdexcept>
+
 #include <Eigen/Geometry>
 
 #include "lattice.h"
@@ -54,7 +56,13 @@ SurfaceMesh jellySurface(int n) {
 
 }  // namespace
 
+BodySize jellySize(std::int64_t n) {
+  return {n * n * n, latticeSpringCount({n, n, n}, kJellyOffsets), kFaceCount * n * n, kFaceCount * 2 * (n - 1) * (n - 1)};
+}
+
 Body buildJelly(const std::string& name, const JellyParams& p) {
+  if (double(p.n) * p.n * p.n > double(kMaxBodyParticles))
+    throw std::length_error("jelly '" + name + "': n = " + std::to_string(p.n) + " gives too many particles");
   const int n = p.n, count = n * n * n;
   Body body;
   body.name = name;

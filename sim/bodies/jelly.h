@@ -29,6 +29,10 @@ struct JellyParams {
   Vec3 velocity = Vec3::Zero();
 };
 
+// n^3 particles: for n up to 2^19 (no overflow).
+BodySize jellySize(std::int64_t n);
+
+// Throws std::length_error for more than kMaxBodyParticles particles.
 Body buildJelly(const std::string& name, const JellyParams& p);
 
 }  // namespace wobble

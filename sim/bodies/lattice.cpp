@@ -1,5 +1,8 @@
 #include "lattice.h"
 
+#include <algorithm>
+#include <cstdlib>
+
 namespace wobble {
 
 void addLatticeSprings(std::array<int, 3> dims, std::span<const LatticeOffset> offsets, const VecX& x, double ks,
@@ -14,6 +17,16 @@ void addLatticeSprings(std::array<int, 3> dims, std::span<const LatticeOffset> o
           const int a = index(i, j, k), b = index(i2, j2, k2);
           springs.add(a, b, (particle(x, a) - particle(x, b)).norm(), ks, kd, o.type);
         }
+}
+
+std::int64_t latticeSpringCount(std::array<std::int64_t, 3> dims, std::span<const LatticeOffset> offsets) {
+  std::int64_t count = 0;
+  for (const LatticeOffset& o : offsets) {
+    std::int64_t pairs = 1;
+    for (int a = 0; a < 3; ++a) pairs *= std::max<std::int64_t>(0, dims[a] - std::abs(o.d[a]));
+    count += pairs;
+  }
+  return count;
 }
 
 }  // namespace wobble

@@ -2,6 +2,7 @@
 // offset is in a list becomes a spring with its initial distance as rest length.
 #pragma once
 #include <array>
+#include <cstdint>
 #include <span>
 
 #include "../springs.h"
@@ -17,5 +18,8 @@ struct LatticeOffset {
 // Each offset must be "forward" (first non-zero component positive) so that every pair is linked once.
 void addLatticeSprings(std::array<int, 3> dims, std::span<const LatticeOffset> offsets, const VecX& x, double ks,
                        double kd, Springs& springs);
+
+// How many springs addLatticeSprings makes, in 64-bit arithmetic: for sizing a body before building it.
+std::int64_t latticeSpringCount(std::array<std::int64_t, 3> dims, std::span<const LatticeOffset> offsets);
 
 }  // namespace wobble

@@ -75,7 +75,7 @@ TEST_F(SceneErrors, OutOfRangeValues) {
   expectAll(errorFor("dt = 0.001", "dt = 0"), {"simulation.dt = 0", "must be > 0"});
   expectAll(errorFor("dt = 0.001", "dt = -0.1"), {"simulation.dt = -0.1", "must be > 0"});
   expectAll(errorFor("n = 3", "n = 3\nmass = 0"), {"bodies.jelly.mass = 0", "must be > 0"});
-  expectAll(errorFor("n = 3", "n = 1"), {"bodies.jelly.n = 1", "must be >= 2"});
+  expectAll(errorFor("n = 3", "n = 1"), {"bodies.jelly.n = 1", "must be in [2, 894]"});
   expectAll(errorFor("n = 3", "n = 3\nks = -5"), {"bodies.jelly.ks = -5", "must be >= 0"});
   expectAll(errorFor("restitution = 0.5", "restitution = 1.5"), {"colliders.floor.restitution = 1.5", "in [0, 1]"});
   expectAll(errorFor("restitution = 0.5", "restitution = -0.1"), {"in [0, 1]"});

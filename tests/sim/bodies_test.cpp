@@ -107,3 +107,45 @@ TEST(Cloth, NamedPinSets) {
 
 }  // namespace
 }  // namespace wobble
+
+namespace wobble {
+namespace {
+
+// The sizes the scene reader budgets before building (app/scene_limits.h) are exactly what the builders make.
+TEST(BodySize, MatchesTheBuilders) {
+  for (int n : {2, 3, 5}) {
+    JellyParams p;
+    p.n = n;
+    const Body b = buildJelly("j", p);
+    const BodySize s = jellySize(n);
+    EXPECT_EQ(s.particles, b.particleCount());
+    EXPECT_EQ(s.springs, std::int64_t(b.springs.size()));
+    EXPECT_EQ(s.surface_vertices, std::int64_t(b.surface.vertexCount()));
+    EXPECT_EQ(s.triangles, std::int64_t(b.surface.triangles.size()));
+  }
+  for (auto [nx, ny] : {std::pair{2, 2}, {5, 3}, {2, 7}}) {
+    ClothParams p;
+    p.nx = nx, p.ny = ny;
+    const Body b = buildCloth("c", p);
+    const BodySize s = clothSize(nx, ny);
+    EXPECT_EQ(s.particles, b.particleCount());
+    EXPECT_EQ(s.springs, std::int64_t(b.springs.size()));
+    EXPECT_EQ(s.surface_vertices, std::int64_t(b.surface.vertexCount()));
+    EXPECT_EQ(s.triangles, std::int64_t(b.surface.triangles.size()));
+  }
+  EXPECT_EQ(jellySize(2048).particles, std::int64_t{2048} * 2048 * 2048);  // 64-bit: no wrap
+  EXPECT_EQ(clothSize(65536, 65536).particles, std::int64_t{1} << 32);
+}
+
+// More particles than 32-bit indices can address is refused by the builders themselves, before any allocation.
+TEST(BodySize, BuildersRefuseTooManyParticles) {
+  JellyParams j;
+  j.n = 2048;
+  EXPECT_THROW(buildJelly("j", j), std::length_error);
+  ClothParams c;
+  c.nx = c.ny = 65536;
+  EXPECT_THROW(buildCloth("c", c), std::length_error);
+}
+
+}  // namespace
+}  // namespace wobble

@@ -1,0 +1,173 @@
+// A corpus of bad scene files, each run through the wobble binary: exit status 2, a message naming the file, the
+// line and the key, and nothing written (the --out folder is never created). Sizes that would crash or exhaust
+// memory, names that would write outside --out, non-finite and extreme numbers, nesting that would overflow the
+// parser's stack (issue 8).
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "scratch_dir.h"
+
+namespace fs = std::filesystem;
+
+namespace wobble {
+namespace {
+
+struct BadScene {
+  const char* name;
+  std::string text;                    // the scene file (bad.toml)
+  std::vector<std::string> expected;   // parts of the message: "bad.toml:LINE:", the key, the rule
+  std::string extra_arguments = "";
+};
+
+const std::string kJelly = "[bodies.jelly]\ntype = \"jelly\"\nn = 3\n";  // lines 1-3
+
+std::string deepHeader(int depth) {
+  std::string h = "[a";
+  for (int i = 0; i < depth; ++i) h += ".a";
+  return h + "]\n";
+}
+
+// A PNG of a few bytes whose header declares width x height: stb reads only the IHDR chunk for the size.
+std::string pngHeader(std::uint32_t width, std::uint32_t height) {
+  std::string png = "\x89PNG\r\n\x1a\n";
+  const auto be32 = [&](std::uint32_t v) {
+    for (int s = 24; s >= 0; s -= 8) png += char((v >> s) & 0xff);
+  };
+  be32(13);
+  png += "IHDR";
+  be32(width);
+  be32(height);
+  png += std::string("\x08\x00\x00\x00\x00", 5);  // 8-bit grey (RGBA would exceed stb's own 1 GB cap)
+  be32(0);                                        // CRC (not checked for the size)
+  return png;
+}
+
+const BadScene kCorpus[] = {
+    // Sizes (item 2): 32-bit wrap, bad_alloc, a silent 20 GB.
+    {"JellyN2048", "[bodies.jelly]\ntype = \"jelly\"\nn = 2048\n", {"bad.toml:3:", "bodies.jelly.n = 2048", "[2, 894]"}},
+    {"JellyN1000", "[bodies.jelly]\ntype = \"jelly\"\nn = 1000\n", {"bad.toml:3:", "bodies.jelly.n = 1000", "[2, 894]"}},
+    {"JellyNMillion", "[bodies.jelly]\ntype = \"jelly\"\nn = 1000000\n", {"bad.toml:3:", "bodies.jelly.n = 1000000"}},
+    {"JellyN300OverBudget", "[bodies.jelly]\ntype = \"jelly\"\nn = 300\n",
+     {"bad.toml:3:", "bodies.jelly.n = 300", "27000000 particles", "memory budget of 1.0 GB", "--max-memory",
+      "n <= "},
+     "--max-memory 1GB"},
+    {"ClothWrapsToZero", "[bodies.cloth]\ntype = \"cloth\"\nnx = 65536\nny = 65536\n",
+     {"bad.toml:4:", "bodies.cloth.ny = 65536", "4294967296 particles", "32-bit"}},
+    {"TwoBodiesOverBudget", kJelly + "[bodies.b]\ntype = \"jelly\"\nn = 100\n",
+     {"bad.toml:6:", "bodies.b.n = 100", "memory budget of 100.0 MB"}, "--max-memory 100MB"},
+    // Names (item 3).
+    {"NameEscapesOut", "[bodies.\"../../x\"]\ntype = \"jelly\"\nn = 3\n",
+     {"bad.toml:1:", "bodies.\"../../x\"", "letters, digits"}},
+    {"EmptyName", "[bodies.\"\"]\ntype = \"jelly\"\nn = 3\n", {"bad.toml:1:", "bodies.\"\"", "empty"}},
+    {"NulInName", "[bodies.\"a\\u0000b\"]\ntype = \"jelly\"\nn = 3\n", {"bad.toml:1:", "bodies.\"a\\x00b\""}},
+    {"LongColliderName", kJelly + "[colliders." + std::string(65, 'f') + "]\ntype = \"plane\"\n",
+     {"bad.toml:4:", "colliders.\"fff", "65 characters"}},
+    // Numbers (item 4).
+    {"DtInf", "[simulation]\ndt = inf\n" + kJelly, {"bad.toml:2:", "simulation.dt = inf", "finite"}},
+    {"FpsInf", "[simulation]\nfps = +inf\n" + kJelly, {"bad.toml:2:", "simulation.fps = inf", "finite"}},
+    {"DurationNan", "[simulation]\nduration = nan\n" + kJelly, {"bad.toml:2:", "simulation.duration = nan", "finite"}},
+    {"KsInf", kJelly + "ks = inf\n", {"bad.toml:4:", "bodies.jelly.ks = inf", "finite"}},
+    {"MassInf", kJelly + "mass = inf\n", {"bad.toml:4:", "bodies.jelly.mass = inf", "finite"}},
+    {"SizeInf", kJelly + "size = inf\n", {"bad.toml:4:", "bodies.jelly.size = inf", "finite"}},
+    {"ClothSizeInf", "[bodies.c]\ntype = \"cloth\"\nsize = [1, inf]\n", {"bad.toml:3:", "bodies.c.size", "finite"}},
+    {"CenterNan", kJelly + "center = [0, nan, 0]\n", {"bad.toml:4:", "bodies.jelly.center", "finite"}},
+    {"RadiusInf", kJelly + "[colliders.ball]\ntype = \"sphere\"\nradius = inf\n",
+     {"bad.toml:6:", "colliders.ball.radius = inf", "finite"}},
+    {"IntegerBeyond2To53", kJelly + "ks = 9007199254740993\n",
+     {"bad.toml:4:", "bodies.jelly.ks = 9007199254740993", "2^53"}},
+    {"DtTooSmall", "[simulation]\ndt = 1e-300\n" + kJelly,
+     {"bad.toml:2:", "simulation.dt = 1e-300", "steps per frame", "1000000"}},
+    {"FpsTooHigh", "[simulation]\nfps = 1e9\n" + kJelly, {"bad.toml:2:", "simulation.fps", "100000 frames"}},
+    {"DurationTooLong", "[simulation]\nduration = 1e7\n" + kJelly,
+     {"bad.toml:2:", "simulation.duration", "100000 frames"}},
+    {"RenderExposureInf", kJelly + "[render]\nexposure = -inf\n", {"bad.toml:5:", "render.exposure", "finite"}},
+    // Nesting (item 5): toml++ would overflow its stack on these.
+    {"DeepHeader", kJelly + deepHeader(50000), {"bad.toml:4:", "nesting too deep", "64"}},
+    {"DeepArray", kJelly + "x = " + std::string(100000, '[') + std::string(100000, ']') + "\n",
+     {"bad.toml:4:", "nesting too deep"}},
+    {"DeepInlineTable", kJelly + "x = " + [] {
+       std::string t;
+       for (int i = 0; i < 100; ++i) t += "{a = ";
+       return t + "1" + std::string(100, '}');
+     }() + "\n", {"bad.toml:4:", "nesting too deep"}},
+    {"DeepDottedKey", kJelly + [] {
+       std::string k = "x";
+       for (int i = 0; i < 80; ++i) k += ".x";
+       return k + " = 1";
+     }() + "\n", {"bad.toml:4:", "nesting too deep"}},
+    {"DeepMultiLineArray", kJelly + "x = " + [] {
+       std::string t;
+       for (int i = 0; i < 100; ++i) t += "[\n";
+       return t;
+     }(), {"bad.toml:", "nesting too deep"}},
+    {"HugeFile", kJelly + "# " + std::string(2 << 20, 'x') + "\n", {"bad.toml", "bytes, above the limit"}},
+};
+
+class BadScenes : public testing::ScratchDir, public ::testing::WithParamInterface<BadScene> {};
+
+std::string slurp(const fs::path& file) {
+  std::ostringstream s;
+  s << std::ifstream(file).rdbuf();
+  return s.str();
+}
+
+// Exit status of `wobble ARGS`, its output in log.
+int runBinary(const std::string& arguments, const fs::path& log) {
+  const int status = std::system((std::string(WOBBLE_BINARY) + " " + arguments + " > " + log.string() + " 2>&1").c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+void expectRefused(const fs::path& scene, const std::string& extra, const fs::path& out,
+                   const std::vector<std::string>& expected) {
+  const fs::path log = out.parent_path() / "log.txt";
+  EXPECT_EQ(runBinary("run " + scene.string() + " --out " + out.string() + " " + extra, log), 2) << slurp(log);
+  const std::string message = slurp(log);
+  for (const std::string& part : expected) EXPECT_NE(message.find(part), std::string::npos) << part << " in " << message;
+  EXPECT_FALSE(fs::exists(out)) << "written despite the error";
+}
+
+TEST_P(BadScenes, RefusedWithFileLineKeyAndNothingWritten) {
+  expectRefused(write("bad.toml", GetParam().text), GetParam().extra_arguments, dir() / "out", GetParam().expected);
+}
+
+INSTANTIATE_TEST_SUITE_P(Corpus, BadScenes, ::testing::ValuesIn(kCorpus),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+class BadFiles : public testing::ScratchDir {};
+
+TEST_F(BadFiles, TextureDeclaringAHugeSizeIsRefusedFromItsHeader) {
+  std::ofstream(dir() / "huge.png", std::ios::binary) << pngHeader(20000, 20000);
+  expectRefused(write("bad.toml", kJelly + "texture = \"huge.png\"\n"), "", dir() / "out",
+                {"bad.toml:4:", "bodies.jelly.texture = \"huge.png\"", "20000 x 20000", "16384"});
+  std::ofstream(dir() / "junk.png", std::ios::binary) << "not a png";
+  expectRefused(write("bad.toml", kJelly + "texture = \"junk.png\"\n"), "", dir() / "out",
+                {"bad.toml:4:", "bodies.jelly.texture", "cannot read the image"});
+}
+
+TEST_F(BadFiles, SceneNameMustBeAnIdentifier) {
+  expectRefused(write("bad.name.toml", kJelly), "", dir() / "out", {"bad.name.toml", "scene name \"bad.name\"", "letters, digits"});
+}
+
+TEST_F(BadFiles, OverridesAreCheckedToo) {
+  const fs::path scene = write("ok.toml", kJelly);
+  expectRefused(scene, "--set jelly.n=2048", dir() / "out", {"bodies.jelly.n = 2048", "(--set)"});
+  expectRefused(scene, "--set jelly.ks=inf", dir() / "out", {"bodies.jelly.ks = inf", "finite"});
+  expectRefused(scene, "--dt 1e-300", dir() / "out", {"simulation.dt", "steps per frame"});
+  expectRefused(scene, "--set 'x=" + std::string(1000, '[') + "'", dir() / "out", {"--set x=", "nesting too deep"});
+}
+
+TEST_F(BadFiles, MaxMemoryOption) {
+  const fs::path scene = write("ok.toml", kJelly + "[output]\nobj = false\n[render]\npng = false\n");
+  expectRefused(scene, "--max-memory 1KB", dir() / "out", {"ok.toml:3:", "bodies.jelly.n = 3", "1.0 KB"});
+  expectRefused(scene, "--max-memory lots", dir() / "out", {"--max-memory"});
+  EXPECT_EQ(runBinary("run " + scene.string() + " --max-memory 64MB --out " + (dir() / "good").string(),
+                      dir() / "log.txt"), 0) << slurp(dir() / "log.txt");
+}
+
+}  // namespace
+}  // namespace wobble
