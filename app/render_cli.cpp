@@ -4,7 +4,6 @@
 
 #include "commands.h"
 #include "max_memory_option.h"
-#include "max_memory_option.h"
 #include "interrupt.h"
 #include "render_command.h"
 
@@ -20,7 +19,6 @@ void addRenderCommand(CLI::App& app, int& status) {
   cmd->add_option("--frames", options->frames, "Frames to render, 1-based and inclusive: A:B or A (default: all)");
   cmd->add_option("--out", options->out, "Output folder (default: the folder that holds MESH_DIR)");
   cmd->add_option("--set", options->sets, "Override a scene key, KEY=VALUE in TOML syntax (repeatable)");
-  addMaxMemoryOption(*cmd);
   addMaxMemoryOption(*cmd);
   addRenderFlags(*cmd, options->render);
   cmd->footer("Example:\n  wobble render out/jelly_slope/mesh --scene scenes/jelly_slope.toml --frames 1:30 --spp 32");

@@ -4,7 +4,6 @@
 
 #include "commands.h"
 #include "max_memory_option.h"
-#include "max_memory_option.h"
 #include "interrupt.h"
 #include "run_command.h"
 #include "sim/integrators/integrator.h"
@@ -47,7 +46,6 @@ void addRunCommand(CLI::App& app, int& status) {
   cmd->add_option("--set", options->sets,
                   "Override a scene key, KEY=VALUE in TOML syntax (repeatable), e.g. --set jelly.ks=2800");
   addRenderFlags(*cmd, options->render);
-  addMaxMemoryOption(*cmd);
   addMaxMemoryOption(*cmd);
   cmd->add_flag("--estimate-error", options->estimate_error,
                 "Also run at dt/2 and report the estimated position error at the frames (doubles the run time)");
