@@ -7,7 +7,7 @@
 #include <limits>
 #include <sstream>
 
-#include "camera_rig.h"
+#include "frame_view.h"
 #include "order_fit.h"
 #include "progress.h"
 #include "render/denoiser.h"
@@ -20,7 +20,6 @@
 #include "render_scene.h"
 #include "scene.h"
 #include "scene_error.h"
-#include "sim/simulation.h"
 #include "study_report.h"
 #include "text_file.h"
 #include "text_table.h"
@@ -37,31 +36,6 @@ constexpr int kRendererVersion = 5;
 // The second half of the reference uses this seed offset: far from any frame number.
 constexpr std::uint32_t kSecondHalfSeed = 0x80000000u;
 
-// The scene at frame K: render scene updated to it, and its camera.
-struct FrameView {
-  RenderScene scene;
-  render::CameraParams camera;
-};
-
-FrameView simulateTo(const Scene& scene, int frame) {
-  MassSpringSystem& system = *scene.system;
-  Simulation sim(system, makeIntegrator(scene.integrator, scene.integrator_options), scene.dt);
-  CameraRig rig(scene);
-  for (int k = 1; k <= frame; ++k) {
-    if (const auto blow_up = sim.advanceTo(scene.frameTime(k)))
-      throw SceneError(scene.file.string() + ": the simulation blew up before frame " + std::to_string(frame) + ": " +
-                       blow_up->message(scene.dt));
-    if (rig.followedBody() >= 0) {
-      const BodySlot& slot = system.bodies()[rig.followedBody()];
-      rig.observe(k, evaluateSurface(slot.body.surface, sim.x(), slot.first));
-    }
-  }
-  std::vector<SurfaceFrame> surfaces;
-  for (const BodySlot& slot : system.bodies()) surfaces.push_back(evaluateSurface(slot.body.surface, sim.x(), slot.first));
-  FrameView view{RenderScene(scene), rig.params()};
-  view.scene.update(scene.frameTime(frame), surfaces);
-  return view;
-}
 
 // FNV-1a, 64 bits: a stable key for the reference cache (std::hash may differ between builds).
 std::uint64_t fnv1a(const std::string& text) {

@@ -172,9 +172,15 @@ Color WoodTexture::board(long plank, float u, float across, float fw, float fu) 
   }
   // Fibre: 240 radians per board across, 13 * 2.3 cos(2.3 u + 5 h1) per unit along; a box damps a sine wave by the
   // sinc of each axis' phase width.
-  const float fibre_slope = along_matters ? 13.0f * 2.3f * fastSin(2.3f * u + 5.0f * h1 + kQuarter) : 0.0f;
-  const float fibre = 0.5f + 0.5f * fastSin(240.0f * w + 13.0f * fastSin(2.3f * u + 5.0f * h1)) *
-                                boxedSineAmplitude(240.0f * fw) * boxedSineAmplitude(std::abs(fibre_slope) * fu);
+  // Once the box spans a whole fibre period across the board (fw >= 2 pi / 240, most of the far floor) the fibre
+  // has faded to its mean and its waves are not evaluated.
+  float fibre = 0.5f;
+  if (const float across_amplitude = boxedSineAmplitude(240.0f * fw); across_amplitude > 0) {
+    const float fibre_slope = along_matters ? 13.0f * 2.3f * fastSin(2.3f * u + 5.0f * h1 + kQuarter) : 0.0f;
+    const float along_amplitude = boxedSineAmplitude(std::abs(fibre_slope) * fu);
+    if (along_amplitude > 0)
+      fibre += 0.5f * fastSin(240.0f * w + 13.0f * fastSin(2.3f * u + 5.0f * h1)) * across_amplitude * along_amplitude;
+  }
   const float t = 0.8f * late + 0.1f * fibre;  // at most 0.9
   const float tone = 0.88f + 0.24f * h2;       // board-to-board colour variation, mean 1
   const Color wood = tone * (light_ + t * (dark_ - light_));
