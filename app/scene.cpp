@@ -15,6 +15,7 @@
 #include "sim/colliders/sphere.h"
 #include "sim/simulation.h"
 #include "table_reader.h"
+#include "text_table.h"
 #include "toml_depth.h"
 
 namespace fs = std::filesystem;
@@ -33,14 +34,14 @@ void readSimulation(TableReader r, Scene& scene, Vec3& gravity) {
   const double frames = std::floor(scene.duration * scene.fps + 1e-9);
   if (frames > double(kMaxFrames))
     r.fail(r.node("duration") || !r.node("fps") ? "duration" : "fps",
-           "duration * fps = " + std::to_string(std::llround(std::min(frames, 1e18))) + " frames (duration " +
-               std::to_string(scene.duration) + " s at " + std::to_string(scene.fps) + " fps), above the cap of " +
+           "duration * fps = " + formatNumber(frames, 3) + " frames (duration " + formatNumber(scene.duration) +
+               " s at " + formatNumber(scene.fps) + " fps), above the cap of " +
                std::to_string(kMaxFrames) + " frames per run");
   if (1 / (scene.fps * scene.dt) > kMaxStepsPerFrame)
-    r.fail("dt", "1 / (fps dt) = " + std::to_string(std::llround(std::min(1 / (scene.fps * scene.dt), 1e18))) +
+    r.fail("dt", "1 / (fps dt) = " + formatNumber(1 / (scene.fps * scene.dt), 3) +
                      " steps per frame, above the cap of " + std::to_string(std::llround(kMaxStepsPerFrame)) +
-                     ": dt must be >= " + std::to_string(1 / (scene.fps * kMaxStepsPerFrame)) + " s at " +
-                     std::to_string(scene.fps) + " fps");
+                     ": dt must be >= " + formatNumber(1 / (scene.fps * kMaxStepsPerFrame), 3) + " s at " +
+                     formatNumber(scene.fps) + " fps");
   gravity = r.vec3("gravity", Vec3(0, -9.8, 0));
   IntegratorOptions& o = scene.integrator_options;
   o.rtol = r.number("rtol", o.rtol, Range::positive());
