@@ -291,6 +291,16 @@ Scene loadScene(const fs::path& file, const std::vector<std::string>& overrides,
   readGroup(root, "bodies", scene, readBody);
   readGroup(root, "colliders", scene, readCollider);
   readRenderTables(root, scene);
+  if (scene.render.options.png || scene.render.options.exr) {  // the render buffers count once the scene renders
+    SceneEstimate e = scene.estimate;
+    e.render_pixels = std::int64_t(scene.render.camera.resolution[0]) * scene.render.camera.resolution[1];
+    if (e.bytes(scene.integrator == "backward-euler") > scene.memory_budget) {
+      const toml::table* camera = root.table("camera");
+      TableReader c(camera ? *camera : kEmpty, file, "camera");
+      failOverBudget(c, scene, "resolution", e, "; a smaller camera.resolution (or --resolution) would fit");
+    }
+    scene.estimate = e;
+  }
   if (scene.system->bodies().empty())
     root.fail("bodies", "a scene needs at least one body: [bodies.NAME] with type = \"jelly\" or \"cloth\"");
   root.finish();

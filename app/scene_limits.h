@@ -28,10 +28,12 @@ std::uint64_t memoryBudget();
 struct SceneEstimate {
   BodySize bodies;
   std::int64_t texture_pixels = 0;
+  std::int64_t render_pixels = 0;  // camera resolution, when the scene renders images
 
   void add(const BodySize& b);
   // Upper bound in bytes: particle state and the integrator's stages, springs (twice: body and system, with
-  // vector growth; implicit integrators add their sparse Jacobians), surfaces and a frame's OBJ text, textures.
+  // vector growth; implicit integrators add their sparse Jacobians), surfaces and a frame's OBJ text, textures,
+  // and the render buffers of two frames (one rendering, one being written).
   std::uint64_t bytes(bool implicit_integrator) const;
   std::string describe(bool implicit_integrator) const;  // "27000000 particles, 423000000 springs: 30.1 GB"
 };

@@ -169,5 +169,15 @@ TEST_F(BadFiles, MaxMemoryOption) {
                       dir() / "log.txt"), 0) << slurp(dir() / "log.txt");
 }
 
+// A 16384 x 16384 frame's buffers (film, denoiser, the frame being written) are 128 GB: over any default budget
+// here, refused before the simulation starts; with no images the same resolution costs nothing.
+TEST_F(BadFiles, RenderBuffersCountInTheBudget) {
+  const fs::path scene = write("ok.toml", kJelly + "[render]\npng = true\n");
+  expectRefused(scene, "--resolution 16384x16384 --max-memory 8GB", dir() / "out",
+                {"camera.resolution = [ 16384, 16384 ]", "268435456 image pixels", "8.0 GB"});
+  EXPECT_EQ(runBinary("run " + scene.string() + " --render none --resolution 16384x16384 --max-memory 8GB --out " +
+                          (dir() / "good").string(), dir() / "log.txt"), 0) << slurp(dir() / "log.txt");
+}
+
 }  // namespace
 }  // namespace wobble
