@@ -18,6 +18,9 @@ namespace wobble::render {
 
 Image8 readImage(const std::filesystem::path& file) {
   int w = 0, h = 0, channels = 0;
+  if (stbi_info(file.c_str(), &w, &h, &channels) && (w > kMaxImageSide || h > kMaxImageSide))
+    throw std::runtime_error(file.string() + ": the image is " + std::to_string(w) + " x " + std::to_string(h) +
+                             " pixels; at most " + std::to_string(kMaxImageSide) + " on each side can be read");
   std::unique_ptr<stbi_uc, void (*)(void*)> data(stbi_load(file.c_str(), &w, &h, &channels, 0), stbi_image_free);
   if (!data) {
     const char* reason = stbi_failure_reason();

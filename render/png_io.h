@@ -11,6 +11,9 @@
 namespace wobble::render {
 
 inline constexpr int kPngCompressionLevel = 1;
+// The largest width or height readImage decodes: its header is read first, so a small file that declares a huge
+// image cannot make it allocate gigabytes (scene textures and `wobble diff` inputs alike).
+inline constexpr int kMaxImageSide = 16384;
 
 // Keeps the file's own channel count (1 to 4).
 Image8 readImage(const std::filesystem::path& file);

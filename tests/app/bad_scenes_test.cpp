@@ -149,6 +149,14 @@ TEST_F(BadFiles, TextureDeclaringAHugeSizeIsRefusedFromItsHeader) {
                 {"bad.toml:4:", "bodies.jelly.texture", "cannot read the image"});
 }
 
+// Every image read checks its header first: `wobble diff` of such a file is exit 4 (a file cannot be read, as idiff).
+TEST_F(BadFiles, DiffRefusesAHugeImageFromItsHeader) {
+  const fs::path huge = dir() / "huge.png";
+  std::ofstream(huge, std::ios::binary) << pngHeader(20000, 20000);
+  EXPECT_EQ(runBinary("diff " + huge.string() + " " + huge.string(), dir() / "log.txt"), 4);
+  EXPECT_NE(slurp(dir() / "log.txt").find("20000 x 20000 pixels; at most 16384"), std::string::npos);
+}
+
 TEST_F(BadFiles, SceneNameMustBeAnIdentifier) {
   expectRefused(write("bad.name.toml", kJelly), "", dir() / "out", {"bad.name.toml", "scene name \"bad.name\"", "letters, digits"});
 }
