@@ -3,8 +3,8 @@
 #include <memory>
 
 #include "commands.h"
-#include "max_memory_option.h"
 #include "interrupt.h"
+#include "max_memory_option.h"
 #include "render_command.h"
 
 namespace wobble {

@@ -5,8 +5,8 @@
 #include <sstream>
 
 #include "identifier.h"
-#include "image_header.h"
 #include "overrides.h"
+#include "render/image_header.h"
 #include "scene_error.h"
 #include "sim/bodies/cloth.h"
 #include "sim/bodies/jelly.h"
@@ -169,7 +169,7 @@ void readBody(TableReader r, const std::string& name, Scene& scene) {
     const fs::path path = scene.file.parent_path() / *texture;
     if (!fs::is_regular_file(path)) r.fail("texture", "file not found: " + path.string());
     std::string reason;
-    const auto header = readImageHeader(path, reason);
+    const auto header = render::readImageHeader(path, reason);
     if (!header) r.fail("texture", "cannot read the image " + path.string() + " (" + reason + ")");
     if (header->width > kMaxTextureSide || header->height > kMaxTextureSide)
       r.fail("texture", path.string() + " is " + std::to_string(header->width) + " x " + std::to_string(header->height) +

@@ -13,14 +13,18 @@
 #include <stb/stb_image.h>
 
 #include "atomic_file.h"
+#include "image_header.h"
 
 namespace wobble::render {
 
 Image8 readImage(const std::filesystem::path& file) {
+  std::string unreadable;  // stb_load says why below
+  if (const auto header = readImageHeader(file, unreadable);
+      header && (header->width > kMaxImageSide || header->height > kMaxImageSide))
+    throw std::runtime_error(file.string() + ": the image is " + std::to_string(header->width) + " x " +
+                             std::to_string(header->height) + " pixels; at most " + std::to_string(kMaxImageSide) +
+                             " on each side can be read");
   int w = 0, h = 0, channels = 0;
-  if (stbi_info(file.c_str(), &w, &h, &channels) && (w > kMaxImageSide || h > kMaxImageSide))
-    throw std::runtime_error(file.string() + ": the image is " + std::to_string(w) + " x " + std::to_string(h) +
-                             " pixels; at most " + std::to_string(kMaxImageSide) + " on each side can be read");
   std::unique_ptr<stbi_uc, void (*)(void*)> data(stbi_load(file.c_str(), &w, &h, &channels, 0), stbi_image_free);
   if (!data) {
     const char* reason = stbi_failure_reason();

@@ -2,7 +2,7 @@
 
 #include <stb/stb_image.h>
 
-namespace wobble {
+namespace wobble::render {
 
 std::optional<ImageHeader> readImageHeader(const std::filesystem::path& file, std::string& reason) {
   ImageHeader h;
@@ -12,4 +12,4 @@ std::optional<ImageHeader> readImageHeader(const std::filesystem::path& file, st
   return std::nullopt;
 }
 
-}  // namespace wobble
+}  // namespace wobble::render
