@@ -55,6 +55,7 @@ render::RenderSettings renderSettings(const RenderOptionsConfig& o, int frame) {
   s.max_bounces = o.bounces;
   render::parseSamplerKind(o.sampler, s.sampler);  // checked when read
   s.sample_sky = o.sky_sampling;
+  s.roulette = o.russian_roulette;
   s.frame = static_cast<std::uint32_t>(frame);  // the noise seed: the same frame is the same image
   return s;
 }
@@ -124,6 +125,7 @@ void readRenderTables(TableReader& root, Scene& scene) {
   o.denoise = r.boolean("denoise", preset.denoise);
   o.sampler = r.string("sampler", o.sampler, {"sobol", "independent"});
   o.sky_sampling = r.boolean("sky_sampling", o.sky_sampling);
+  o.russian_roulette = r.boolean("russian_roulette", o.russian_roulette);
   o.bounces = r.integer("bounces", o.bounces, Range{0, 16});
   o.exposure = r.number("exposure", o.exposure, Range{-20, 20});
   o.sun_direction = r.vec3("sun_direction", o.sun_direction);

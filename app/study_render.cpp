@@ -51,7 +51,7 @@ render::RenderSettings settingsFor(const RenderVariant& v, int spp, double thres
   render::parseSamplerKind(v.sampler, s.sampler);
   s.sample_sky = v.sky_sampling;
   s.mis = v.mis;
-  s.continuation = v.continuation;
+  s.roulette = v.roulette;
   s.noise_threshold = v.adaptive ? static_cast<float>(threshold) : 0.0f;
   s.min_samples = v.adaptive ? 1 : 0;
   s.frame = static_cast<std::uint32_t>(frame);
@@ -80,8 +80,8 @@ const std::vector<RenderVariant>& renderStudyVariants() {
       {"adaptive", "Sobol, adaptive sampling (4 to max spp) over noise thresholds, no denoising", "sobol", false,
        false, true},
       {"adaptive+denoise", "Sobol, adaptive sampling over noise thresholds, denoised", "sobol", false, true, true},
-      {"sobol+denoise-rr", "Sobol samples, denoised, Russian roulette continuing paths with probability 1/2", "sobol",
-       false, true, false, -1, true, 0.5f},
+      {"sobol+denoise-rr", "Sobol samples, denoised, Russian roulette by throughput from the second continuation on",
+       "sobol", false, true, false, -1, true, true},
       {"sobol+denoise-1bounce", "Sobol samples, denoised, one bounce fewer than the reference (at most 1)", "sobol",
        false, true, false, 1},
   };

@@ -47,7 +47,7 @@ struct RenderVariant {
   bool adaptive = false;   // swept over thresholds instead of spp
   int bounces = -1;        // -1: the scene's (render.bounces), as the reference
   bool mis = true;         // false: lights by light sampling alone, as before MIS
-  float continuation = 1;  // Russian roulette's probability of continuing a path
+  bool roulette = false;   // Russian roulette from the second continuation on (render/integrator.h)
 };
 const std::vector<RenderVariant>& renderStudyVariants();
 

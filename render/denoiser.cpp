@@ -98,7 +98,7 @@ struct Taps {
 // summed in registers and written once (the taps in the inner loop, so each pixel's own guides are loaded once).
 // kTaps is the tap count, a constant so that the inner loop unrolls and the outer one vectorises.
 template <int kTaps>
-__attribute__((target_clones("avx2", "default"))) void filterSpan(const TapInput in, const TapSums out, int n,
+__attribute__((target_clones("avx512f", "avx2", "default"))) void filterSpan(const TapInput in, const TapSums out, int n,
                                                                     const Taps taps, float centre, float sigma_n,
                                                                     float sigma_z) {
   // The planes never overlap; GCC ignores restrict on locals, so `ivdep` says it (too many planes for run-time alias

@@ -27,7 +27,7 @@ void fillRay(const Ray& r, RTCRay& ray) {
 EmbreeScene::EmbreeScene(RTCDevice device) {
   scene_ = rtcNewScene(device);
   if (!scene_) throw std::runtime_error("Embree: cannot create a scene");
-  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_DYNAMIC | RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_DYNAMIC);
   rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_LOW);
 }
 

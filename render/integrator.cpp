@@ -1,6 +1,8 @@
 // The path tracer: next-event estimation of suns, area lights and the sky, BSDF-sampled bounces, MIS between them.
 #include "integrator.h"
 
+#include <algorithm>
+
 #include "bsdf.h"
 #include "scene.h"
 
@@ -10,6 +12,9 @@ namespace {
 
 // Veach's power heuristic (beta = 2): the weight of a sample drawn with density `chosen` against another strategy
 // that could have drawn it with density `other`.
+// Russian roulette's least chance of continuing: bounds the weight 1 / q a surviving path gets.
+constexpr float kMinContinuation = 0.05f;
+
 float powerHeuristic(float chosen, float other) {
   const float a = chosen * chosen, b = other * other;
   return a > 0 ? a / (a + b) : 0.0f;
@@ -117,8 +122,13 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
     const Bsdf bsdf(material, base, ns, wo);
     const Eigen::Vector3f origin = offsetFromSurface(hit->p, ng);
     const bool continues = bounce < max_bounces;
-    // The BSDF strategy's density as MIS sees it: what BSDF sampling draws times the chance of continuing at all.
-    const float q = continues ? context.settings.continuation : 0.0f;
+    // The chance of continuing from here: 1 for the first continuation; with Russian roulette, from the second on,
+    // the path's throughput so far (its largest channel, at most 1), as pbrt-v4: paths that carry little light stop
+    // early, and the survivors' weight / q stays near 1, so the roulette adds little noise. The BSDF strategy's
+    // density as MIS sees it is what BSDF sampling draws times q.
+    float q = continues ? 1.0f : 0.0f;
+    if (continues && bounce > 0 && context.settings.roulette)
+      q = std::clamp((first_base.cwiseProduct(t_diffuse) + t_other).maxCoeff(), kMinContinuation, 1.0f);
 
     // Light arriving at this surface from direction wi, already divided by its sampling density and weighted.
     const auto reflect = [&](const Eigen::Vector3f& wi, const Color& incoming) {

@@ -5,7 +5,8 @@
 // that escapes picks up the sky and any sun disc it points into; one that passes an area light picks that up. Light
 // and BSDF samples of the same light are weighted by the power heuristic (Veach 1995), so each light is counted once
 // and noise goes to whichever strategy does better. At the last vertex (no continuation) light samples count fully.
-// With Russian roulette (PathSettings::continuation < 1) a continuation is taken with that probability only.
+// With Russian roulette (PathSettings::roulette) continuations after the first are taken with the path's throughput
+// as probability.
 // max_bounces counts the continuations: 0 = direct light only (no sky on surfaces), 1 = one indirect bounce (sky
 // light and colour bleeding onto surfaces: the "ambient" term), 2 = two bounces (the default; light between the jelly
 // and the floor). Camera rays see the sky only (suns and area lights are not drawn).
@@ -36,9 +37,9 @@ struct PathSettings {
   // false: suns and area lights by light sampling alone (full weight; BSDF samples that find them are ignored), as
   // the renderer did before MIS. For the render study's comparison.
   bool mis = true;
-  // Russian roulette: each continuation is taken with this probability and weighted by its inverse (unbiased), so
-  // indirect light costs less and is noisier; the MIS weights use the continuation's density times it. 1: always.
-  float continuation = 1;
+  // Russian roulette from the second continuation on: a path goes on with its throughput as probability (at least
+  // 0.05) and is weighted by its inverse (unbiased), so dim indirect light costs fewer rays.
+  bool roulette = false;
 };
 
 // What the first hit's texture filter needs of the camera ray. The first surface's texture is averaged over the

@@ -87,16 +87,15 @@ float neighbourhoodError(const std::vector<Color>& light, int w, int h, int x, i
 Film render(const Scene& scene, const Camera& camera, const RenderSettings& settings, RenderStats* stats) {
   if (!scene.committed()) throw std::logic_error("render: the scene changed since its last commit(); call commit()");
   if (settings.samples_per_pixel < 1 || settings.max_bounces < 0 || settings.tile_size < 1 ||
-      settings.min_samples < 0 || !(settings.noise_threshold >= 0) ||
-      !(settings.continuation > 0 && settings.continuation <= 1))
+      settings.min_samples < 0 || !(settings.noise_threshold >= 0))
     throw std::invalid_argument("render: need samples_per_pixel >= 1, min_samples >= 0, noise_threshold >= 0, "
-                                "continuation in (0, 1], max_bounces >= 0, tile_size >= 1");
+                                "max_bounces >= 0, tile_size >= 1");
   checkLights(scene.lights);  // lights are a plain member: they may have changed since commit()
   const int spp = settings.samples_per_pixel;
   const bool adaptive = settings.noise_threshold > 0;
   int target = adaptive ? std::min(spp, settings.min_samples > 0 ? settings.min_samples : 4) : spp;
   const PathContext context(scene,
-                           PathSettings{settings.max_bounces, settings.sample_sky, settings.mis, settings.continuation});
+                           PathSettings{settings.max_bounces, settings.sample_sky, settings.mis, settings.roulette});
   const int w = camera.width(), h = camera.height(), ts = settings.tile_size;
   const int tiles_x = (w + ts - 1) / ts, tiles_y = (h + ts - 1) / ts;
   Film film(w, h);

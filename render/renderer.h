@@ -16,7 +16,7 @@
 //   sampler            SamplerKind::Sobol (default) or Independent (sampler.h)
 //   sample_sky         next-event estimation of the sky with MIS (integrator.h)
 //   mis                multiple importance sampling of suns and area lights (integrator.h); off only for comparisons
-//   continuation       Russian roulette: the probability of taking each path continuation (integrator.h); 1 = always
+//   roulette           Russian roulette from the second path continuation on, by throughput (integrator.h)
 //   tile_size          tiles of tile_size^2 pixels are the units of parallel work (tbb::parallel_for)
 //   frame              animation frame index: seeds the per-pixel sample streams, so consecutive frames get
 //                      different noise and the same frame is always the same
@@ -44,7 +44,7 @@ struct RenderSettings {
   SamplerKind sampler = SamplerKind::Sobol;
   bool sample_sky = false;
   bool mis = true;
-  float continuation = 1;
+  bool roulette = false;
   int tile_size = 16;
   std::uint32_t frame = 0;
 };
