@@ -15,4 +15,16 @@ std::optional<std::filesystem::path> findProgram(const std::string& program);
 // status (-1 when a signal ended it). Throws std::runtime_error naming the program when it cannot be started.
 int runProgram(const std::vector<std::string>& args, const std::optional<std::filesystem::path>& log = std::nullopt);
 
+// A program started with a pipe to its standard input, for data made while it runs (video frames). It runs in its
+// own process group, so a Ctrl-C on the terminal reaches wobble only, which then ends it (or lets it finish).
+struct PipedProgram {
+  int pid = -1;
+  int input = -1;  // write end of the child's stdin
+};
+// Throws std::runtime_error naming the program when it cannot be started.
+PipedProgram startPiped(const std::vector<std::string>& args);
+// Waits for a started program as runProgram does (ending it with SIGTERM if wobble is interrupted); returns its exit
+// status, -1 when a signal ended it.
+int waitProgram(int pid, const std::string& name);
+
 }  // namespace wobble

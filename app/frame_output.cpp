@@ -56,17 +56,26 @@ void FrameOutput::render(int frame) {
       render::ToneMap tone;
       tone.exposure = static_cast<float>(options.exposure);
       const std::span<const render::Color> color = options.denoise ? *denoised : film->color;
-      render::writePng(pngPath(out_, scene_.name, frame), render::develop(film->width, film->height, color, tone));
+      const render::Image8 image = render::develop(film->width, film->height, color, tone);
+      render::writePng(pngPath(out_, scene_.name, frame), image);
+      if (options.video) {
+        if (!video_opened_) video_ = VideoStream::open(out_ / (scene_.name + ".mp4"), image.width, image.height, scene_.fps);
+        video_opened_ = true;
+        if (video_) video_->write(image);
+      }
     }
     if (options.exr) render::writeExr(exrPath(out_, scene_.name, frame), *film, *denoised);
   });
   ++rendered_;
 }
 
-std::optional<fs::path> FrameOutput::finish(int first, int last) {
+std::optional<fs::path> FrameOutput::finish() {
   if (writing_.valid()) writing_.get();
-  if (!scene_.render.options.video || !scene_.render.options.png || last < first || interrupted()) return std::nullopt;
-  return encodeVideo(out_ / "frames", scene_.name, first, last, scene_.fps, out_ / (scene_.name + ".mp4"));
+  if (!video_ || interrupted()) {
+    video_.reset();  // ends ffmpeg, removes its partial file
+    return std::nullopt;
+  }
+  return video_->finish();
 }
 
 }  // namespace wobble

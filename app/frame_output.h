@@ -6,6 +6,7 @@
 #pragma once
 #include <filesystem>
 #include <future>
+#include <memory>
 #include <optional>
 #include <span>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "camera_rig.h"
 #include "render_scene.h"
 #include "scene.h"
+#include "video.h"
 
 namespace wobble {
 
@@ -29,9 +31,10 @@ class FrameOutput {
   // A frame that is not drawn, from the simulation's flat state: only the follow camera sees it.
   void observe(int frame, const VecX& x);
 
-  // After the last frame: waits for the last files, then encodes OUT/<scene>.mp4 from frames first..last when
-  // render.video is set and the run was not interrupted. Returns the video's path, or nothing (not asked, or ffmpeg is missing: then it says so).
-  std::optional<std::filesystem::path> finish(int first, int last);
+  // After the last frame: waits for the last files and for OUT/<scene>.mp4, encoded (when render.video is set) from
+  // the frames as they were written (video.h: VideoStream). Returns the video's path, or nothing (not asked, no
+  // frame, interrupted, or ffmpeg is missing: then it was said).
+  std::optional<std::filesystem::path> finish();
 
   // Index of the body the camera follows in scene.system->bodies(), or -1 for a fixed camera.
   int followedBody() const { return rig_.followedBody(); }
@@ -50,6 +53,8 @@ class FrameOutput {
   // A frame's files (tone mapping, PNG and EXR encoding: single-threaded) are written while the next frame is
   // simulated and rendered; at most one frame waits. get() rethrows a write error.
   std::future<void> writing_;
+  std::unique_ptr<VideoStream> video_;  // opened with the first PNG written (its size), fed by the writer
+  bool video_opened_ = false;
 };
 
 }  // namespace wobble

@@ -91,7 +91,7 @@ RenderCommandReport renderSequence(const RenderCommandOptions& options) {
   }
   progress.finish();
   report.frames_rendered = pictures.framesRendered();
-  report.video = pictures.finish(report.first_frame, report.last_frame);
+  report.video = pictures.finish();
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
 }

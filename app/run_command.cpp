@@ -149,7 +149,7 @@ RunReport runScene(const RunOptions& options) {
   if (pictures) {
     report.frames_rendered = pictures->framesRendered();
     const auto start = Clock::now();
-    report.video = pictures->finish(report.first_frame, report.first_frame + report.frames_written - 1);
+    report.video = pictures->finish();
     report.seconds_render += secondsSince(start);
   }
 

@@ -1,4 +1,4 @@
-// Pinhole camera: orthonormal basis from position/look_at/up, and primary rays (see camera.h).
+// Pinhole camera: orthonormal basis from position/look_at/up, the film plane, ray differentials (see camera.h).
 #include "camera.h"
 
 #include <cmath>
@@ -28,29 +28,17 @@ Camera::Camera(const CameraParams& p) : params_(p) {
   up_ = right_.cross(forward_);
   tan_half_y_ = std::tan(0.5f * p.vfov_deg * std::numbers::pi_v<float> / 180.0f);
   tan_half_x_ = tan_half_y_ * static_cast<float>(p.width) / static_cast<float>(p.height);
+  corner_ = forward_ - tan_half_x_ * right_ + tan_half_y_ * up_;
+  step_x_ = (2.0f * tan_half_x_ / static_cast<float>(p.width)) * right_;
+  step_y_ = (-2.0f * tan_half_y_ / static_cast<float>(p.height)) * up_;
 }
-
-Ray Camera::ray(float x, float y) const {
-  const float sx = (2.0f * x / static_cast<float>(params_.width) - 1.0f) * tan_half_x_;
-  const float sy = (1.0f - 2.0f * y / static_cast<float>(params_.height)) * tan_half_y_;
-  Ray r;
-  r.origin = params_.position;
-  r.direction = (forward_ + sx * right_ + sy * up_).normalized();
-  return r;
-}
-
-}  // namespace wobble::render
-
-namespace wobble::render {
 
 void Camera::differentials(const Eigen::Vector3f& d, Eigen::Vector3f& ddx, Eigen::Vector3f& ddy) const {
   // d = v / |v| with v = forward + sx right + sy up, so |v| = 1 / (d . forward); the derivative of v / |v| along
   // dv is (dv - d (d . dv)) / |v|.
-  const Eigen::Vector3f dvx = (2.0f * tan_half_x_ / static_cast<float>(params_.width)) * right_;
-  const Eigen::Vector3f dvy = (-2.0f * tan_half_y_ / static_cast<float>(params_.height)) * up_;
   const float inv_length = d.dot(forward_);
-  ddx = (dvx - d * d.dot(dvx)) * inv_length;
-  ddy = (dvy - d * d.dot(dvy)) * inv_length;
+  ddx = (step_x_ - d * d.dot(step_x_)) * inv_length;
+  ddy = (step_y_ - d * d.dot(step_y_)) * inv_length;
 }
 
 }  // namespace wobble::render

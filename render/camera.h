@@ -29,8 +29,13 @@ class Camera {
   // Throws std::invalid_argument on a degenerate view or resolution.
   explicit Camera(const CameraParams& params);
 
-  // Primary ray through film point (x, y) in pixels; unit direction, starting at the eye.
-  Ray ray(float x, float y) const;
+  // Primary ray through film point (x, y) in pixels; unit direction, starting at the eye. Inline: one per sample.
+  Ray ray(float x, float y) const {
+    Ray r;
+    r.origin = params_.position;
+    r.direction = (corner_ + x * step_x_ + y * step_y_).normalized();
+    return r;
+  }
 
   // How the unit direction of the primary ray with unit direction d turns per pixel to the right (ddx) and down (ddy):
   // its ray differentials (the origin does not move: a pinhole), for texture filtering.
@@ -50,6 +55,8 @@ class Camera {
   CameraParams params_;
   Eigen::Vector3f forward_, right_, up_;  // orthonormal, right-handed: right = forward x up
   float tan_half_y_, tan_half_x_;
+  // The film plane at distance 1: its top-left corner and one pixel's step to the right and down.
+  Eigen::Vector3f corner_, step_x_, step_y_;
 };
 
 }  // namespace wobble::render

@@ -3,6 +3,7 @@
 // and bad rendering flags (exit 2, nothing written).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -213,6 +214,43 @@ TEST_F(Render, VideoIsAnMp4) {
     for (const char* expected : {"codec_name=h264", "width=64", "height=36", "pix_fmt=yuv420p", "nb_read_frames=4"})
       EXPECT_NE(info.find(expected), std::string::npos) << expected << " in\n" << info;
   }
+}
+
+// The video is encoded while the frames are made (frames piped to ffmpeg): it decodes to the same pictures as the
+// PNG frames encoded afterwards by encodeVideo (the frame-by-frame MD5 of the decoded video).
+TEST_F(Render, StreamedVideoIsTheVideoOfThePngFrames) {
+  if (!findProgram("ffmpeg")) GTEST_SKIP() << "ffmpeg is not installed";
+  const fs::path s = scene();
+  ASSERT_EQ(wobble("run " + s.string() + " --out " + out().string() + " --resolution 64x36 --video"), 0) << log();
+  const auto again = encodeVideo(out() / "frames", "small", 1, 4, 20, dir() / "again.mp4");  // the scene: 20 fps
+  ASSERT_TRUE(again);
+  const auto frameMd5 = [&](const fs::path& mp4) {
+    const fs::path md5 = dir() / (mp4.stem().string() + ".framemd5");
+    const std::string command = "ffmpeg -nostdin -loglevel error -i " + mp4.string() + " -f framemd5 " + md5.string();
+    EXPECT_EQ(std::system(command.c_str()), 0) << command;
+    return slurp(md5);
+  };
+  const std::string streamed = frameMd5(out() / "small.mp4"), afterwards = frameMd5(*again);
+  EXPECT_EQ(std::count(streamed.begin(), streamed.end(), '\n') - std::count(afterwards.begin(), afterwards.end(), '\n'), 0);
+  EXPECT_EQ(streamed.substr(streamed.find("\n0,")), afterwards.substr(afterwards.find("\n0,")));
+}
+
+// An ffmpeg that stops reading (here one that exits at once) costs the video, not the frames: every frame is
+// written, the run says ffmpeg failed (exit 1) and leaves no partial video.
+TEST_F(Render, FailingFfmpegKeepsEveryFrame) {
+  const fs::path s = scene(), bin = dir() / "broken_bin";
+  fs::create_directories(bin);
+  std::ofstream(bin / "ffmpeg") << "#!/bin/sh\necho 'ffmpeg: broken on purpose' >&2\nexit 3\n";
+  fs::permissions(bin / "ffmpeg", fs::perms::owner_all);
+  EXPECT_EQ(wobble("run " + s.string() + " --out " + out().string() + " --resolution 32x18 --video",
+                   "env PATH=" + bin.string() + ":/usr/bin:/bin"),
+            1)
+      << log();
+  EXPECT_NE(log().find("ffmpeg failed encoding"), std::string::npos) << log();
+  EXPECT_TRUE(fs::exists(out() / "frames/small_0004.png"));
+  EXPECT_FALSE(fs::exists(out() / "small.mp4"));
+  for (const auto& entry : fs::directory_iterator(out()))
+    EXPECT_EQ(entry.path().string().find("partial"), std::string::npos) << entry.path();
 }
 
 TEST_F(Render, MissingFfmpegKeepsTheFramesAndSucceeds) {
