@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   wobble::addRunCommand(app, status);
   wobble::addRenderCommand(app, status);
   wobble::addDiffCommand(app, status);
+  wobble::addBlendCommand(app, status);
   wobble::addStudyCommand(app, status);
   try {
     app.parse(argc, argv);

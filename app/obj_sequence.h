@@ -1,14 +1,17 @@
-// Writes one body's surface as a numbered OBJ sequence for Blender: MESH_DIR/<body>_0001.obj with its .mtl, and the
-// body's texture copied next to them (referenced by a relative path). Exported through assimp; Y up, metres.
-// Each frame is exported to memory, then written under temporary names and renamed into place (.mtl first), so a
-// crash or a full disk leaves no half-written frame.
-// Note: assimp's OBJ exporter merges equal positions, so the jelly's face seams (one particle, several UVs) share one
-// "v" line: every frame has one "v" per surface particle, in the same order.
+// Writes one body's surface as OBJ files for Blender: a numbered sequence MESH_DIR/<body>_0001.obj, ... and, for the
+// PC2 point cache (pc2_writer.h), one base mesh MESH_DIR/<body>.obj; each with its .mtl (the scene's colour and
+// texture, obj_text.h), and the body's texture copied next to them (referenced by a relative path). Y up, metres.
+// Every file of a body has the same `v` lines in the same order (ObjVertexOrder: one per surface particle).
+// Each file is made in memory, then written under a temporary name and renamed into place (.mtl first), so a crash
+// or a full disk leaves no half-written file.
 #pragma once
 #include <filesystem>
 #include <optional>
 #include <string>
 
+#include "obj_text.h"
+#include "obj_vertex_order.h"
+#include "render_config.h"
 #include "sim/body.h"
 #include "sim/surface.h"
 
@@ -17,17 +20,26 @@ namespace wobble {
 class ObjSequenceWriter {
  public:
   // Copies the texture (if any) into mesh_dir at once.
-  ObjSequenceWriter(std::filesystem::path mesh_dir, const Body& body, std::optional<std::filesystem::path> texture);
+  ObjSequenceWriter(std::filesystem::path mesh_dir, const Body& body, std::optional<std::filesystem::path> texture,
+                    const BodyLook& look);
 
-  // Writes frame (1-based) and returns the .obj path. Throws std::runtime_error on an I/O or export failure.
+  // Writes frame (1-based) and returns the .obj path. Throws std::runtime_error on an I/O failure.
   std::filesystem::path write(int frame, const SurfaceFrame& surface) const;
+  // Writes the point cache's base mesh, <body>.obj, and returns its path.
+  std::filesystem::path writeBase(const SurfaceFrame& surface) const;
+
+  const ObjVertexOrder& order() const { return order_; }
 
   static std::string fileName(const std::string& body, int frame, std::string_view extension);
+  static std::filesystem::path basePath(const std::filesystem::path& mesh_dir, const std::string& body);
 
  private:
+  std::filesystem::path writeFiles(const std::filesystem::path& obj, const SurfaceFrame& surface) const;
+
   std::filesystem::path dir_;
   const Body& body_;
-  std::string texture_name_;  // file name in dir_, empty when untextured
+  ObjVertexOrder order_;
+  ObjMaterial material_;  // its texture: a file name in dir_, empty when untextured
 };
 
 }  // namespace wobble

@@ -69,11 +69,14 @@ OutputFolder::~OutputFolder() {
 
 int OutputFolder::clearEarlierRun(const std::string& scene) const {
   std::set<std::string> scenes = {scene};
+  // The sequence, and the point caches with their base meshes (names are identifiers: scene_limits.h).
   int removed = removeMatching(out_ / "mesh", std::regex(R"(.+_[0-9]{4,}\.(obj|mtl))"));
+  removed += removeMatching(out_ / "mesh", std::regex(R"([A-Za-z0-9_-]+\.(obj|mtl|pc2))"));
   removed += removeMatching(out_ / "frames", std::regex(R"((.+)_[0-9]{4,}\.png)"), &scenes);
   removed += removeMatching(out_ / "exr", std::regex(R"((.+)_[0-9]{4,}\.exr)"), &scenes);
   std::error_code ignored;
-  for (const std::string& s : scenes) removed += fs::remove(out_ / (s + ".mp4"), ignored) ? 1 : 0;
+  for (const std::string& s : scenes)
+    for (const char* extension : {".mp4", ".blend"}) removed += fs::remove(out_ / (s + extension), ignored) ? 1 : 0;
   return removed;
 }
 

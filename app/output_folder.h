@@ -19,8 +19,9 @@ class OutputFolder {
   OutputFolder& operator=(const OutputFolder&) = delete;
 
   // `wobble run` replaces whatever an earlier run left: removes the files with wobble's own output names
-  // (mesh/<body>_NNNN.obj/.mtl, frames/<scene>_NNNN.png, exr/<scene>_NNNN.exr, and <scene>.mp4 of those scenes and of
-  // `scene`), nothing else, so the folder never mixes two runs beside one run.json. Returns how many were removed.
+  // (mesh/<body>_NNNN.obj/.mtl, mesh/<body>.obj/.mtl/.pc2, frames/<scene>_NNNN.png, exr/<scene>_NNNN.exr, and
+  // <scene>.mp4 and <scene>.blend of those scenes and of `scene`), nothing else, so the folder never mixes two runs
+  // beside one run.json. Returns how many were removed.
   int clearEarlierRun(const std::string& scene) const;
 
   static constexpr const char* kLockName = ".wobble.lock";

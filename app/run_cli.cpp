@@ -47,6 +47,8 @@ void addRunCommand(CLI::App& app, int& status) {
                   "Override a scene key, KEY=VALUE in TOML syntax (repeatable), e.g. --set jelly.ks=2800");
   addRenderFlags(*cmd, options->render);
   addMaxMemoryOption(*cmd);
+  cmd->add_flag("--pc2", options->pc2,
+                "Also write OUT/mesh/<body>.pc2, a point cache for Blender (overrides output.pc2; see `wobble blend`)");
   cmd->add_flag("--estimate-error", options->estimate_error,
                 "Also run at dt/2 and report the estimated position error at the frames (doubles the run time)");
   cmd->footer("Example:\n  wobble run scenes/cloth_sphere.toml --frames 1:30 --out out/test --set cloth.ks=25000");

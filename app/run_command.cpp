@@ -1,6 +1,7 @@
 #include "run_command.h"
 
 #include <chrono>
+#include <memory>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -9,6 +10,7 @@
 #include "interrupt.h"
 #include "obj_sequence.h"
 #include "output_folder.h"
+#include "pc2_writer.h"
 #include "progress.h"
 #include "scene.h"
 #include "scene_error.h"
@@ -30,9 +32,11 @@ std::string formatNumber(double x) {
   return out.str();
 }
 
-void writeRunJson(const Scene& scene, const Simulation& sim, const RunReport& r) {
+void writeRunJson(const Scene& scene, const std::vector<std::string>& overrides, const Simulation& sim,
+                  const RunReport& r) {
   nlohmann::ordered_json j;
   j["scene"] = scene.file.string();
+  j["overrides"] = overrides;  // --set and the flags that set keys: `wobble blend` reads the scene as the run did
   j["integrator"] = scene.integrator;
   j["dt"] = scene.dt;
   j["fps"] = scene.fps;
@@ -90,6 +94,7 @@ RunReport runScene(const RunOptions& options) {
   std::vector<std::string> overrides = options.sets;
   if (options.integrator) overrides.push_back("simulation.integrator=\"" + *options.integrator + "\"");
   if (options.dt) overrides.push_back("simulation.dt=" + formatNumber(*options.dt));
+  if (options.pc2) overrides.push_back("output.pc2=true");
   for (const std::string& o : renderOverrides(options.render)) overrides.push_back(o);
   Scene scene = loadScene(options.scene, overrides);
 
@@ -104,12 +109,18 @@ RunReport runScene(const RunOptions& options) {
 
   const OutputFolder folder(report.out);
   report.files_cleared = folder.clearEarlierRun(scene.name);
-  std::vector<ObjSequenceWriter> writers;
-  if (scene.write_obj)
+  std::vector<ObjSequenceWriter> writers;  // the sequence, and the point cache's base mesh
+  std::vector<std::unique_ptr<Pc2Writer>> caches;
+  writers.reserve(system.bodies().size());  // the caches keep references to the writers' vertex orders
+  if (scene.write_obj || scene.write_pc2)
     for (const BodySlot& slot : system.bodies()) {
       const auto texture = scene.textures.find(slot.body.name);
       writers.emplace_back(report.out / "mesh", slot.body,
-                           texture == scene.textures.end() ? std::nullopt : std::optional(texture->second));
+                           texture == scene.textures.end() ? std::nullopt : std::optional(texture->second),
+                           scene.render.bodies.at(slot.body.name));
+      if (scene.write_pc2)
+        caches.push_back(std::make_unique<Pc2Writer>(Pc2Writer::path(report.out / "mesh", slot.body.name),
+                                                     writers.back().order(), report.first_frame));
     }
 
   std::optional<FrameOutput> pictures;  // renders while simulating: no second simulation
@@ -131,7 +142,12 @@ RunReport runScene(const RunOptions& options) {
     if (frame >= report.first_frame) {
       for (const BodySlot& slot : system.bodies())
         surfaces.push_back(evaluateSurface(slot.body.surface, sim.x(), slot.first));
-      for (std::size_t b = 0; b < writers.size(); ++b) writers[b].write(frame, surfaces[b]);
+      for (std::size_t b = 0; b < writers.size(); ++b) {
+        if (scene.write_obj) writers[b].write(frame, surfaces[b]);
+        if (caches.empty()) continue;
+        if (frame == report.first_frame) writers[b].writeBase(surfaces[b]);
+        caches[b]->append(surfaces[b]);
+      }
       ++report.frames_written;
     }
     report.seconds_export += secondsSince(start);
@@ -146,6 +162,7 @@ RunReport runScene(const RunOptions& options) {
     progress.update(frame);
   }
   progress.finish();
+  for (const auto& cache : caches) cache->finish();  // the frames written, also after a blow-up or an interrupt
   if (pictures) {
     report.frames_rendered = pictures->framesRendered();
     const auto start = Clock::now();
@@ -160,7 +177,7 @@ RunReport runScene(const RunOptions& options) {
   if (report.blow_up) report.blow_up_message = report.blow_up->message(scene.dt);
   if (estimator) report.error_estimate = estimator->result();
   report.interrupted = interrupted();  // between frames or during the video
-  writeRunJson(scene, sim, report);
+  writeRunJson(scene, overrides, sim, report);
   return report;
 }
 

@@ -20,6 +20,7 @@ struct RunOptions {
   std::vector<std::string> sets;         // KEY=VALUE overrides
   RenderFlags render;                    // --render, --spp, --resolution, --video (applied after --set)
   bool estimate_error = false;           // rerun at dt/2 in lock step and report the error (error_estimate.h)
+  bool pc2 = false;                      // write the PC2 point cache (overrides output.pc2)
 };
 
 struct RunReport {

@@ -54,6 +54,7 @@ void readSimulation(TableReader r, Scene& scene, Vec3& gravity) {
 
 void readOutput(TableReader r, Scene& scene) {
   scene.write_obj = r.boolean("obj", true);
+  scene.write_pc2 = r.boolean("pc2", false);
   r.finish();
 }
 

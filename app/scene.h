@@ -27,6 +27,7 @@ struct Scene {
   double duration = 10;  // simulated seconds
   double fps = 30;       // frames per simulated second
   bool write_obj = true;
+  bool write_pc2 = false;  // OUT/mesh/<body>.pc2 and its base mesh <body>.obj (pc2_writer.h)
 
   std::unique_ptr<MassSpringSystem> system;
   std::map<std::string, std::filesystem::path> textures;  // body name -> texture file, only for bodies naming one

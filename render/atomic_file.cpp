@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 #include <system_error>
+#include <utility>
 
 namespace wobble::render {
 namespace {
@@ -29,16 +30,28 @@ bool injectedFailure() {
   throw std::runtime_error(shown.string() + ": cannot write: " + std::strerror(error));
 }
 
-// Writes bytes to path, checking open, every write (short writes continue) and close.
-void writeBytes(const std::filesystem::path& path, std::string_view bytes, const std::filesystem::path& shown) {
+int openForWriting(const std::filesystem::path& path, const std::filesystem::path& shown) {
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) fail(shown, errno);
-  int error = injectedFailure() ? ENOSPC : 0;
-  for (std::size_t done = 0; error == 0 && done < bytes.size();) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno != EINTR) error = errno;
+  return fd;
+}
+
+// Writes all of bytes at offset (or at the file position when offset < 0), continuing short writes; 0 or errno.
+int writeAll(int fd, std::string_view bytes, off_t offset = -1) {
+  if (injectedFailure()) return ENOSPC;
+  for (std::size_t done = 0; done < bytes.size();) {
+    const ssize_t n = offset < 0 ? ::write(fd, bytes.data() + done, bytes.size() - done)
+                                 : ::pwrite(fd, bytes.data() + done, bytes.size() - done, offset + off_t(done));
+    if (n < 0 && errno != EINTR) return errno;
     if (n > 0) done += std::size_t(n);
   }
+  return 0;
+}
+
+// Writes bytes to path, checking open, every write (short writes continue) and close.
+void writeBytes(const std::filesystem::path& path, std::string_view bytes, const std::filesystem::path& shown) {
+  const int fd = openForWriting(path, shown);
+  int error = writeAll(fd, bytes);
   if (::close(fd) != 0 && error == 0) error = errno;  // NFS and friends report write errors at close
   if (error != 0) fail(shown, error);
 }
@@ -74,6 +87,38 @@ void writeAtomically(const std::filesystem::path& target,
 
 void writeFileAtomically(const std::filesystem::path& target, std::string_view bytes) {
   writeAtomically(target, [&](const std::filesystem::path& temp) { writeBytes(temp, bytes, target); });
+}
+
+AtomicFileWriter::AtomicFileWriter(std::filesystem::path target)
+    : target_(std::move(target)), temp_(temporarySibling(target_)) {
+  fd_ = openForWriting(temp_, target_);
+}
+
+AtomicFileWriter::~AtomicFileWriter() {
+  if (fd_ < 0) return;
+  ::close(fd_);
+  std::error_code ignored;
+  std::filesystem::remove(temp_, ignored);
+}
+
+void AtomicFileWriter::append(std::string_view bytes) {
+  if (const int error = writeAll(fd_, bytes); error != 0) fail(target_, error);
+}
+
+void AtomicFileWriter::overwrite(std::size_t offset, std::string_view bytes) {
+  if (const int error = writeAll(fd_, bytes, off_t(offset)); error != 0) fail(target_, error);
+}
+
+void AtomicFileWriter::commit() {
+  const int fd = std::exchange(fd_, -1);
+  const int error = ::close(fd) != 0 ? errno : 0;
+  std::error_code renamed;
+  if (error == 0) std::filesystem::rename(temp_, target_, renamed);
+  if (error == 0 && !renamed) return;
+  std::error_code ignored;
+  std::filesystem::remove(temp_, ignored);
+  if (error != 0) fail(target_, error);
+  throw std::runtime_error(target_.string() + ": cannot write: " + renamed.message());
 }
 
 }  // namespace wobble::render

@@ -23,6 +23,26 @@ void writeAtomically(const std::filesystem::path& target,
 // bytes -> target, through a temporary file. Throws std::runtime_error "<target>: cannot write: <reason>".
 void writeFileAtomically(const std::filesystem::path& target, std::string_view bytes);
 
+// A file written in pieces (a point cache growing frame by frame) under a temporary name, with the same checks and
+// test hook as writeFileAtomically; commit() renames it into place. Destroyed without commit(), it removes the
+// temporary file: an exception leaves nothing behind. Throws std::runtime_error "<target>: cannot write: <reason>".
+class AtomicFileWriter {
+ public:
+  explicit AtomicFileWriter(std::filesystem::path target);
+  ~AtomicFileWriter();
+  AtomicFileWriter(const AtomicFileWriter&) = delete;
+  AtomicFileWriter& operator=(const AtomicFileWriter&) = delete;
+
+  void append(std::string_view bytes);
+  void overwrite(std::size_t offset, std::string_view bytes);  // bytes already written, e.g. a header's count
+  void commit();
+  const std::filesystem::path& target() const { return target_; }
+
+ private:
+  std::filesystem::path target_, temp_;
+  int fd_ = -1;
+};
+
 // A hidden sibling name for target, unique per process and call: ".<name>.<suffix><pid>-<counter>", so parallel
 // writers and concurrent processes never share a temporary file.
 std::filesystem::path temporarySibling(const std::filesystem::path& target, std::string_view suffix = "tmp");

@@ -1,6 +1,7 @@
 // idiff-style comparison of two images or image files (see image_diff.h).
 #include "image_diff.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -11,26 +12,37 @@ namespace wobble::render {
 namespace {
 
 std::string shape(const ImageF& i) {
-  return std::to_string(i.width) + "x" + std::to_string(i.height) + "x" + std::to_string(i.channels);
+  return std::to_string(i.width) + " x " + std::to_string(i.height) + ", " + std::to_string(i.channels) + " channels";
+}
+
+// idiff reads outside an image, or past its channels, as black.
+float valueOrBlack(const ImageF& i, int x, int y, int c) {
+  return x < i.width && y < i.height && c < i.channels ? i.at(x, y, c) : 0.0f;
+}
+
+// 8-bit codes as OpenImageIO converts them (times 1/255, not divided by 255: they differ in the last bit for some
+// codes, which decides a difference right at a threshold).
+ImageF unitFloat(const Image8& image) {
+  ImageF out(image.width, image.height, image.channels);
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) out.pixels[i] = float(image.pixels[i]) * (1.0f / 255.0f);
+  return out;
 }
 
 }  // namespace
 
 DiffResult diffImages(const ImageF& a, const ImageF& b, const DiffOptions& o, ImageF* difference) {
   DiffResult r;
-  if (!a.sameShape(b)) {
-    r.code = DiffCode::DifferentSize;
-    r.message = "Images do not match in size: (" + shape(a) + ") versus (" + shape(b) + ")";
-    return r;
-  }
+  const int width = std::max(a.width, b.width), height = std::max(a.height, b.height);
+  const int channels = std::max(a.channels, b.channels);
   r.pixels = long(a.width) * a.height;
-  if (difference) *difference = ImageF(a.width, a.height, a.channels);
+  if (difference) *difference = ImageF(width, height, channels);
   double total = 0;
-  for (int y = 0; y < a.height; ++y)
-    for (int x = 0; x < a.width; ++x) {
-      double pixel_error = 0;
-      for (int c = 0; c < a.channels; ++c) {
-        const double e = std::fabs(double(a.at(x, y, c)) - double(b.at(x, y, c)));
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      float pixel_error = 0;
+      for (int c = 0; c < channels; ++c) {
+        // In float, as idiff: a difference right at a threshold falls on the same side.
+        const float e = std::fabs(valueOrBlack(a, x, y, c) - valueOrBlack(b, x, y, c));
         total += e;
         if (e > r.max_error) {
           r.max_error = e;
@@ -38,16 +50,19 @@ DiffResult diffImages(const ImageF& a, const ImageF& b, const DiffOptions& o, Im
         }
         pixel_error = std::max(pixel_error, e);
         if (difference) {
-          const bool alpha = (a.channels == 2 && c == 1) || (a.channels == 4 && c == 3);
-          difference->at(x, y, c) = alpha ? 1.0f : std::min(1.0f, static_cast<float>(e) * o.diff_scale);
+          const bool alpha = (channels == 2 && c == 1) || (channels == 4 && c == 3);
+          difference->at(x, y, c) = alpha ? 1.0f : std::min(1.0f, e * o.diff_scale);
         }
       }
       if (pixel_error > o.warn) ++r.warn_pixels;
       if (pixel_error > o.fail) ++r.fail_pixels;
     }
-  r.mean_error = r.pixels ? total / (double(r.pixels) * a.channels) : 0;
+  const double values = double(width) * height * channels;
+  r.mean_error = values > 0 ? total / values : 0;
 
-  if (r.fail_pixels > o.fail_percent / 100.0 * r.pixels || r.max_error > o.hard_fail)
+  if (r.fail_pixels <= o.allow_failures)  // first, as in idiff: no failing pixel passes, warnings or not
+    r.code = DiffCode::Pass;
+  else if (r.fail_pixels > o.fail_percent / 100.0 * r.pixels || r.max_error > o.hard_fail)
     r.code = DiffCode::Fail;
   else if (r.warn_pixels > o.warn_percent / 100.0 * r.pixels || r.max_error > o.hard_warn)
     r.code = DiffCode::Warning;
@@ -55,6 +70,9 @@ DiffResult diffImages(const ImageF& a, const ImageF& b, const DiffOptions& o, Im
     r.code = DiffCode::Pass;
 
   std::ostringstream m;
+  if (!a.sameShape(b))
+    m << "  Images differ in size: " << shape(a) << " versus " << shape(b)
+      << "; compared over both, missing pixels and channels as 0\n";
   m << "  Mean error = " << r.mean_error << "\n  Max error  = " << r.max_error;
   if (r.max_error > 0) m << " @ (" << r.max_x << ", " << r.max_y << ", channel " << r.max_channel << ")";
   const auto percent = [&](long k) { return r.pixels ? 100.0 * double(k) / double(r.pixels) : 0.0; };
@@ -69,8 +87,8 @@ DiffResult diffFiles(const std::filesystem::path& a, const std::filesystem::path
                      const std::filesystem::path& difference_png) {
   ImageF ia, ib;
   try {
-    ia = toFloat(readImage(a));
-    ib = toFloat(readImage(b));
+    ia = unitFloat(readImage(a));
+    ib = unitFloat(readImage(b));
   } catch (const std::exception& e) {
     DiffResult r;
     r.code = DiffCode::FileError;
@@ -79,7 +97,7 @@ DiffResult diffFiles(const std::filesystem::path& a, const std::filesystem::path
   }
   ImageF difference;
   DiffResult r = diffImages(ia, ib, o, difference_png.empty() ? nullptr : &difference);
-  if (!difference_png.empty() && r.code != DiffCode::DifferentSize) writePng(difference_png, toImage8(difference));
+  if (!difference_png.empty()) writePng(difference_png, toImage8(difference));
   return r;
 }
 

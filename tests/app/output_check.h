@@ -23,6 +23,15 @@ inline std::string slurpFile(const std::filesystem::path& p) {
   return s.str();
 }
 
+// The lines of a text file that start with prefix ("v " for an OBJ's vertices), in order.
+inline std::vector<std::string> linesStartingWith(const std::filesystem::path& p, const std::string& prefix) {
+  std::ifstream in(p);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind(prefix, 0) == 0) lines.push_back(line);
+  return lines;
+}
+
 // `[env] wobble arguments > log 2>&1`; returns the exit status (-1 when a signal ended it).
 inline int runWobble(const std::string& arguments, const std::filesystem::path& log, const std::string& env = "") {
   const std::string command = env + " " + WOBBLE_BINARY + " " + arguments + " > " + log.string() + " 2>&1";

@@ -13,6 +13,7 @@
 
 #include "app/run_command.h"
 #include "app/scene_error.h"
+#include "output_check.h"
 #include "scratch_dir.h"
 #include "sim/bodies/jelly.h"
 
@@ -42,13 +43,7 @@ std::vector<std::string> faceCorners(const fs::path& p) {
   return faces;
 }
 
-std::vector<std::string> linesStartingWith(const fs::path& p, const std::string& prefix) {
-  std::ifstream in(p);
-  std::vector<std::string> lines;
-  for (std::string line; std::getline(in, line);)
-    if (line.rfind(prefix, 0) == 0) lines.push_back(line);
-  return lines;
-}
+using testing::linesStartingWith;
 
 class Run : public testing::ScratchDir {
  protected:

@@ -1,0 +1,156 @@
+// Blender 3.4+ (Debian's `blender`) with a run's output: the OBJ sequence imports (tests/blender/import_check.py);
+// the base OBJ plus the PC2 through a Mesh Cache modifier set up by hand, as the README says, gives the OBJ frames'
+// vertices at the first, middle and last frame; `wobble blend` builds a .blend that Blender reopens with the bodies,
+// their modifiers and materials, the colliders (the moving ones keyframed), the follow camera's keyframes and the
+// frame range, and plays the same vertices (tests/blender/mesh_cache_check.py). Skipped, saying why, where Blender
+// is not installed. Without Blender, `wobble blend` says so and fails; without point caches, it names the file.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "app/external_program.h"
+#include "output_check.h"
+#include "scratch_dir.h"
+
+namespace fs = std::filesystem;
+
+namespace wobble {
+namespace {
+
+using testing::runWobble;
+using testing::slurpFile;
+
+class Blender : public testing::ScratchDir {
+ protected:
+  // A textured jelly followed by the camera, a cloth, a floor, a moving sphere and an elevator: 12 frames.
+  fs::path scene() {
+    copyCatTexture();
+    return write("blendable.toml", R"([simulation]
+dt = 0.002
+duration = 0.6
+fps = 20
+
+[bodies.jelly]
+type = "jelly"
+n = 3
+size = 1.0
+center = [0, 2.6, 0]
+texture = "textures/cat.png"
+color = [1.0, 0.9, 0.8]
+
+[bodies.sheet]
+type = "cloth"
+nx = 5
+ny = 5
+size = [1.5, 1.5]
+center = [3, 1.2, 0]
+color = [0.2, 0.5, 0.9]
+
+[colliders.floor]
+type = "plane"
+texture = "wood"
+
+[colliders.ball]
+type = "sphere"
+center = [6, 0.3, 0]   # away from the cloth: the cloth stays a cloth
+radius = 0.5
+velocity = [0, 0.5, 0]
+
+[colliders.lift]
+type = "elevator"
+start = [-3, 0, 0]
+size = 2
+
+[camera]
+follow = "jelly"
+position = [2, 4, 8]
+look_at = [0, 2, 0]
+)");
+  }
+  int blender(const std::string& arguments, const fs::path& log) {
+    const std::string command = blender_->string() + " -b " + arguments + " > " + log.string() + " 2>&1";
+    const int status = std::system(command.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+  void SetUp() override {
+    ScratchDir::SetUp();
+    blender_ = findProgram("blender");
+  }
+  std::string script(const char* name) const { return (testing::sourceDir() / "tests/blender" / name).string(); }
+  std::optional<fs::path> blender_;
+};
+
+TEST_F(Blender, ObjSequenceImports) {
+  if (!blender_) GTEST_SKIP() << "blender is not on PATH (apt-get install blender; setup.sh leaves it out: it is large)";
+  const fs::path out = dir() / "out", log = dir() / "log.txt";
+  ASSERT_EQ(runWobble("run " + (testing::sourceDir() / "scenes/cat_jelly.toml").string() +
+                          " --frames 1:4 --set simulation.duration=0.2 --render none --out " + out.string(), log),
+            0)
+      << slurpFile(log);
+  EXPECT_EQ(blender("--factory-startup --python-exit-code 1 --python " + script("import_check.py") + " -- " +
+                        (out / "mesh").string(), log),
+            0)
+      << slurpFile(log);
+}
+
+TEST_F(Blender, PointCacheByHandPlaysTheObjFrames) {
+  if (!blender_) GTEST_SKIP() << "blender is not on PATH (apt-get install blender; setup.sh leaves it out: it is large)";
+  const fs::path out = dir() / "out", log = dir() / "log.txt";
+  ASSERT_EQ(runWobble("run " + scene().string() + " --frames 3:12 --render none --pc2 --out " + out.string(), log), 0)
+      << slurpFile(log);
+  for (const char* body : {"jelly", "sheet"})
+    EXPECT_EQ(blender("--factory-startup --python-exit-code 1 --python " + script("mesh_cache_check.py") +
+                          " -- by-hand " + out.string() + " " + body, log),
+              0)
+        << slurpFile(log);
+}
+
+TEST_F(Blender, BlendFileReopensAndPlays) {
+  if (!blender_) GTEST_SKIP() << "blender is not on PATH (apt-get install blender; setup.sh leaves it out: it is large)";
+  const fs::path out = dir() / "out", log = dir() / "log.txt";
+  ASSERT_EQ(runWobble("run " + scene().string() + " --render none --pc2 --out " + out.string(), log), 0)
+      << slurpFile(log);
+  ASSERT_EQ(runWobble("blend " + out.string(), log), 0) << slurpFile(log);
+  EXPECT_NE(slurpFile(log).find("camera following, 12 keyframes"), std::string::npos) << slurpFile(log);
+  ASSERT_TRUE(fs::is_regular_file(out / "blendable.blend"));
+  for (const auto& entry : fs::directory_iterator(out))  // no manifest, script, log or partial .blend left
+    if (entry.path().filename().string()[0] == '.') {
+      EXPECT_EQ(entry.path().filename(), ".wobble.lock");
+    }
+  // Moved as a whole, the folder still plays: the .blend's paths are relative to it.
+  const fs::path moved = dir() / "moved";
+  fs::rename(out, moved);
+  const nlohmann::json expected = {
+      {"bodies",
+       {{{"name", "jelly"}, {"color", {1.0, 0.9, 0.8}}, {"textured", true}},
+        {{"name", "sheet"}, {"color", {0.2, 0.5, 0.9}}, {"textured", false}}}},
+      {"colliders", {"floor", "ball", "lift"}},
+      {"moving", {"ball", "lift"}},
+      {"camera_follows", true}};
+  std::ofstream(dir() / "expected.json") << expected.dump();
+  EXPECT_EQ(blender((moved / "blendable.blend").string() + " --python-exit-code 1 --python " +
+                        script("mesh_cache_check.py") + " -- blend " + moved.string() + " " +
+                        (dir() / "expected.json").string(),
+                    log),
+            0)
+      << slurpFile(log);
+}
+
+TEST_F(Blender, BlendNeedsBlenderAndThePointCaches) {
+  const fs::path out = dir() / "out", log = dir() / "log.txt";
+  ASSERT_EQ(runWobble("run " + scene().string() + " --frames 1:2 --render none --out " + out.string(), log), 0)
+      << slurpFile(log);
+  EXPECT_EQ(runWobble("blend " + out.string(), log), 2);  // no --pc2: names the missing cache and the fix
+  EXPECT_NE(slurpFile(log).find((out / "mesh/jelly.pc2").string() + ": not found"), std::string::npos) << slurpFile(log);
+  EXPECT_NE(slurpFile(log).find("--pc2"), std::string::npos) << slurpFile(log);
+  EXPECT_EQ(runWobble("blend " + (dir() / "nowhere").string(), log), 2);
+  EXPECT_NE(slurpFile(log).find("no run.json"), std::string::npos) << slurpFile(log);
+
+  ASSERT_EQ(runWobble("run " + scene().string() + " --frames 1:2 --render none --pc2 --out " + out.string(), log), 0);
+  EXPECT_EQ(runWobble("blend " + out.string(), log, "PATH=/nonexistent"), 1);
+  EXPECT_NE(slurpFile(log).find("blender not found on PATH"), std::string::npos) << slurpFile(log);
+  EXPECT_FALSE(fs::exists(out / "blendable.blend"));
+}
+
+}  // namespace
+}  // namespace wobble
