@@ -1,7 +1,10 @@
 // The PC2 point cache of `wobble run --pc2` read byte by byte here (not with app/pc2.h's reader): its header per the
 // format (signature, version 1, point count, start frame, sample rate, sample count), and every sample equal, point
-// by point, to the `v` lines of the OBJ frame it stands for; the base OBJ; a blow-up's cache; the vertex order's
-// invariant on a hand-made mesh; the scene's colour and texture in the MTL, as assimp reads it.
+// by point, to the `v` lines of the OBJ frame it stands for; the base OBJ; a blown-up and an interrupted run's cache,
+// a full disk; the vertex order's invariant on a hand-made mesh; the scene's colour and texture in the MTL, as
+// assimp reads it.
+#include <signal.h>
+
 #include <gtest/gtest.h>
 
 #include <assimp/Importer.hpp>
@@ -206,6 +209,24 @@ TEST_F(PointCache, ABlownUpRunKeepsAValidCacheOfItsFrames) {
   expectCacheMatchesFrames("sheet", 20, 1, r.frames_written);
   for (const auto& entry : fs::directory_iterator(dir() / "out/mesh"))
     EXPECT_NE(entry.path().filename().string()[0], '.') << "temporary file left: " << entry.path();
+}
+
+TEST_F(PointCache, AnInterruptedRunKeepsAValidCacheOfItsFrames) {
+  // 400 frames, rendered small: SIGINT after the second frame's picture stops it after a complete frame.
+  const fs::path log = dir() / "log.txt";
+  const pid_t child = testing::startWobble("run " + scene().string() + " --pc2 --render png --resolution 32x18 " +
+                                               "--set simulation.duration=20 --out " + (dir() / "out").string(),
+                                           log);
+  ASSERT_TRUE(testing::waitUntil(child, [&] { return fs::exists(dir() / "out/frames/small_0002.png"); }))
+      << slurpFile(log);
+  ::kill(child, SIGINT);
+  EXPECT_EQ(testing::waitExit(child), 130) << slurpFile(log);
+  const auto j = nlohmann::json::parse(slurpFile(dir() / "out/run.json"));
+  ASSERT_TRUE(j["interrupted"].get<bool>());
+  const int written = j["frames"]["written"];
+  ASSERT_TRUE(written >= 2 && written < 400) << written;
+  expectCacheMatchesFrames("jelly", 26, 1, written);
+  expectCacheMatchesFrames("sheet", 20, 1, written);
 }
 
 TEST_F(PointCache, EveryWriteCheckedOnAFullDisk) {

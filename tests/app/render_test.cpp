@@ -86,13 +86,14 @@ TEST_F(Render, DiffExitCodesAreIdiffs) {
   const std::string A = (dir() / "a.png").string(), B = (dir() / "b.png").string();
   EXPECT_EQ(wobble("diff " + A + " " + (dir() / "a2.png").string()), 0) << log();
   EXPECT_EQ(wobble("diff " + A + " " + B), 2) << log();                        // idiff default: any difference fails
-  EXPECT_EQ(wobble("diff " + A + " " + B + " --fail 0.05"), 1) << log();       // within fail, above warn 1e-6
+  EXPECT_EQ(wobble("diff " + A + " " + B + " --fail 0.05"), 0) << log();       // no pixel fails: pass, as idiff
   EXPECT_EQ(wobble("diff " + A + " " + B + " --fail 0.05 --warn 0.05"), 0) << log();
   EXPECT_EQ(wobble("diff " + A + " " + B + " --fail 0.01 --failpercent 5"), 1) << log();  // 1 of 32 = 3.1% < 5%
   EXPECT_EQ(wobble("diff " + A + " " + B + " --fail 0.01 --failpercent 5 --hardfail 0.03"), 2) << log();
-  EXPECT_EQ(wobble("diff " + A + " " + (dir() / "small.png").string()), 3) << log();
+  EXPECT_EQ(wobble("diff " + A + " " + (dir() / "small.png").string()), 2) << log();  // compared with black, as idiff
   EXPECT_EQ(wobble("diff " + A + " " + (dir() / "missing.png").string()), 4) << log();
-  EXPECT_EQ(wobble("diff " + A + " " + B + " --fail 0.05 --out " + (dir() / "d.png").string()), 1) << log();
+  EXPECT_EQ(wobble("diff " + A + " " + B + " --fail 0.01 --failpercent 5 --out " + (dir() / "d.png").string()), 1)
+      << log();
   EXPECT_TRUE(fs::exists(dir() / "d.png"));
 }
 

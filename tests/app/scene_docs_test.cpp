@@ -21,7 +21,7 @@ Keys documentedKeys(const std::string& heading) {
   std::ifstream in(testing::sourceDir() / "scenes/README.md");
   Keys keys;
   bool inside = false;
-  const std::regex row(R"(^\| `([a-z_]+)` \|)");
+  const std::regex row(R"(^\| `([a-z_0-9]+)` \|)");
   for (std::string line; std::getline(in, line);) {
     if (line.rfind("### ", 0) == 0) inside = line == heading;
     std::smatch m;
