@@ -50,6 +50,14 @@ void writeRunJson(const Scene& scene, const std::vector<std::string>& overrides,
   j["max_speed"] = r.max_speed;
   j["particles"] = sim.system().particleCount();
   j["springs"] = sim.system().springs().size();
+  if (const IntegratorStats& s = sim.integrator().stats(); s.jacobians > 0)  // backward-euler's linear solves
+    j["linear_solver"] = {
+        {"method", "filtered PCG (Baraff-Witkin), 3x3 block-Jacobi; stops at |S(b - A dv)| <= cg_tolerance |S(b - A z)|"},
+        {"cg_tolerance", scene.integrator_options.cg_tolerance},
+        {"cg_max_iterations", scene.integrator_options.cg_max_iterations},
+        {"cg_iterations", s.cg_iterations},
+        {"cg_iterations_per_step", s.steps ? double(s.cg_iterations) / double(s.steps) : 0.0},
+        {"max_relative_residual", s.max_cg_residual}};
   j["interrupted"] = r.interrupted;
   j["blew_up"] = r.blow_up.has_value();
   if (r.blow_up)

@@ -1,8 +1,17 @@
 #include "contact.h"
 
 #include <cmath>
+#include <vector>
 
 namespace wobble {
+namespace {
+
+std::vector<int>& nearScratch() {
+  thread_local std::vector<int> near;  // kept between calls: no allocation per step
+  return near;
+}
+
+}  // namespace
 
 std::optional<SurfacePoint> activeSupport(const Collider& collider, double t, const Vec3& x, const Vec3& f, double m) {
   auto s = collider.query(t, x);
@@ -13,11 +22,12 @@ std::optional<SurfacePoint> activeSupport(const Collider& collider, double t, co
 
 void addContactForces(Colliders colliders, double t, const VecX& x, const VecX& v, const VecX& mass,
                       const VecX& inv_mass, double stick_time, VecX& f) {
-  if (colliders.empty()) return;
-  const Eigen::Index n = mass.size();
-  for (Eigen::Index i = 0; i < n; ++i) {
-    if (inv_mass[i] == 0) continue;
-    for (const auto& collider : colliders) {
+  // Collider by collider over the particles near it: each particle still meets the colliders in order.
+  std::vector<int>& near = nearScratch();
+  for (const auto& collider : colliders) {
+    collider->near(t, x, collider->contact().epsilon, near);
+    for (const int i : near) {
+      if (inv_mass[i] == 0) continue;
       const auto s = activeSupport(*collider, t, particle(x, i), particle(f, i), mass[i]);
       if (!s) continue;
       // Net force relative to the surface's frame; its normal part pushes into the surface (activeSupport).
@@ -40,13 +50,13 @@ void addContactForces(Colliders colliders, double t, const VecX& x, const VecX& 
 }
 
 void resolveCollisions(Colliders colliders, double t, VecX& x, VecX& v, const VecX& inv_mass) {
-  if (colliders.empty()) return;
-  const Eigen::Index n = inv_mass.size();
-  for (Eigen::Index i = 0; i < n; ++i) {
-    if (inv_mass[i] == 0) continue;
-    for (const auto& collider : colliders) {
+  std::vector<int>& near = nearScratch();
+  for (const auto& collider : colliders) {
+    const ContactParams& c = collider->contact();
+    collider->near(t, x, c.epsilon, near);
+    for (const int i : near) {
+      if (inv_mass[i] == 0) continue;
       const auto s = collider->query(t, particle(x, i));
-      const ContactParams& c = collider->contact();
       if (!s || s->distance >= c.epsilon) continue;
       const double vn = s->normal.dot(particle(v, i) - s->velocity);
       if (vn < 0) particle(v, i) -= (1 + c.restitution) * vn * s->normal;

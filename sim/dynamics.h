@@ -9,6 +9,9 @@
 
 namespace wobble {
 
+class PairBlockMatrix;
+class PairSchedule;
+
 using Triplets = std::vector<Eigen::Triplet<double>>;
 
 // A particle held by a surface at a state: its contact support force is active there. Implicit integrators turn the
@@ -23,6 +26,9 @@ struct ContactConstraint {
 // Optional capability of a Dynamics, for implicit integrators: the lumped (diagonal) mass and the smooth forces with
 // their Jacobians. Smooth means every force except contact (support and friction): those are not differentiable,
 // so implicit methods take them explicitly, from Dynamics::acceleration at the step's start state.
+// The Jacobians have a fixed pattern: the smooth forces couple particles only in the pairs of jacobianPattern()
+// (springs), each pair e = (a, b) with one symmetric block, dFa/dxa = dFb/dxb = -dFa/dxb = -dFb/dxa (likewise for v),
+// plus each particle's own terms (drag). Implicit solvers size their matrices once per pattern and refill them.
 class ForceJacobian {
  public:
   // Mass per particle, and inverse mass, which is 0 for a pinned particle (implicit solvers filter those out).
@@ -30,9 +36,14 @@ class ForceJacobian {
   virtual const VecX& inverseMass() const = 0;
   // f = the smooth forces at (t, x, v), 3 per particle (resized).
   virtual void smoothForce(double t, const VecX& x, const VecX& v, VecX& f) const = 0;
-  // Appends the entries of dF/dx and dF/dv of the smooth forces at (t, x, v): 3n x 3n, symmetric and negative
-  // semidefinite (so M - h dF/dv - h^2 dF/dx is positive definite); duplicate entries are meant to be summed.
-  virtual void addForceJacobians(double t, const VecX& x, const VecX& v, Triplets& dfdx, Triplets& dfdv) const = 0;
+  // The pairs the Jacobians couple, fixed per topology (the same object for as long as the topology stands).
+  virtual const PairSchedule& jacobianPattern() const = 0;
+  // Refills a (reset to jacobianPattern()) with -(cx dF/dx + cv dF/dv) at (t, x, v): symmetric and positive
+  // semidefinite for cx, cv >= 0, so M plus it is positive definite. With w, also sets kw = dF/dx w.
+  virtual void fillJacobian(double t, const VecX& x, const VecX& v, double cx, double cv, PairBlockMatrix& a,
+                            const VecX* w = nullptr, VecX* kw = nullptr) const = 0;
+  // Whether solvers should run their loops on threads for this system (parallel.h); the result is the same bytes.
+  virtual bool parallel() const { return false; }
   // Replaces out by the particles whose contact support is active at (t, x, v), at most one per particle. The default
   // is none: contact, if any, then stays an explicit force in the accelerations.
   virtual void contactConstraints(double t, const VecX& x, const VecX& v, std::vector<ContactConstraint>& out) const {

@@ -2,6 +2,7 @@
 #pragma once
 #include "dynamics.h"
 #include "springs.h"
+#include "sym3.h"
 
 namespace wobble {
 
@@ -15,5 +16,10 @@ void addSpringJacobians(const Springs& s, const VecX& x, Triplets& dfdx, Triplet
 
 // Appends dF/dv = -drag_i I for each particle i (viscous air drag f = -drag v).
 void addDragJacobian(const VecX& drag, Triplets& dfdv);
+
+// The same spring blocks on the fixed pattern, for springs [begin, end): blocks[i] = cx Kx + cv Kv with
+// Kx = -dFa/dxa, Kv = -dFa/dva of spring i; with w, also kw += dF/dx w (kw's a and b entries of each spring).
+void fillSpringBlocks(const Springs& s, int begin, int end, const VecX& x, double cx, double cv, Sym3* blocks,
+                      const VecX* w, VecX* kw);
 
 }  // namespace wobble

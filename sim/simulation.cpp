@@ -20,13 +20,18 @@ Simulation::Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> int
 double Simulation::maxSpeed() const { return std::sqrt(max_speed_squared_); }
 
 std::optional<BlowUp> Simulation::advanceTo(double t_end) {
-  // A remainder below this is round-off from summing steps, not a step to take.
-  const double slack = 1e-9 * dt_;
-  while (t_ < t_end - slack) {
-    const bool last = t_end - t_ <= dt_ + slack;
+  // The number of steps is fixed first, from the whole interval, and step k ends at start + k dt (not at a running
+  // sum): a remainder below kSliver steps is round-off, not a step to take, so landing never adds a sliver step.
+  constexpr double kSliver = 1e-9;
+  const double remaining = (t_end - t_) / dt_;
+  if (!(remaining > kSliver)) return std::nullopt;
+  const long count = std::max(1L, static_cast<long>(std::ceil(remaining - kSliver)));
+  const double start = t_;
+  for (long k = 1; k <= count; ++k) {
+    const bool last = k == count;
     const double h = last ? t_end - t_ : dt_;
     integrator_->step(system_, t_, h, x_, v_);
-    t_ = last ? t_end : t_ + h;
+    t_ = last ? t_end : start + double(k) * dt_;
     ++steps_;
     system_.resolveCollisions(t_, x_, v_);
     if (auto blow_up = check()) return blow_up;

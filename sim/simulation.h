@@ -1,5 +1,5 @@
 // Steps a MassSpringSystem with an integrator: fixed steps of dt, the last one before a requested time shortened
-// to land on it exactly; contact resolution at every step end; blow-up detection after every step.
+// to land on it exactly (never an extra sliver step for round-off: a 3 s run at dt 1e-4 is 30000 steps); contact resolution at every step end; blow-up detection after every step.
 #pragma once
 #include <memory>
 #include <optional>

@@ -22,10 +22,14 @@ struct Springs {
   void append(const Springs& other, int offset);
   std::size_t size() const { return a.size(); }
   std::size_t count(SpringType t) const;
+  // The springs in the order order[0], order[1], ...
+  Springs permuted(const std::vector<int>& order) const;
 };
 
 // f += Hooke and damper forces of every spring (course-framework formulas; equal and opposite on a, b).
 void addSpringForces(const Springs& s, const VecX& x, const VecX& v, VecX& f);
+// The same for springs [begin, end).
+void addSpringForces(const Springs& s, int begin, int end, const VecX& x, const VecX& v, VecX& f);
 
 // Elastic energy sum 1/2 ks (|xa - xb| - rest)^2.
 double springEnergy(const Springs& s, const VecX& x);

@@ -1,8 +1,11 @@
 #include "system.h"
 
+#include <stdexcept>
+
 #include "contact.h"
 #include "contact_constraints.h"
 #include "force_jacobian.h"
+#include "pair_block_matrix.h"
 
 namespace wobble {
 namespace {
@@ -29,14 +32,21 @@ void MassSpringSystem::addBody(Body body) {
   appendTo(inv_mass_, inv_mass);
   appendTo(drag_, drag);
   springs_.append(body.springs, first);
+  // The springs go into the schedule's order once, here, so every force and Jacobian loop runs over them in turn.
+  schedule_ = PairSchedule(springs_.a, springs_.b, particleCount());
+  springs_ = springs_.permuted(schedule_.order());
+  ++schedule_builds_;
   bodies_.push_back({std::move(body), first});
 }
 
 void MassSpringSystem::smoothForce(double, const VecX& x, const VecX& v, VecX& f) const {
   const int n = particleCount();
+  const bool threads = parallel();
   f.resize(3 * n);
-  for (int i = 0; i < n; ++i) particle(f, i) = mass_[i] * gravity_ - drag_[i] * particle(v, i);
-  addSpringForces(springs_, x, v, f);
+  forEachChunk(n, threads, [&](int begin, int end) {
+    for (int i = begin; i < end; ++i) particle(f, i) = mass_[i] * gravity_ - drag_[i] * particle(v, i);
+  });
+  schedule_.run(threads, [&](int begin, int end) { addSpringForces(springs_, begin, end, x, v, f); });
 }
 
 void MassSpringSystem::force(double t, const VecX& x, const VecX& v, VecX& f) const {
@@ -50,19 +60,34 @@ void MassSpringSystem::addForceJacobians(double, const VecX& x, const VecX&, Tri
   addDragJacobian(drag_, dfdv);
 }
 
+void MassSpringSystem::fillJacobian(double, const VecX& x, const VecX&, double cx, double cv, PairBlockMatrix& a,
+                                    const VecX* w, VecX* kw) const {
+  if (!a.fits(schedule_)) throw std::invalid_argument("fillJacobian: the matrix is not sized for this system");
+  const int n = particleCount();
+  const bool threads = parallel();
+  if (kw) kw->setZero(3 * n);
+  forEachChunk(n, threads, [&](int begin, int end) {
+    for (int i = begin; i < end; ++i) a.self()[i] = Sym3::identity(cv * drag_[i]);
+  });
+  schedule_.run(threads, [&](int begin, int end) {
+    fillSpringBlocks(springs_, begin, end, x, cx, cv, a.pair().data(), w, kw);
+  });
+}
+
 void MassSpringSystem::contactConstraints(double t, const VecX& x, const VecX& v,
                                           std::vector<ContactConstraint>& out) const {
   out.clear();
   if (colliders_.empty()) return;
-  VecX f;
+  thread_local VecX f;  // kept between calls: no allocation per step
   smoothForce(t, x, v, f);
   findContactConstraints(colliders_, t, x, f, mass_, inv_mass_, out);
 }
 
 void MassSpringSystem::acceleration(double t, const VecX& x, const VecX& v, VecX& a) const {
   force(t, x, v, a);
-  const int n = particleCount();
-  for (int i = 0; i < n; ++i) particle(a, i) *= inv_mass_[i];
+  forEachChunk(particleCount(), parallel(), [&](int begin, int end) {
+    for (int i = begin; i < end; ++i) particle(a, i) *= inv_mass_[i];
+  });
 }
 
 void MassSpringSystem::resolveCollisions(double t, VecX& x, VecX& v) const {

@@ -8,6 +8,7 @@
 #include "body.h"
 #include "colliders/collider.h"
 #include "dynamics.h"
+#include "pair_schedule.h"
 
 namespace wobble {
 
@@ -33,7 +34,12 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   // Gravity, air drag, springs and dampers: every force but contact (ForceJacobian).
   void smoothForce(double t, const VecX& x, const VecX& v, VecX& f) const override;
   // Spring, damper and drag Jacobians (force_jacobian.h); gravity is constant, contact is left out.
-  void addForceJacobians(double t, const VecX& x, const VecX& v, Triplets& dfdx, Triplets& dfdv) const override;
+  const PairSchedule& jacobianPattern() const override { return schedule_; }
+  void fillJacobian(double t, const VecX& x, const VecX& v, double cx, double cv, PairBlockMatrix& a,
+                    const VecX* w, VecX* kw) const override;
+  bool parallel() const override { return runsInParallel(particleCount()); }
+  // The same Jacobians as triplets of dF/dx and dF/dv (duplicates summed): for analysis and tests.
+  void addForceJacobians(double t, const VecX& x, const VecX& v, Triplets& dfdx, Triplets& dfdv) const;
   // The particles whose contact support is active (contact_constraints.h).
   void contactConstraints(double t, const VecX& x, const VecX& v, std::vector<ContactConstraint>& out) const override;
   // Restitution and penetration correction, applied to the stored state at the end of each step.
@@ -47,7 +53,10 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   const VecX& initialVelocities() const { return v0_; }
   const VecX& mass() const override { return mass_; }
   const VecX& inverseMass() const override { return inv_mass_; }
+  // In the order of jacobianPattern() (pair_schedule.h), not the order the bodies listed them.
   const Springs& springs() const { return springs_; }
+  // How many times the spring schedule was built: once per addBody, never per step.
+  int scheduleBuilds() const { return schedule_builds_; }
   const std::vector<BodySlot>& bodies() const { return bodies_; }
   const std::vector<std::unique_ptr<Collider>>& colliders() const { return colliders_; }
   const Vec3& gravity() const { return gravity_; }
@@ -59,6 +68,8 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   std::vector<std::unique_ptr<Collider>> colliders_;
   VecX x0_, v0_, mass_, inv_mass_, drag_;
   Springs springs_;
+  PairSchedule schedule_;
+  int schedule_builds_ = 0;
 };
 
 }  // namespace wobble

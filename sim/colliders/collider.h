@@ -4,6 +4,7 @@
 #pragma once
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "../types.h"
 
@@ -30,6 +31,10 @@ class Collider {
 
   // Nearest surface point to x at time t, or nothing where the collider cannot touch x at all.
   virtual std::optional<SurfacePoint> query(double t, const Vec3& x) const = 0;
+  // Replaces out by the particles of x (flat, 3 per particle) whose query() distance at t is below margin (inside
+  // included), in index order: the cheap test contact code runs before it asks query() anything. The default asks
+  // query() itself; colliders override it with a tight loop over the coordinates.
+  virtual void near(double t, const VecX& x, double margin, std::vector<int>& out) const;
 
   const std::string& name() const { return name_; }
   const ContactParams& contact() const { return contact_; }

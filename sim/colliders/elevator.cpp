@@ -58,4 +58,19 @@ std::optional<SurfacePoint> Elevator::query(double t, const Vec3& x) const {
                       Vec3(0, schedule_.acceleration(t), 0)};
 }
 
+void Elevator::near(double t, const VecX& x, double margin, std::vector<int>& out) const {
+  out.clear();
+  const Vec3 top = topCenter(t);  // query's tests, once per call instead of once per particle
+  const double half = size_ / 2;
+  const int n = static_cast<int>(x.size() / 3);
+  out.reserve(n);  // once: the list never reallocates while a body settles onto the collider
+  for (int i = 0; i < n; ++i) {
+    const Vec3 p = particle(x, i);
+    const double distance = p.y() - top.y();
+    if (std::abs(p.x() - top.x()) <= half && std::abs(p.z() - top.z()) <= half && distance >= -thickness_ &&
+        distance < margin)
+      out.push_back(i);
+  }
+}
+
 }  // namespace wobble

@@ -26,6 +26,7 @@ class Elevator final : public Collider {
  public:
   Elevator(std::string name, ContactParams contact, ElevatorSchedule schedule, double size, double thickness);
   std::optional<SurfacePoint> query(double t, const Vec3& x) const override;
+  void near(double t, const VecX& x, double margin, std::vector<int>& out) const override;
   Vec3 topCenter(double t) const { return schedule_.start + Vec3(0, schedule_.height(t), 0); }
   double size() const { return size_; }
   double thickness() const { return thickness_; }

@@ -9,4 +9,12 @@ std::optional<SurfacePoint> Plane::query(double, const Vec3& x) const {
   return SurfacePoint{normal_.dot(x - point_), normal_, Vec3::Zero(), Vec3::Zero()};
 }
 
+void Plane::near(double, const VecX& x, double margin, std::vector<int>& out) const {
+  out.clear();
+  const int n = static_cast<int>(x.size() / 3);
+  out.reserve(n);  // once: the list never reallocates while a body settles onto the collider
+  for (int i = 0; i < n; ++i)
+    if (normal_.dot(particle(x, i) - point_) < margin) out.push_back(i);  // query's distance, exactly
+}
+
 }  // namespace wobble

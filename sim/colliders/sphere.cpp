@@ -12,4 +12,16 @@ std::optional<SurfacePoint> Sphere::query(double t, const Vec3& x) const {
   return SurfacePoint{len - radius_, normal, velocity_, Vec3::Zero()};
 }
 
+void Sphere::near(double t, const VecX& x, double margin, std::vector<int>& out) const {
+  out.clear();
+  const Vec3 c = center(t);
+  // |x - c| - r < margin without a square root; a hair wider than that, so round-off never drops a particle
+  // query() would keep (the contact code then tests query()'s distance itself).
+  const double reach = (radius_ + margin) * (1 + 1e-9), reach2 = reach * reach;
+  const int n = static_cast<int>(x.size() / 3);
+  out.reserve(n);  // once: the list never reallocates while a body settles onto the collider
+  for (int i = 0; i < n; ++i)
+    if ((particle(x, i) - c).squaredNorm() < reach2) out.push_back(i);
+}
+
 }  // namespace wobble

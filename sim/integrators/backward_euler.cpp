@@ -2,35 +2,35 @@
 // The step solves M dv = h F(x0 + h (v0 + dv), v0 + dv), x1 = x0 + h (v0 + dv). By default with one Newton step
 // linearized at the start state:
 //   (M - h dF/dv - h^2 dF/dx) dv = h (F0 + h dF/dx v0),
-// assembled from triplets and solved by conjugate gradients with a Jacobi (diagonal) preconditioner, warm-started
-// from the previous step's dv. First order; A-stable and L-stable (unconditionally stable on linear springs, strongly
+// solved by Baraff & Witkin's modified conjugate gradients with a 3x3 block-Jacobi preconditioner (filtered_pcg.h),
+// warm-started from the previous step's dv. The matrix has the Jacobians' fixed pattern (one 3x3 block per particle
+// and per spring): sized once per topology, its values refilled in place every step; every loop runs over particle
+// chunks or the pattern's schedule, so the result is the same bytes whatever the thread count. First order; A-stable and L-stable (unconditionally stable on linear springs, strongly
 // damps the fast modes: amplitude factor 1/sqrt(1 + (omega h)^2) per step on an undamped oscillator).
 // Contact forces are explicit: they enter through F0 = M a(t, x0, v0) and are held fixed over the step; the
 // Jacobians (ForceJacobian, from the Dynamics) cover springs, dampers and drag. Constraints use B&W's filter
-// S = blockdiag(S_i), solving S A S y + (I - S) y = S (b - A z), dv = y + z: a pinned particle (inverse mass 0) has
-// S_i = 0, dv_i = 0; a particle whose contact support is active at the start (ForceJacobian::contactConstraints) has
-// S_i = I - n n^T and its normal dv prescribed (the surface's normal acceleration times h), which is what the explicit
-// support force does instantaneously; friction stays explicit. Without that, the support sized to cancel a stiff
+// S = blockdiag(S_i) inside the CG (particle_filter.h), solving S (A dv - b) = 0 with (I - S) dv = z: a pinned
+// particle (inverse mass 0) has S_i = 0, dv_i = 0; a particle whose contact support is active at the start
+// (ForceJacobian::contactConstraints) has S_i = I - n n^T and its normal dv prescribed (the surface's normal
+// acceleration times h), which is what the explicit support force does instantaneously; friction stays explicit. Without that, the support sized to cancel a stiff
 // spring's push at the start would act for the whole step while the spring relaxes and launch the body.
-// Options: cg_tolerance (relative residual) and cg_max_iterations of each linear solve (a solve that hits the limit
-// is used as it stands, as Blender's cloth solver does); newton: after that first step, iterate Newton on the full
+// Options: cg_tolerance (relative residual |S (b - A dv)| / |S (b - A z)|, default in integrator.h) and
+// cg_max_iterations of each linear solve (a solve that hits the limit is used as it stands, as Blender's cloth solver
+// does; the achieved residual is in the stats); newton: after that first step, iterate Newton on the full
 // nonlinear equations (contact still held at its start value) with a backtracking line search on the residual,
 // until max |M^-1 residual| <= newton_tolerance * max(1, max |v1|), at most newton_max_iterations linear solves
 // (the damper's x-dependence is not in the Jacobian, so convergence is linear rather than quadratic when dampers
 // act; it still converges to the exact backward-Euler step).
 // Throws std::invalid_argument if the Dynamics offers no ForceJacobian.
-#include <Eigen/IterativeLinearSolvers>
-#include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
+#include "../filtered_pcg.h"
 #include "methods.h"
 
 namespace wobble {
 namespace {
-
-using SparseMatrix = Eigen::SparseMatrix<double>;
 
 class BackwardEuler final : public Integrator {
  public:
@@ -39,8 +39,6 @@ class BackwardEuler final : public Integrator {
       throw std::invalid_argument("backward-euler: cg_tolerance must be > 0 and cg_max_iterations >= 1");
     if (o.newton && (!(o.newton_tolerance > 0) || o.newton_max_iterations < 1))
       throw std::invalid_argument("backward-euler: newton_tolerance must be > 0 and newton_max_iterations >= 1");
-    cg_.setTolerance(o.cg_tolerance);
-    cg_.setMaxIterations(o.cg_max_iterations);
   }
 
   std::string_view name() const override { return "backward-euler"; }
@@ -50,137 +48,101 @@ class BackwardEuler final : public Integrator {
     if (!jacobian)
       throw std::invalid_argument(
           "backward-euler needs force Jacobians, and this Dynamics offers none (Dynamics::forceJacobian() is null)");
+    if (3 * jacobian->mass().size() != x.size())
+      throw std::invalid_argument("backward-euler: state size does not match the system's mass");
     ++stats_.steps;
     stats_.last_cg_iterations = 0;
     stats_.last_linear_solves = 0;
     stats_.last_residual = 0;
-    setUpFilter(*jacobian, x.size());
+    stats_.last_cg_residual = 0;
+    n_ = static_cast<int>(x.size() / 3);
+    parallel_ = jacobian->parallel();
+    if (!matrix_.fits(jacobian->jacobianPattern())) {  // a new topology: size the matrix once
+      matrix_.reset(jacobian->jacobianPattern());
+      contacts_.reserve(jacobian->mass().size());  // at most one per particle
+      ++stats_.pattern_setups;
+    }
+    const VecX& mass = jacobian->mass();
+    filter_.reset(jacobian->inverseMass());
     jacobian->contactConstraints(t, x, v, contacts_);
-    z_.setZero(x.size());
-    for (const ContactConstraint& c : contacts_) particle(z_, c.particle) = h * c.normal_acceleration * c.normal;
+    for (const ContactConstraint& c : contacts_) filter_.constrain(c.particle, c.normal);
 
     // F0 = M a0: every force, contact included, at the start state.
     ++stats_.evaluations;
     dynamics.acceleration(t, x, v, f0_);
-    f0_.array() *= mass_.array();
-
-    // Linearized step at (x0, v0): rhs = h (F0 + h dF/dx v0), filtered: S (rhs - A z).
-    assemble(*jacobian, t, x, v, h);
-    rhs_ = f0_ + h * kv_;
-    rhs_ *= h;
-    if (!contacts_.empty()) rhs_ -= az_;
-    filter(rhs_);
+    // Linearized step at (x0, v0): A dv = h (F0 + h dF/dx v0), with dv's filtered-out part prescribed.
+    assemble(*jacobian, t, x, v, h, &v, &kv_);
+    rhs_.resize(x.size());
     if (dv_.size() != x.size()) dv_.setZero(x.size());  // else warm start from the last step's dv
-    filter(dv_);
+    forEachChunk(n_, parallel_, [&](int begin, int end) {
+      for (int p = begin; p < end; ++p) {
+        particle(rhs_, p) = h * (mass[p] * particle(f0_, p) + h * particle(kv_, p));
+        particle(dv_, p) = filter_.apply(p, particle(dv_, p));
+      }
+    });
+    for (const ContactConstraint& c : contacts_) particle(dv_, c.particle) += h * c.normal_acceleration * c.normal;
     solve(rhs_, dv_);
-    dv_ += z_;
 
-    if (options_.newton) newton(*jacobian, t, h, x, v);
+    if (options_.newton) newton(*jacobian, t, h, x, v, mass);
 
-    x += h * (v + dv_);
-    v += dv_;
+    forEachChunk(n_, parallel_, [&](int begin, int end) {
+      for (int p = begin; p < end; ++p) {
+        particle(x, p) += h * (particle(v, p) + particle(dv_, p));
+        particle(v, p) += particle(dv_, p);
+      }
+    });
   }
 
  private:
-  // Mass and filter (1 on free coordinates, 0 on pinned ones), per coordinate.
-  void setUpFilter(const ForceJacobian& jacobian, Eigen::Index n) {
-    const VecX& m = jacobian.mass();
-    const VecX& inv_m = jacobian.inverseMass();
-    if (3 * m.size() != n) throw std::invalid_argument("backward-euler: state size does not match the system's mass");
-    mass_.resize(n);
-    free_.resize(n);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      mass_[i] = m[i / 3];
-      free_[i] = inv_m[i / 3] != 0 ? 1.0 : 0.0;
-    }
-  }
-
-  void filter(VecX& y) const {
-    y.array() *= free_.array();
-    for (const ContactConstraint& c : contacts_) {
-      auto p = particle(y, c.particle);
-      p -= c.normal.dot(p) * c.normal;
-    }
-  }
-
-  // A = S (M - h dF/dv - h^2 dF/dx) S + (I - S), kv_ = dF/dx v with the Jacobians at (x, v), and az_ = A z before
-  // the contact part of the filter (pinned rows and columns are left out while assembling; contacts need 3x3 blocks).
-  void assemble(const ForceJacobian& jacobian, double t, const VecX& x, const VecX& v, double h) {
+  // A = M - h dF/dv - h^2 dF/dx at (x, v) (the filter acts inside the CG); with w, kw = dF/dx w.
+  void assemble(const ForceJacobian& jacobian, double t, const VecX& x, const VecX& v, double h, const VecX* w,
+                VecX* kw) {
     ++stats_.jacobians;
-    dfdx_.clear();
-    dfdv_.clear();
-    jacobian.addForceJacobians(t, x, v, dfdx_, dfdv_);
-    const Eigen::Index n = x.size();
-    kv_.setZero(n);
-    a_.clear();
-    a_.reserve(dfdx_.size() + dfdv_.size() + n);
-    for (const auto& e : dfdx_) {
-      kv_[e.row()] += e.value() * v[e.col()];
-      if (free_[e.row()] != 0 && free_[e.col()] != 0) a_.emplace_back(e.row(), e.col(), -h * h * e.value());
-    }
-    for (const auto& e : dfdv_)
-      if (free_[e.row()] != 0 && free_[e.col()] != 0) a_.emplace_back(e.row(), e.col(), -h * e.value());
-    for (Eigen::Index i = 0; i < n; ++i) a_.emplace_back(i, i, free_[i] != 0 ? mass_[i] : 1.0);
-    matrix_.resize(n, n);
-    matrix_.setFromTriplets(a_.begin(), a_.end());
-    if (!contacts_.empty()) {
-      az_ = matrix_ * z_;
-      // P = blockdiag(I, or I - n n^T at a contact), D = blockdiag(0, or n n^T): A <- P A P + D.
-      p_.clear();
-      d_.clear();
-      std::size_t next = 0;  // contacts_ is in particle order
-      for (Eigen::Index i = 0; i < n / 3; ++i) {
-        Eigen::Matrix3d block = Eigen::Matrix3d::Identity();
-        if (next < contacts_.size() && contacts_[next].particle == i) {
-          const Vec3& nrm = contacts_[next++].normal;
-          block -= nrm * nrm.transpose();
-          for (int r = 0; r < 3; ++r)
-            for (int c = 0; c < 3; ++c) d_.emplace_back(3 * i + r, 3 * i + c, nrm[r] * nrm[c]);
-        }
-        for (int r = 0; r < 3; ++r)
-          for (int c = 0; c < 3; ++c)
-            if (block(r, c) != 0) p_.emplace_back(3 * i + r, 3 * i + c, block(r, c));
-      }
-      projection_.resize(n, n);
-      projection_.setFromTriplets(p_.begin(), p_.end());
-      complement_.resize(n, n);
-      complement_.setFromTriplets(d_.begin(), d_.end());
-      matrix_ = projection_ * matrix_ * projection_ + complement_;
-    }
-    cg_.compute(matrix_);
+    jacobian.fillJacobian(t, x, v, h * h, h, matrix_, w, kw);
+    const VecX& mass = jacobian.mass();
+    forEachChunk(n_, parallel_, [&](int begin, int end) {
+      for (int p = begin; p < end; ++p) matrix_.self()[p] += Sym3::identity(mass[p]);
+    });
   }
 
-  // Solves A y = b, starting from y.
+  // Solves S (A y - b) = 0 from y (its filtered-out part kept).
   void solve(const VecX& b, VecX& y) {
-    y = cg_.solveWithGuess(b, y);
+    const PcgResult r = pcg_.solve(matrix_, filter_, b, y, options_.cg_tolerance, options_.cg_max_iterations, parallel_);
     ++stats_.last_linear_solves;
-    stats_.last_cg_iterations += static_cast<int>(cg_.iterations());
-    stats_.cg_iterations += cg_.iterations();
+    stats_.last_cg_iterations += r.iterations;
+    stats_.cg_iterations += r.iterations;
+    stats_.last_cg_residual = std::max(stats_.last_cg_residual, r.relative_residual);
+    stats_.max_cg_residual = std::max(stats_.max_cg_residual, r.relative_residual);
   }
 
   // r = S (M dv - h (Fs(x0 + h (v0 + dv), v0 + dv) + Fc)); returns max |M^-1 r|. Leaves the trial state in x1_, v1_.
   double residual(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v, const VecX& dv,
-                  VecX& r) {
+                  const VecX& mass, VecX& r) {
     v1_ = v + dv;
     x1_ = x + h * v1_;
     ++stats_.evaluations;
     jacobian.smoothForce(t + h, x1_, v1_, fs_);
-    r = mass_.cwiseProduct(dv) - h * (fs_ + fc_);
-    filter(r);
-    return (r.array() / mass_.array()).abs().maxCoeff();
+    r.resize(x.size());
+    double worst = 0;
+    for (int p = 0; p < n_; ++p) {
+      const Vec3 rp = filter_.apply(p, mass[p] * particle(dv, p) - h * (particle(fs_, p) + particle(fc_, p)));
+      particle(r, p) = rp;
+      worst = std::max(worst, rp.cwiseAbs().maxCoeff() / mass[p]);
+    }
+    return worst;
   }
 
   // Newton on the nonlinear backward-Euler equations from the linearized step in dv_, with backtracking.
-  void newton(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v) {
-    // The contact forces in F0, held fixed: Fc = F0 - Fs(x0, v0).
+  void newton(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v, const VecX& mass) {
+    // The contact forces in F0, held fixed: Fc = F0 - Fs(x0, v0) (f0_ holds accelerations).
     ++stats_.evaluations;
     jacobian.smoothForce(t, x, v, fs_);
-    fc_ = f0_ - fs_;
-    filter(fc_);
-    double norm = residual(jacobian, t, h, x, v, dv_, r_);
+    fc_.resize(x.size());
+    for (int p = 0; p < n_; ++p) particle(fc_, p) = filter_.apply(p, mass[p] * particle(f0_, p) - particle(fs_, p));
+    double norm = residual(jacobian, t, h, x, v, dv_, mass, r_);
     while (norm > options_.newton_tolerance * std::max(1.0, v1_.lpNorm<Eigen::Infinity>()) &&
            stats_.last_linear_solves < options_.newton_max_iterations) {
-      assemble(jacobian, t + h, x1_, v1_, h);
+      assemble(jacobian, t + h, x1_, v1_, h, nullptr, nullptr);
       delta_.setZero(x.size());
       rhs_ = -r_;
       solve(rhs_, delta_);
@@ -188,7 +150,7 @@ class BackwardEuler final : public Integrator {
       double alpha = 1;
       for (int k = 0; k < 10; ++k, alpha /= 2) {
         trial_ = dv_ + alpha * delta_;
-        const double trial_norm = residual(jacobian, t, h, x, v, trial_, trial_r_);
+        const double trial_norm = residual(jacobian, t, h, x, v, trial_, mass, trial_r_);
         if (trial_norm < norm || k == 9) {
           dv_.swap(trial_);
           r_.swap(trial_r_);
@@ -201,11 +163,13 @@ class BackwardEuler final : public Integrator {
   }
 
   IntegratorOptions options_;
-  Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper, Eigen::DiagonalPreconditioner<double>> cg_;
-  SparseMatrix matrix_, projection_, complement_;
-  Triplets dfdx_, dfdv_, a_, p_, d_;
+  PairBlockMatrix matrix_;
+  ParticleFilter filter_;
+  FilteredPcg pcg_;
   std::vector<ContactConstraint> contacts_;
-  VecX mass_, free_, f0_, kv_, rhs_, dv_, z_, az_;
+  int n_ = 0;
+  bool parallel_ = false;
+  VecX f0_, kv_, rhs_, dv_;
   VecX fs_, fc_, r_, x1_, v1_, delta_, trial_, trial_r_;  // Newton only
 };
 

@@ -17,7 +17,9 @@ struct IntegratorOptions {
   bool newton = false;              // backward-euler: iterate Newton to convergence instead of one step
   double newton_tolerance = 1e-8;   // backward-euler newton: max |M^-1 residual| (m/s), relative to max(1, |v|)
   int newton_max_iterations = 50;
-  double cg_tolerance = 1e-6;       // backward-euler: relative residual of the conjugate-gradient solve
+  // backward-euler: the conjugate-gradient solve stops at this relative residual |S (b - A dv)| / |S (b - A z)|
+  // (filtered_pcg.h); README, Integrators, for how the default was chosen.
+  double cg_tolerance = 1e-6;
   int cg_max_iterations = 1000;
 };
 
@@ -32,6 +34,9 @@ struct IntegratorStats {
   int last_cg_iterations = 0;       // backward-euler: in the last step (summed over its linear solves)
   int last_linear_solves = 0;       // backward-euler: in the last step (1 unless newton)
   double last_residual = 0;         // backward-euler newton: the last step's final |M^-1 residual|_inf (m/s)
+  double last_cg_residual = 0;      // backward-euler: achieved relative CG residual, the last step's worst solve
+  double max_cg_residual = 0;       // backward-euler: the same, worst over all steps
+  long pattern_setups = 0;          // backward-euler: matrices sized for a new Jacobian pattern (once per topology)
 };
 
 class Integrator {

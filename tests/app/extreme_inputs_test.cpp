@@ -50,6 +50,12 @@ TEST_F(ExtremeInputs, StepLongerThanAFrameBecomesOneStepPerFrame) {
   EXPECT_FALSE(r.blow_up);
   EXPECT_EQ(r.steps, 14);
   EXPECT_NEAR(r.simulated_time, 14.0 / 30, 1e-12);
+  // run.json reports the linear solves: the tolerance they were held to and the worst residual they reached.
+  const auto solver = runJson()["linear_solver"];
+  EXPECT_EQ(solver["cg_tolerance"].get<double>(), IntegratorOptions{}.cg_tolerance);
+  EXPECT_GT(solver["cg_iterations"].get<long>(), 0);
+  EXPECT_GT(solver["max_relative_residual"].get<double>(), 0);
+  EXPECT_LE(solver["max_relative_residual"].get<double>(), IntegratorOptions{}.cg_tolerance);
   // An explicit method at omega h >> 3 blows up, and says so with a hint, without crashing.
   const RunReport e = run("[simulation]\ndt = 0.1\nduration = 0.5\nfps = 30\n" + kSmallJelly + "ks = 1e5\n", "rk4");
   ASSERT_TRUE(e.blow_up);

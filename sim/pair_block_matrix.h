@@ -1,0 +1,41 @@
+// The implicit solver's matrix, in the shape of pairwise forces' Jacobians: A = blockdiag(self_p) plus, for every
+// pair e = (a, b) of a PairSchedule, W_e on the diagonal blocks (a, a) and (b, b) and -W_e on (a, b) and (b, a).
+// The pattern is the schedule's, fixed per topology; each step refills the values in place (symmetric 3x3 blocks).
+#pragma once
+#include <vector>
+
+#include "pair_schedule.h"
+#include "sym3.h"
+
+namespace wobble {
+
+class PairBlockMatrix {
+ public:
+  // Sizes the blocks for a pattern (the schedule must outlive the matrix or the next reset).
+  void reset(const PairSchedule& pattern);
+  const PairSchedule* pattern() const { return pattern_; }
+  // Whether the blocks are sized for pattern as it stands (a system may rebuild its schedule in place).
+  bool fits(const PairSchedule& pattern) const {
+    return pattern_ == &pattern && self_.size() == std::size_t(pattern.particles()) && pair_.size() == pattern.size();
+  }
+
+  std::vector<Sym3>& self() { return self_; }  // one block per particle
+  std::vector<Sym3>& pair() { return pair_; }  // one block per pair, in schedule order
+  const std::vector<Sym3>& self() const { return self_; }
+  const std::vector<Sym3>& pair() const { return pair_; }
+
+  // The diagonal blocks A_pp = self_p + sum of W_e over the pairs at p (for block-Jacobi preconditioning).
+  void diagonal(std::vector<Sym3>& out, bool parallel) const;
+  // y = A x.
+  void multiply(const VecX& x, VecX& y, bool parallel) const;
+  // y = self x on particles [begin, end): the first part of multiply, to fuse with other per-particle work.
+  void multiplySelf(const VecX& x, VecX& y, int begin, int end) const;
+  // y += the pair blocks' part of A x (after multiplySelf over every particle).
+  void addPairProducts(const VecX& x, VecX& y, bool parallel) const;
+
+ private:
+  const PairSchedule* pattern_ = nullptr;
+  std::vector<Sym3> self_, pair_;
+};
+
+}  // namespace wobble

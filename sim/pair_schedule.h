@@ -1,0 +1,53 @@
+// An order for loops over particle pairs (springs, the Jacobian's off-diagonal blocks) that add into both particles
+// of each pair, so that they run on threads without locks and give the same bytes whatever the thread count.
+// Particles are cut into contiguous blocks at least as long as the longest pair's index span, so a pair joins one
+// block or two neighbouring ones. Phase 0 runs each block's own pairs, phase 1 the pairs between blocks 2k and
+// 2k + 1, phase 2 those between 2k + 1 and 2k + 2: the tasks of a phase touch disjoint particles, and every
+// particle receives its terms in one fixed order. Built once per topology.
+#pragma once
+#include <span>
+#include <vector>
+
+#include "parallel.h"
+
+namespace wobble {
+
+class PairSchedule {
+ public:
+  PairSchedule() = default;
+  // a, b: the pairs' particle indices in [0, particles). order() is then the pairs' new order.
+  PairSchedule(std::span<const int> a, std::span<const int> b, int particles);
+
+  // order()[k] is the input index of the k-th pair in schedule order; a(), b() are in schedule order.
+  const std::vector<int>& order() const { return order_; }
+  const std::vector<int>& a() const { return a_; }
+  const std::vector<int>& b() const { return b_; }
+  int particles() const { return particles_; }
+  std::size_t size() const { return a_.size(); }
+
+  // fn(begin, end) over ranges of pairs in schedule order, phase by phase, the ranges of a phase on threads
+  // when parallel.
+  template <class Fn>
+  void run(bool parallel, Fn&& fn) const {
+    for (std::size_t p = 0; p + 1 < phase_begin_.size(); ++p) {
+      const int first = phase_begin_[p], last = phase_begin_[p + 1];
+      const auto task = [&](int t) {
+        if (task_begin_[t] < task_begin_[t + 1]) fn(task_begin_[t], task_begin_[t + 1]);
+      };
+      if (parallel && last - first > 1)
+        tbb::parallel_for(tbb::blocked_range<int>(first, last, 1), [&](const tbb::blocked_range<int>& r) {
+          for (int t = r.begin(); t != r.end(); ++t) task(t);
+        });
+      else
+        for (int t = first; t < last; ++t) task(t);
+    }
+  }
+
+ private:
+  std::vector<int> order_, a_, b_;
+  std::vector<int> task_begin_;   // pair ranges, tasks in phase order
+  std::vector<int> phase_begin_;  // task ranges of the three phases
+  int particles_ = 0;
+};
+
+}  // namespace wobble

@@ -1,0 +1,15 @@
+#include "parallel.h"
+
+#include <atomic>
+
+namespace wobble {
+namespace {
+
+std::atomic<int> threshold{10000};
+
+}  // namespace
+
+int parallelThreshold() { return threshold.load(std::memory_order_relaxed); }
+void setParallelThreshold(int particles) { threshold.store(particles, std::memory_order_relaxed); }
+
+}  // namespace wobble

@@ -1,0 +1,47 @@
+// Loops over particles on TBB threads whose results do not depend on the thread count: work is cut into fixed
+// chunks of particles (never into "one piece per thread"), and sums are taken per chunk, then over the chunks in
+// order. Small systems run the same chunks serially: below the threshold threads cost more than they give.
+#pragma once
+#include <algorithm>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+namespace wobble {
+
+// Particles per chunk of the particle loops and of the pair blocks in pair_schedule.h.
+inline constexpr int kParticleChunk = 2048;
+
+// Systems with fewer particles than this step on one thread (measured: README, Benchmarks). Tests lower it to 0
+// to run small systems on threads; results are the same bytes either way.
+int parallelThreshold();
+void setParallelThreshold(int particles);
+inline bool runsInParallel(int particles) { return particles >= parallelThreshold(); }
+
+// fn(begin, end) over [0, n) in chunks of kParticleChunk, on threads when parallel.
+template <class Fn>
+void forEachChunk(int n, bool parallel, Fn&& fn) {
+  const int chunks = (n + kParticleChunk - 1) / kParticleChunk;
+  const auto run = [&](int c) { fn(c * kParticleChunk, std::min(n, (c + 1) * kParticleChunk)); };
+  if (parallel && chunks > 1)
+    tbb::parallel_for(tbb::blocked_range<int>(0, chunks, 1), [&](const tbb::blocked_range<int>& r) {
+      for (int c = r.begin(); c != r.end(); ++c) run(c);
+    });
+  else
+    for (int c = 0; c < chunks; ++c) run(c);
+}
+
+// The sum of fn(begin, end) over the chunks of [0, n), added in chunk order; T is double or a fixed-size Eigen
+// vector (several sums in one pass). partials is scratch, kept between calls so that a step allocates nothing.
+template <class T, class Fn>
+T sumOverChunks(int n, bool parallel, std::vector<T>& partials, Fn&& fn) {
+  partials.resize((n + kParticleChunk - 1) / kParticleChunk);
+  forEachChunk(n, parallel, [&](int begin, int end) { partials[begin / kParticleChunk] = fn(begin, end); });
+  if (partials.empty()) return fn(0, 0);  // no particles: the empty sum, of the right type
+  T sum = partials[0];
+  for (std::size_t c = 1; c < partials.size(); ++c) sum += partials[c];
+  return sum;
+}
+
+}  // namespace wobble
