@@ -78,17 +78,30 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
     }
     return sum;
   });
-  double r_norm2 = sums[0], delta = sums[1];
+  double r_norm2 = sums[0], delta = sums[1], beta = 0;
   PcgResult result;
+  // Raw pointers in the loops: through the members, each store would make the compiler reload them.
+  double *xs = x.data(), *rs = r_.data(), *cs = c_.data(), *qs = q_.data();
+  const Sym3* inverse = inverse_.data();
+  const auto at = [](double* v, int p) { return Vec3::Map(v + 3 * p); };
   while (r_norm2 >= threshold && result.iterations < max_iterations) {
-    ++result.iterations;
+    // q = A c, with the direction's update c = z + beta c (z in q) fused into the diagonal part of the product.
+    if (result.iterations++ == 0) {
+      a.multiply(c_, q_, parallel);
+    } else {
+      forEachChunk(n, parallel, [&](int begin, int end) {
+        for (int p = begin; p < end; ++p) at(cs, p) = at(qs, p) + beta * at(cs, p);
+        a.multiplySelf(c_, q_, begin, end);
+      });
+      a.addPairProducts(c_, q_, parallel);
+    }
     // q = S A c, alpha = delta / c.q
-    a.multiply(c_, q_, parallel);
     const double cq = sumOverChunks(n, parallel, sums_, [&](int begin, int end) {
       double sum = 0;
       for (int p = begin; p < end; ++p) {
-        particle(q_, p) = s.apply(p, particle(q_, p));
-        sum += particle(c_, p).dot(particle(q_, p));
+        const Vec3 q = s.apply(p, at(qs, p));
+        at(qs, p) = q;
+        sum += at(cs, p).dot(q);
       }
       return sum;
     });
@@ -97,21 +110,18 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
     sums = sumOverChunks(n, parallel, pair_sums_, [&](int begin, int end) {
       Eigen::Vector2d sum = Eigen::Vector2d::Zero();
       for (int p = begin; p < end; ++p) {
-        particle(x, p) += alpha * particle(c_, p);
-        const Vec3 r = particle(r_, p) -= alpha * particle(q_, p);
-        const Vec3 z = inverse_[p] * r;
-        particle(q_, p) = z;  // q is free until the next product: it holds z
+        at(xs, p) += alpha * at(cs, p);
+        const Vec3 r = at(rs, p) - alpha * at(qs, p);
+        const Vec3 z = inverse[p] * r;
+        at(rs, p) = r;
+        at(qs, p) = z;  // q is free until the next product: it holds z
         sum += Eigen::Vector2d(r.squaredNorm(), r.dot(z));
       }
       return sum;
     });
     r_norm2 = sums[0];
-    const double beta = sums[1] / delta;
+    beta = sums[1] / delta;
     delta = sums[1];
-    if (r_norm2 < threshold) break;
-    forEachChunk(n, parallel, [&](int begin, int end) {
-      for (int p = begin; p < end; ++p) particle(c_, p) = particle(q_, p) + beta * particle(c_, p);
-    });
   }
   result.relative_residual = std::sqrt(r_norm2 / b_norm2);
   return result;

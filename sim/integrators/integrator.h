@@ -19,7 +19,7 @@ struct IntegratorOptions {
   int newton_max_iterations = 50;
   // backward-euler: the conjugate-gradient solve stops at this relative residual |S (b - A dv)| / |S (b - A z)|
   // (filtered_pcg.h); README, Integrators, for how the default was chosen.
-  double cg_tolerance = 1e-6;
+  double cg_tolerance = 1e-3;
   int cg_max_iterations = 1000;
 };
 
