@@ -20,8 +20,11 @@ void Sphere::near(double t, const VecX& x, double margin, std::vector<int>& out)
   const double reach = (radius_ + margin) * (1 + 1e-9), reach2 = reach * reach;
   const int n = static_cast<int>(x.size() / 3);
   out.reserve(n);  // once: the list never reallocates while a body settles onto the collider
-  for (int i = 0; i < n; ++i)
-    if ((particle(x, i) - c).squaredNorm() < reach2) out.push_back(i);
+  const double* p = x.data();
+  for (int i = 0; i < n; ++i, p += 3) {
+    const double dx = p[0] - c.x(), dy = p[1] - c.y(), dz = p[2] - c.z();
+    if (dx * dx + dy * dy + dz * dz < reach2) out.push_back(i);
+  }
 }
 
 }  // namespace wobble
