@@ -49,7 +49,7 @@ struct RenderOptionsConfig {
   bool denoise = true;
   std::string sampler = "sobol";  // "sobol" or "independent" (render/sampler.h)
   bool sky_sampling = false;
-  bool russian_roulette = true;  // from the second bounce on, by throughput (render/integrator.h)
+  bool russian_roulette = false;  // from the second bounce on, by throughput (render/integrator.h)
   int bounces = 2;
   double exposure = -0.5;  // stops: the sun and sky on a light surface need a little less than 0
   Vec3 sun_direction{-0.35, 1.0, 0.55};  // towards the sun
