@@ -198,7 +198,8 @@ BlendReport makeBlend(const BlendOptions& options) {
   const fs::path manifest_file = render::temporarySibling(report.blend, "tmp");
   const fs::path script = render::temporarySibling(out / "make_blend.py", "tmp");
   const fs::path log = render::temporarySibling(out / "blender.log", "tmp");
-  const fs::path partial = render::temporarySibling(report.blend, "partial");
+  // Absolute: Blender's save operator refuses a relative file path (`wobble blend out/scene` from the project root).
+  const fs::path partial = fs::absolute(render::temporarySibling(report.blend, "partial"));
   temporary.paths = {manifest_file, script, log, partial};
   writeTextFile(manifest_file, manifest.dump(1) + "\n");
   writeTextFile(script, kBlendScript);
