@@ -36,6 +36,10 @@ class Collider {
   // query() itself; colliders override it with a tight loop over the coordinates.
   virtual void near(double t, const VecX& x, double margin, std::vector<int>& out) const;
 
+  // A box holding the solid at time t (one that moves on a repeating schedule: over its whole cycle), or nothing if it
+  // is unbounded (a plane). Used to frame a camera around the action.
+  virtual std::optional<Eigen::AlignedBox3d> bounds(double t) const = 0;
+
   const std::string& name() const { return name_; }
   const ContactParams& contact() const { return contact_; }
 

@@ -73,4 +73,11 @@ void Elevator::near(double t, const VecX& x, double margin, std::vector<int>& ou
   }
 }
 
+std::optional<Eigen::AlignedBox3d> Elevator::bounds(double) const {
+  const Vec3 half(size_ / 2, 0, size_ / 2);
+  const Vec3 bottom = topCenter(0) - half - Vec3(0, thickness_, 0);
+  const Vec3 top = topCenter(0) + half + Vec3(0, schedule_.accel * schedule_.travel * schedule_.travel / 2, 0);
+  return Eigen::AlignedBox3d(bottom, top);
+}
+
 }  // namespace wobble

@@ -12,6 +12,7 @@ class Plane final : public Collider {
   Plane(std::string name, ContactParams contact, const Vec3& point, const Vec3& normal);
   std::optional<SurfacePoint> query(double t, const Vec3& x) const override;
   void near(double t, const VecX& x, double margin, std::vector<int>& out) const override;
+  std::optional<Eigen::AlignedBox3d> bounds(double) const override { return std::nullopt; }  // infinite
   const Vec3& point() const { return point_; }
   const Vec3& normal() const { return normal_; }
 

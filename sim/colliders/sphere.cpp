@@ -27,4 +27,8 @@ void Sphere::near(double t, const VecX& x, double margin, std::vector<int>& out)
   }
 }
 
+std::optional<Eigen::AlignedBox3d> Sphere::bounds(double t) const {
+  return Eigen::AlignedBox3d(center(t) - Vec3::Constant(radius_), center(t) + Vec3::Constant(radius_));
+}
+
 }  // namespace wobble

@@ -10,6 +10,7 @@ class Sphere final : public Collider {
   Sphere(std::string name, ContactParams contact, const Vec3& center, double radius, const Vec3& velocity);
   std::optional<SurfacePoint> query(double t, const Vec3& x) const override;
   void near(double t, const VecX& x, double margin, std::vector<int>& out) const override;
+  std::optional<Eigen::AlignedBox3d> bounds(double t) const override;
   Vec3 center(double t) const { return center_ + t * velocity_; }
   double radius() const { return radius_; }
 

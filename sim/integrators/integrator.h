@@ -51,8 +51,19 @@ class Integrator {
   IntegratorStats stats_;
 };
 
+// What a study or an estimate needs to know of a method, kept beside its constructor in the method table
+// (integrator.cpp), so that no caller compares names. Every method must state its order (checked when compiled).
+struct IntegratorTraits {
+  int order = 0;          // of global accuracy (numerics.md): error ~ C h^order on a smooth problem
+  bool adaptive = false;  // chooses its own substeps: dt is only its largest step, tolerances set the accuracy
+  bool a_stable = false;  // stable at any step on a damped linear oscillator: no fixed-step limit
+  bool implicit = false;  // solves a linear system each step: assembles force Jacobians (memory, scene_limits.h)
+};
+
 // The names makeIntegrator accepts, in the order the docs list them.
 std::span<const std::string_view> integratorNames();
+// Throws std::invalid_argument naming the allowed values when name is unknown.
+const IntegratorTraits& integratorTraits(std::string_view name);
 // Throws std::invalid_argument naming the allowed values when name is unknown.
 std::unique_ptr<Integrator> makeIntegrator(std::string_view name, const IntegratorOptions& options = {});
 

@@ -24,5 +24,16 @@ TEST(MethodTable, EveryNameMakesTheMethodOfThatName) {
   }
 }
 
+TEST(MethodTable, EveryMethodStatesItsTraits) {
+  for (std::string_view name : integratorNames()) EXPECT_GE(integratorTraits(name).order, 1) << name;
+  EXPECT_EQ(integratorTraits("rk4").order, 4);
+  EXPECT_TRUE(integratorTraits("rk45").adaptive);
+  EXPECT_FALSE(integratorTraits("rk4").adaptive);
+  EXPECT_TRUE(integratorTraits("backward-euler").a_stable);
+  EXPECT_TRUE(integratorTraits("backward-euler").implicit);
+  EXPECT_FALSE(integratorTraits("symplectic-euler").a_stable);
+  EXPECT_THROW(integratorTraits("implicit-euler"), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace wobble
