@@ -27,10 +27,10 @@
 #include <OpenEXR/ImfRgbaFile.h>
 
 #include "render/color.h"
-#include "render/film.h"
-#include "render/pfm_io.h"
-#include "render/png_io.h"
-#include "render/image_error.h"
+#include "render/image/film.h"
+#include "render/image/image_error.h"
+#include "render/image/pfm_io.h"
+#include "render/image/png_io.h"
 
 namespace {
 

@@ -17,11 +17,11 @@
 
 #include <benchmark/benchmark.h>
 
-#include "app/frame_view.h"
-#include "app/render_config.h"
-#include "app/scene.h"
+#include "app/scene/render_config.h"
+#include "app/scene/scene.h"
+#include "app/view/frame_view.h"
 #include "render/denoiser.h"
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 #include "render/renderer.h"
 
 namespace {

@@ -1,4 +1,4 @@
-// Feeds arbitrary bytes to loadScene as a scene file: every input must load or end in a SceneError (exit 2); any
+// Feeds arbitrary bytes to loadScene as a scene file: every input must load or end in a InputError (exit 2); any
 // other exception, a crash, a leak or a sanitizer report is a finding. Seed corpus: scenes/*.toml.
 #include <unistd.h>
 
@@ -8,8 +8,8 @@
 #include <fstream>
 #include <string>
 
-#include "app/scene.h"
-#include "app/scene_error.h"
+#include "app/scene/input_error.h"
+#include "app/scene/scene.h"
 
 namespace fs = std::filesystem;
 
@@ -39,7 +39,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::ofstream(sceneFile(), std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data), size);
   try {
     wobble::loadScene(sceneFile());
-  } catch (const wobble::SceneError&) {
+  } catch (const wobble::InputError&) {
   }
   return 0;
 }

@@ -1,5 +1,5 @@
 // The diffuse-plus-coat BSDF: evaluation, mixture pdf and lobe sampling (see bsdf.h).
-#include "bsdf.h"
+#include "render/bsdf.h"
 
 #include <algorithm>
 #include <cmath>

@@ -12,13 +12,13 @@
 #pragma once
 #include <optional>
 
-#include "material.h"
-#include "sampling.h"
+#include "render/material.h"
+#include "render/sampling.h"
 
 namespace wobble::render {
 
 // f split by lobe: f = diffuse * base + specular (the coat is colourless). The denoiser filters the two parts apart,
-// the diffuse one divided by the base colour, so texture detail is not blurred (integrator.h).
+// the diffuse one divided by the base colour, so texture detail is not blurred (path_tracer.h).
 struct BsdfLobes {
   float diffuse = 0, specular = 0;
 };

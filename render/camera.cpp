@@ -1,5 +1,5 @@
 // Pinhole camera: orthonormal basis from position/look_at/up, the film plane, ray differentials (see camera.h).
-#include "camera.h"
+#include "render/camera.h"
 
 #include <cmath>
 #include <numbers>

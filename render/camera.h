@@ -12,7 +12,7 @@
 #pragma once
 #include <Eigen/Core>
 
-#include "ray.h"
+#include "render/ray.h"
 
 namespace wobble::render {
 

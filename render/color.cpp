@@ -1,5 +1,5 @@
 // sRGB transfer functions and tone-map curves (see color.h).
-#include "color.h"
+#include "render/color.h"
 
 #include <algorithm>
 #include <array>

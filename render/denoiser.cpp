@@ -4,7 +4,7 @@
 // reach on every side with pixels of class -1 that no tap accepts, so the inner loops run over whole rows with no
 // bounds checks and the compiler vectorises them (with an AVX2 clone where the CPU has it). Each output pixel is a
 // fixed sum over its neighbours, so the result does not depend on the number of threads.
-#include "denoiser.h"
+#include "render/denoiser.h"
 
 #include <algorithm>
 #include <bit>

@@ -17,7 +17,7 @@
 #pragma once
 #include <vector>
 
-#include "film.h"
+#include "render/image/film.h"
 
 namespace wobble::render {
 

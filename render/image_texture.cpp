@@ -1,12 +1,12 @@
 // Bitmap texture: sRGB decoding on load, wrap modes and bilinear lookup (see image_texture.h).
-#include "image_texture.h"
+#include "render/image_texture.h"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
-#include "png_io.h"
+#include "render/image/png_io.h"
 
 namespace wobble::render {
 

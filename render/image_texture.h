@@ -12,8 +12,8 @@
 #include <span>
 #include <vector>
 
-#include "image.h"
-#include "texture.h"
+#include "render/image/image.h"
+#include "render/texture.h"
 
 namespace wobble::render {
 

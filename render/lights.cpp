@@ -1,5 +1,5 @@
 // Sky radiance and sun / area light sampling with shadow rays (see lights.h).
-#include "lights.h"
+#include "render/lights.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,8 +9,8 @@
 
 #include <Eigen/Geometry>
 
-#include "sampling.h"
-#include "scene.h"
+#include "render/sampling.h"
+#include "render/scene.h"
 
 namespace wobble::render {
 

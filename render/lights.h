@@ -1,6 +1,6 @@
 // Lights: what illuminates the scene. At every shading point each sun and area light is sampled explicitly
 // (next-event estimation) and the path continues in a BSDF-sampled direction that may find the same light again; the
-// two estimates are combined by multiple importance sampling (power heuristic, integrator.h), so no light is counted
+// two estimates are combined by multiple importance sampling (power heuristic, path_tracer.h), so no light is counted
 // twice and each is found by whichever strategy suits it (the sun's disc by light sampling on a matte floor, by BSDF
 // sampling in a sharp glossy highlight). Camera rays do not see suns or area lights, only the sky.
 //
@@ -18,7 +18,7 @@
 
 #include <Eigen/Core>
 
-#include "color.h"
+#include "render/color.h"
 
 namespace wobble::render {
 

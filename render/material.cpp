@@ -1,5 +1,5 @@
 // Material parameter validation (see material.h).
-#include "material.h"
+#include "render/material.h"
 
 #include <sstream>
 #include <stdexcept>

@@ -18,8 +18,8 @@
 
 #include <Eigen/Core>
 
-#include "color.h"
-#include "texture.h"
+#include "render/color.h"
+#include "render/texture.h"
 
 namespace wobble::render {
 

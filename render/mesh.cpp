@@ -1,5 +1,5 @@
 // Validation of renderer input meshes (see mesh.h).
-#include "mesh.h"
+#include "render/mesh.h"
 
 #include <sstream>
 #include <stdexcept>

@@ -1,6 +1,6 @@
 // render(): tiles in parallel with TBB, adaptive passes, per-pixel sample streams, FTZ/DAZ in render threads
 // (see renderer.h).
-#include "renderer.h"
+#include "render/renderer.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,8 +12,8 @@
 #include <xmmintrin.h>
 #include <pmmintrin.h>
 
-#include "integrator.h"
-#include "scene.h"
+#include "render/path_tracer.h"
+#include "render/scene.h"
 
 namespace wobble::render {
 

@@ -12,11 +12,11 @@
 //                      received light (colour with the diffuse part divided by the albedo, so texture is not noise),
 //                      so easy pixels can stop at one sample. A pixel next to one that goes on goes on too (a 3 x 3
 //                      dilation, as Cycles), so isolated pixels that stopped by luck do not show.
-//   max_bounces        path continuations after the first hit (integrator.h); 2 by default
+//   max_bounces        path continuations after the first hit (path_tracer.h); 2 by default
 //   sampler            SamplerKind::Sobol (default) or Independent (sampler.h)
-//   sample_sky         next-event estimation of the sky with MIS (integrator.h)
-//   mis                multiple importance sampling of suns and area lights (integrator.h); off only for comparisons
-//   roulette           Russian roulette from the second path continuation on, by throughput (integrator.h)
+//   sample_sky         next-event estimation of the sky with MIS (path_tracer.h)
+//   mis                multiple importance sampling of suns and area lights (path_tracer.h); off only for comparisons
+//   roulette           Russian roulette from the second path continuation on, by throughput (path_tracer.h)
 //   tile_size          tiles of tile_size^2 pixels are the units of parallel work (tbb::parallel_for)
 //   frame              animation frame index: seeds the per-pixel sample streams, so consecutive frames get
 //                      different noise and the same frame is always the same
@@ -28,9 +28,9 @@
 #pragma once
 #include <cstdint>
 
-#include "camera.h"
-#include "film.h"
-#include "sampler.h"
+#include "render/camera.h"
+#include "render/image/film.h"
+#include "render/sampler.h"
 
 namespace wobble::render {
 

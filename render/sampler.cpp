@@ -1,5 +1,5 @@
 // Padded Owen-scrambled Sobol and hashed independent samples (see sampler.h).
-#include "sampler.h"
+#include "render/sampler.h"
 
 #include <algorithm>
 #include <array>

@@ -1,5 +1,5 @@
 // Scene: shapes, materials and their Embree geometries; ray queries with interpolated hit data (see scene.h).
-#include "scene.h"
+#include "render/scene.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,10 +8,10 @@
 
 #include <Eigen/Geometry>
 
-#include "embree_device.h"
-#include "embree_mesh.h"
-#include "embree_scene.h"
-#include "embree_sphere.h"
+#include "render/embree/embree_device.h"
+#include "render/embree/embree_mesh.h"
+#include "render/embree/embree_scene.h"
+#include "render/embree/embree_sphere.h"
 
 namespace wobble::render {
 

@@ -17,12 +17,12 @@
 
 #include <embree3/rtcore.h>
 
-#include "hit.h"
-#include "lights.h"
-#include "material.h"
-#include "mesh.h"
-#include "ray.h"
-#include "shapes.h"
+#include "render/hit.h"
+#include "render/lights.h"
+#include "render/material.h"
+#include "render/mesh.h"
+#include "render/ray.h"
+#include "render/shapes.h"
 
 namespace wobble::render {
 

@@ -1,12 +1,12 @@
 // Scene + camera as OBJ, JSON and baked textures (see scene_export.h).
-#include "scene_export.h"
+#include "render/scene_export.h"
 
 #include <fstream>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
-#include "png_io.h"
+#include "render/image/png_io.h"
 
 namespace wobble::render {
 

@@ -10,8 +10,8 @@
 #pragma once
 #include <filesystem>
 
-#include "camera.h"
-#include "scene.h"
+#include "render/camera.h"
+#include "render/scene.h"
 
 namespace wobble::render {
 

@@ -1,5 +1,5 @@
 // Quad and box triangulations with outward normals and per-face UVs (see shapes.h).
-#include "shapes.h"
+#include "render/shapes.h"
 
 #include <cmath>
 #include <stdexcept>

@@ -9,7 +9,7 @@
 #pragma once
 #include <Eigen/Core>
 
-#include "mesh.h"
+#include "render/mesh.h"
 
 namespace wobble::render {
 

@@ -1,5 +1,5 @@
 // Procedural textures: checker and plank-floor wood (see texture.h).
-#include "texture.h"
+#include "render/texture.h"
 
 #include <cmath>
 #include <algorithm>

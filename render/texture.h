@@ -13,7 +13,7 @@
 // The image texture is in image_texture.h.
 //
 // Filtering: evalFootprint averages the texture over a pixel's footprint in UV space (the parallelogram spanned by
-// the UV derivatives duv/dx and duv/dy, from ray differentials, integrator.h) with a kx x ky grid of lookups, k
+// the UV derivatives duv/dx and duv/dy, from ray differentials, path_tracer.h) with a kx x ky grid of lookups, k
 // each edge's length over the texture's finest feature (featureSize(), in UV units), at most kMaxLookups. So a far-away wooden
 // floor is not a field of speckles at one sample per pixel: its joints and grain average out as they would over
 // the pixel. The grid is offset by `jitter` (in [0, 1)^2, the sample's pixel jitter), which keeps it unbiased.
@@ -22,7 +22,7 @@
 
 #include <Eigen/Core>
 
-#include "color.h"
+#include "render/color.h"
 
 namespace wobble::render {
 

@@ -10,7 +10,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "scratch_dir.h"
+#include "tests/app/scratch_dir.h"
 
 namespace fs = std::filesystem;
 

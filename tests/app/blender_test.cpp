@@ -8,9 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/external_program.h"
-#include "output_check.h"
-#include "scratch_dir.h"
+#include "app/output/external_program.h"
+#include "tests/app/output_check.h"
+#include "tests/app/scratch_dir.h"
 
 namespace fs = std::filesystem;
 

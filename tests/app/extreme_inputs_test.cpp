@@ -8,11 +8,11 @@
 #include <cmath>
 #include <fstream>
 
-#include "app/run_command.h"
-#include "app/scene.h"
-#include "app/scene_error.h"
-#include "scratch_dir.h"
+#include "app/commands/run_command.h"
+#include "app/scene/input_error.h"
+#include "app/scene/scene.h"
 #include "sim/simulation.h"
+#include "tests/app/scratch_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -175,7 +175,7 @@ TEST_F(ExtremeInputs, HugeInitialVelocity) {
   try {
     run("[simulation]\nduration = 0.1\n" + kSmallJelly + "velocity = [0, 0, 5000]\n");
     FAIL() << "no error";
-  } catch (const SceneError& e) {
+  } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("bodies.jelly.velocity"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("1000"), std::string::npos) << e.what();
   }

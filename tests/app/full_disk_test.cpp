@@ -1,6 +1,6 @@
 // A full disk during `wobble run`: every write is checked, the run fails at the first error (exit 1) naming the file
 // and "No space left on device", no temporary file stays, and every file with a final name is complete (the bytes
-// of a clean run). Injected (WOBBLE_FAIL_WRITE_AFTER, render/atomic_file.h) at every kind of write, and for real on
+// of a clean run). Injected (WOBBLE_FAIL_WRITE_AFTER, io/atomic_file.h) at every kind of write, and for real on
 // a small tmpfs where the test may mount one.
 #include <sys/mount.h>
 
@@ -10,8 +10,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "output_check.h"
-#include "scratch_dir.h"
+#include "tests/app/output_check.h"
+#include "tests/app/scratch_dir.h"
 
 namespace fs = std::filesystem;
 

@@ -10,9 +10,9 @@
 
 #include <cstdlib>
 
-#include "app/run_command.h"
-#include "render/image_diff.h"
-#include "scratch_dir.h"
+#include "app/commands/run_command.h"
+#include "render/image/image_diff.h"
+#include "tests/app/scratch_dir.h"
 
 namespace fs = std::filesystem;
 

@@ -9,10 +9,10 @@
 #include <iostream>
 #include <map>
 
-#include "app/external_program.h"
-#include "output_check.h"
-#include "render/png_io.h"
-#include "scratch_dir.h"
+#include "app/output/external_program.h"
+#include "render/image/png_io.h"
+#include "tests/app/output_check.h"
+#include "tests/app/scratch_dir.h"
 
 namespace fs = std::filesystem;
 

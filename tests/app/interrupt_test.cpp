@@ -7,9 +7,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "output_check.h"
-#include "render/png_io.h"
-#include "scratch_dir.h"
+#include "render/image/png_io.h"
+#include "tests/app/output_check.h"
+#include "tests/app/scratch_dir.h"
 
 namespace fs = std::filesystem;
 

@@ -17,11 +17,11 @@
 #include <set>
 #include <sstream>
 
-#include "app/obj_text.h"
-#include "app/obj_vertex_order.h"
-#include "app/run_command.h"
-#include "output_check.h"
-#include "scratch_dir.h"
+#include "app/commands/run_command.h"
+#include "app/output/obj_text.h"
+#include "app/output/obj_vertex_order.h"
+#include "tests/app/output_check.h"
+#include "tests/app/scratch_dir.h"
 
 namespace fs = std::filesystem;
 

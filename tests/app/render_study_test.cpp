@@ -6,9 +6,9 @@
 #include <algorithm>
 #include <fstream>
 
-#include "app/scene_error.h"
-#include "app/study_render.h"
-#include "scratch_dir.h"
+#include "app/scene/input_error.h"
+#include "app/study/study_render.h"
+#include "tests/app/scratch_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -84,7 +84,7 @@ TEST_F(RenderStudy, BadOptionsAreBadInput) {
   const auto fails = [&](auto change) {
     RenderStudyOptions o = options();
     change(o);
-    EXPECT_THROW(runRenderStudy(o), SceneError);
+    EXPECT_THROW(runRenderStudy(o), InputError);
     EXPECT_FALSE(fs::exists(dir() / "study"));
   };
   fails([](RenderStudyOptions& o) { o.variants = {"sobol", "magic"}; });

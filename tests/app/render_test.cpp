@@ -8,11 +8,11 @@
 #include <fstream>
 #include <sstream>
 
-#include "app/external_program.h"
-#include "app/video.h"
-#include "render/image_diff.h"
-#include "render/png_io.h"
-#include "scratch_dir.h"
+#include "app/output/external_program.h"
+#include "app/output/video.h"
+#include "render/image/image_diff.h"
+#include "render/image/png_io.h"
+#include "tests/app/scratch_dir.h"
 
 namespace fs = std::filesystem;
 

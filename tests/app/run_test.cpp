@@ -11,11 +11,11 @@
 #include <set>
 #include <sstream>
 
-#include "app/run_command.h"
-#include "app/scene_error.h"
-#include "output_check.h"
-#include "scratch_dir.h"
+#include "app/commands/run_command.h"
+#include "app/scene/input_error.h"
 #include "sim/bodies/jelly.h"
+#include "tests/app/output_check.h"
+#include "tests/app/scratch_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -144,7 +144,7 @@ TEST_F(Run, FrameRangeWritesOnlyThoseFrames) {
   EXPECT_FALSE(fs::exists(dir() / "out/mesh/jelly_0004.obj"));
   for (const char* bad : {"0:2", "3:2", "1:5", "x", "2:"}) {
     o.frames = bad;
-    EXPECT_THROW(runScene(o), SceneError) << bad;
+    EXPECT_THROW(runScene(o), InputError) << bad;
   }
 }
 

@@ -7,9 +7,9 @@
 #include <set>
 #include <sstream>
 
-#include "app/scene.h"
-#include "app/scene_error.h"
-#include "scratch_dir.h"
+#include "app/scene/input_error.h"
+#include "app/scene/scene.h"
+#include "tests/app/scratch_dir.h"
 
 namespace wobble {
 namespace {
@@ -41,7 +41,7 @@ class SceneDocs : public testing::ScratchDir {
   Keys acceptedKeys(const std::string& scene_text) {
     try {
       loadScene(write("probe.toml", scene_text));
-    } catch (const SceneError& e) {
+    } catch (const InputError& e) {
       const std::string m = e.what();
       const auto from = m.find("(allowed here: ");
       if (from == std::string::npos) {

@@ -9,13 +9,13 @@
 #include <fstream>
 #include <sstream>
 
-#include "app/order_fit.h"
-#include "app/run_command.h"
-#include "app/stability_theory.h"
-#include "app/study_accuracy.h"
-#include "app/study_stability.h"
-#include "app/text_table.h"
-#include "scratch_dir.h"
+#include "app/commands/run_command.h"
+#include "app/study/order_fit.h"
+#include "app/study/stability_theory.h"
+#include "app/study/study_accuracy.h"
+#include "app/study/study_stability.h"
+#include "io/text_table.h"
+#include "tests/app/scratch_dir.h"
 
 namespace fs = std::filesystem;
 

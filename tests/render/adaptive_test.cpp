@@ -10,7 +10,7 @@
 #include <tbb/global_control.h>
 #include <gtest/gtest.h>
 
-#include "render/image_error.h"
+#include "render/image/image_error.h"
 #include "render/renderer.h"
 #include "render/scene.h"
 

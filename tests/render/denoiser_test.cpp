@@ -12,7 +12,7 @@
 #include <tbb/global_control.h>
 #include <gtest/gtest.h>
 
-#include "render/film.h"
+#include "render/image/film.h"
 
 namespace wobble::render {
 namespace {

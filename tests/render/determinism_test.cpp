@@ -4,7 +4,7 @@
 #include <tbb/global_control.h>
 #include <gtest/gtest.h>
 
-#include "render/film.h"
+#include "render/image/film.h"
 #include "render/image_texture.h"
 #include "render/renderer.h"
 #include "render/scene.h"

@@ -1,5 +1,5 @@
 // EXR output: every layer written comes back from OpenEXR with the right names, types and values.
-#include "render/exr_writer.h"
+#include "render/image/exr_writer.h"
 
 #include <cmath>
 #include <limits>
@@ -11,7 +11,7 @@
 #include <OpenEXR/ImfInputFile.h>
 #include <gtest/gtest.h>
 
-#include "test_util.h"
+#include "tests/render/test_util.h"
 
 namespace wobble::render {
 namespace {

@@ -1,13 +1,13 @@
 // Image comparison: idiff 2.4's result codes on made-up images, and the difference image. (The real idiff beside
 // wobble diff: tests/app/idiff_conformance_test.cpp.)
-#include "render/image_diff.h"
+#include "render/image/image_diff.h"
 
 #include <fstream>
 
 #include <gtest/gtest.h>
 
-#include "render/png_io.h"
-#include "test_util.h"
+#include "render/image/png_io.h"
+#include "tests/render/test_util.h"
 
 namespace wobble::render {
 namespace {

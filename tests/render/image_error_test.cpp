@@ -1,5 +1,5 @@
 // imageError: RMSE of display values and relative MSE, over the frame and its worst tile, against hand-computed values.
-#include "render/image_error.h"
+#include "render/image/image_error.h"
 
 #include <cmath>
 #include <stdexcept>

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "render/integrator.h"
+#include "render/path_tracer.h"
 #include "render/renderer.h"
 #include "render/scene.h"
 

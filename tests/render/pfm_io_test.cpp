@@ -1,6 +1,6 @@
 // PFM files: writePfm then readPfm gives back the same floats in the same rows, the file follows the format (rows
 // bottom to top), writing leaves no temporary file, and bad files throw naming the file.
-#include "render/pfm_io.h"
+#include "render/image/pfm_io.h"
 
 #include <cstring>
 #include <fstream>
@@ -12,7 +12,7 @@
 
 #include <gtest/gtest.h>
 
-#include "test_util.h"
+#include "tests/render/test_util.h"
 
 namespace wobble::render {
 namespace {

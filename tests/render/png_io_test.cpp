@@ -1,12 +1,12 @@
 // PNG files: round trip, atomic replacement, and errors that name the file.
-#include "render/png_io.h"
+#include "render/image/png_io.h"
 
 #include <fstream>
 
 #include <gtest/gtest.h>
 
-#include "render/film.h"
-#include "test_util.h"
+#include "render/image/film.h"
+#include "tests/render/test_util.h"
 
 namespace wobble::render {
 namespace {

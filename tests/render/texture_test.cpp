@@ -3,8 +3,8 @@
 
 #include <gtest/gtest.h>
 
-#include "render/png_io.h"
-#include "test_util.h"
+#include "render/image/png_io.h"
+#include "tests/render/test_util.h"
 
 namespace wobble::render {
 namespace {

@@ -1,0 +1,17 @@
+// Each subcommand of the wobble program registers itself on the CLI11 app from its own file; main() only lists them.
+// A command's callback returns the process exit status through the shared int.
+#pragma once
+#include <CLI/CLI.hpp>
+
+#include "app/output/interrupt.h"  // ExitStatus
+
+namespace wobble {
+
+void addRunCommand(CLI::App& app, int& status);
+void addRenderCommand(CLI::App& app, int& status);  // render_cli.cpp
+void addDiffCommand(CLI::App& app, int& status);    // diff_cli.cpp: sets status to idiff's exit code
+void addBlendCommand(CLI::App& app, int& status);   // blend_cli.cpp
+// `study accuracy` and `study stability` (app/study_cli.cpp).
+void addStudyCommand(CLI::App& app, int& status);
+
+}  // namespace wobble

@@ -1,0 +1,37 @@
+// `wobble render` on the command line: re-render a run's OBJ sequence (render_command.h).
+#include <cstdio>
+#include <memory>
+
+#include "app/cli/commands.h"
+#include "app/cli/max_memory_option.h"
+#include "app/cli/render_flags.h"
+#include "app/commands/render_command.h"
+#include "app/output/interrupt.h"
+
+namespace wobble {
+
+void addRenderCommand(CLI::App& app, int& status) {
+  auto options = std::make_shared<RenderCommandOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "render", "Render an existing OBJ sequence (a run's OUT/mesh) without simulating: OUT/frames/<scene>_NNNN.png");
+  cmd->add_option("mesh_dir", options->mesh_dir, "Folder of <body>_NNNN.obj files (a run's OUT/mesh)")->required();
+  cmd->add_option("--scene", options->scene, "The scene the sequence was run from (colliders, camera, looks)")
+      ->required();
+  cmd->add_option("--frames", options->frames, "Frames to render, 1-based and inclusive: A:B or A (default: all)");
+  cmd->add_option("--out", options->out, "Output folder (default: the folder that holds MESH_DIR)");
+  cmd->add_option("--set", options->sets, "Override a scene key, KEY=VALUE in TOML syntax (repeatable)");
+  addMaxMemoryOption(*cmd);
+  addRenderFlags(*cmd, options->render);
+  cmd->footer("Example:\n  wobble render out/jelly_slope/mesh --scene scenes/jelly_slope.toml --frames 1:30 --spp 32");
+  cmd->callback([options, &status] {
+    installInterruptHandlers();
+    const RenderCommandReport r = renderSequence(*options);
+    std::printf("rendered %d frame(s) %d..%d into %s (%.2f s)%s%s\n", r.frames_rendered, r.first_frame, r.last_frame,
+                r.out.c_str(), r.seconds, r.video ? "; video " : "", r.video ? r.video->c_str() : "");
+    if (interrupted())
+      std::fprintf(stderr, "wobble: interrupted: stopped after frame %d\n", r.first_frame + r.frames_rendered - 1);
+    status = exitStatusAfterSignals(kExitOk);
+  });
+}
+
+}  // namespace wobble

@@ -1,0 +1,23 @@
+#include "app/cli/render_flags.h"
+
+#include "app/scene/render_config.h"
+
+namespace wobble {
+
+void addRenderFlags(CLI::App& cmd, RenderFlags& flags) {
+  cmd.add_option("--render", flags.render,
+                 "Images per frame: png, exr, png,exr or none (overrides render.png / render.exr; none also turns "
+                 "the video off)");
+  std::string presets;
+  for (const std::string& name : qualityNames()) presets += "; " + name + ": " + qualityPreset(name).summary;
+  cmd.add_option("--quality", flags.quality, "Render quality preset (overrides render.quality)" + presets)
+      ->check(CLI::IsMember(qualityNames()));
+  cmd.add_option("--spp", flags.spp, "Samples per pixel, the most with adaptive sampling (overrides render.samples)")
+      ->check(CLI::Range(1, 65536));
+  cmd.add_option("--denoise", flags.denoise, "Denoise the PNG frames and video: on or off (overrides render.denoise)")
+      ->check(CLI::IsMember({"on", "off"}));
+  cmd.add_option("--resolution", flags.resolution, "Image size WxH, e.g. 1280x720 (overrides camera.resolution)");
+  cmd.add_flag("--video", flags.video, "Encode OUT/<scene>.mp4 from the PNG frames with ffmpeg (render.video)");
+}
+
+}  // namespace wobble

@@ -1,0 +1,12 @@
+// The rendering flags on a command line (CLI11): --render, --quality, --spp, --denoise, --resolution, --video, read
+// into RenderFlags, which become scene overrides (app/scene/render_overrides.h).
+#pragma once
+#include <CLI/CLI.hpp>
+
+#include "app/scene/render_overrides.h"
+
+namespace wobble {
+
+void addRenderFlags(CLI::App& cmd, RenderFlags& flags);
+
+}  // namespace wobble

@@ -1,0 +1,100 @@
+#include "app/commands/render_command.h"
+
+#include <chrono>
+
+#include "app/commands/run_command.h"
+#include "app/output/frame_name.h"
+#include "app/output/interrupt.h"
+#include "app/output/obj_sequence.h"
+#include "app/output/obj_sequence_reader.h"
+#include "app/output/output_folder.h"
+#include "app/output/progress.h"
+#include "app/scene/input_error.h"
+#include "app/scene/scene.h"
+#include "app/view/frame_output.h"
+
+namespace fs = std::filesystem;
+
+namespace wobble {
+namespace {
+
+fs::path objPath(const fs::path& dir, const Body& body, int frame) {
+  return dir / frameFileName(body.name, frame, "obj");
+}
+
+// Every body's surface at frame k; bodies other than `only` (when >= 0) are left empty.
+std::vector<SurfaceFrame> readFrame(const fs::path& dir, const Scene& scene, int frame, int only = -1) {
+  const auto& bodies = scene.system->bodies();
+  std::vector<SurfaceFrame> surfaces(bodies.size());
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    if (only < 0 || int(b) == only)
+      surfaces[b] = readObjSurface(objPath(dir, bodies[b].body, frame), bodies[b].body.surface);
+  return surfaces;
+}
+
+}  // namespace
+
+RenderCommandReport renderSequence(const RenderCommandOptions& options) {
+  std::vector<std::string> overrides = options.sets;
+  for (const std::string& o : renderOverrides(options.render)) overrides.push_back(o);
+  const Scene scene = loadScene(options.scene, overrides);
+  if (!FrameOutput::wanted(scene))
+    throw InputError("nothing to render: render.png and render.exr are both false (--render png, exr or png,exr)");
+  if (!fs::is_directory(options.mesh_dir))
+    throw InputError(options.mesh_dir.string() + ": no such folder (MESH_DIR is a run's OUT/mesh)");
+
+  const auto& bodies = scene.system->bodies();
+  const Body& lead = bodies.front().body;
+  RenderCommandReport report;
+  if (options.frames) {
+    std::tie(report.first_frame, report.last_frame) = parseFrameRange(*options.frames, scene.frameCount());
+  } else {  // every frame the folder holds: the first one there up to the last of an unbroken run
+    int k = 1;
+    while (k <= scene.frameCount() && !fs::exists(objPath(options.mesh_dir, lead, k))) ++k;
+    if (k > scene.frameCount())
+      throw InputError(options.mesh_dir.string() + ": no " + frameFileName(lead.name, 1, "obj") +
+                       " ... for scene " + scene.name + "'s body '" + lead.name + "'");
+    report.first_frame = k;
+    while (k + 1 <= scene.frameCount() && fs::exists(objPath(options.mesh_dir, lead, k + 1))) ++k;
+    report.last_frame = k;
+  }
+  // Check the inputs before writing anything: every file of the range, and the first frame's topology.
+  for (int k = report.first_frame; k <= report.last_frame; ++k)
+    for (const BodySlot& slot : bodies)
+      if (!fs::is_regular_file(objPath(options.mesh_dir, slot.body, k)))
+        throw InputError(objPath(options.mesh_dir, slot.body, k).string() + ": file not found");
+  std::vector<SurfaceFrame> first;
+  try {
+    first = readFrame(options.mesh_dir, scene, report.first_frame);
+  } catch (const std::runtime_error& e) {
+    throw InputError(e.what());
+  }
+
+  fs::path mesh_dir = options.mesh_dir.lexically_normal();
+  if (mesh_dir.filename().empty()) mesh_dir = mesh_dir.parent_path();  // "out/x/mesh/" -> "out/x/mesh"
+  report.out = options.out.value_or(mesh_dir.has_parent_path() ? mesh_dir.parent_path() : fs::path("."));
+  const OutputFolder folder(report.out);  // only the frames of the range are overwritten: split rendering
+  const auto start = std::chrono::steady_clock::now();
+  FrameOutput pictures(scene, report.out);
+
+  // The follow camera's smoothing runs over the frames before the range too, as in the run (camera_rig.h).
+  int history = report.first_frame;
+  if (const int followed = pictures.followedBody(); followed >= 0) {
+    while (history > 1 && fs::exists(objPath(options.mesh_dir, bodies[followed].body, history - 1))) --history;
+    for (int k = history; k < report.first_frame; ++k)
+      pictures.frame(k, readFrame(options.mesh_dir, scene, k, followed), false);
+  }
+
+  Progress progress(scene.name + " (render)", report.last_frame - report.first_frame + 1);
+  for (int k = report.first_frame; k <= report.last_frame && !interrupted(); ++k) {
+    pictures.frame(k, k == report.first_frame ? first : readFrame(options.mesh_dir, scene, k), true);
+    progress.update(k - report.first_frame + 1);
+  }
+  progress.finish();
+  report.frames_rendered = pictures.framesRendered();
+  report.video = pictures.finish();
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
+}  // namespace wobble

@@ -1,0 +1,35 @@
+// `wobble render MESH_DIR --scene SCENE`: renders an existing OBJ sequence (a run's OUT/mesh) without simulating
+// again, so frames can be re-rendered with other settings or rendered in pieces (--frames A:B). Bodies come from the
+// OBJ files (obj_sequence_reader.h); colliders from the scene at each frame's time; output as `wobble run`'s
+// (frame_output.h), into the folder that holds MESH_DIR unless --out says otherwise.
+#pragma once
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/scene/render_overrides.h"
+
+namespace wobble {
+
+struct RenderCommandOptions {
+  std::filesystem::path mesh_dir;
+  std::filesystem::path scene;
+  std::optional<std::string> frames;          // "A:B" or "A"; default: every frame MESH_DIR holds
+  std::optional<std::filesystem::path> out;   // default: MESH_DIR's parent
+  std::vector<std::string> sets;              // KEY=VALUE scene overrides, as for `wobble run`
+  RenderFlags render;
+};
+
+struct RenderCommandReport {
+  std::filesystem::path out;
+  int first_frame = 0, last_frame = 0, frames_rendered = 0;
+  double seconds = 0;
+  std::optional<std::filesystem::path> video;
+};
+
+// Throws InputError (bad input, nothing written): a bad scene or flag, a missing MESH_DIR or frame file, an OBJ that
+// does not match the scene's bodies.
+RenderCommandReport renderSequence(const RenderCommandOptions& options);
+
+}  // namespace wobble

@@ -1,0 +1,192 @@
+#include "app/commands/run_command.h"
+
+#include <chrono>
+#include <memory>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "app/output/interrupt.h"
+#include "app/output/obj_sequence.h"
+#include "app/output/output_folder.h"
+#include "app/output/pc2_writer.h"
+#include "app/output/progress.h"
+#include "app/scene/input_error.h"
+#include "app/scene/scene.h"
+#include "app/view/frame_output.h"
+#include "io/text_file.h"
+
+namespace fs = std::filesystem;
+
+namespace wobble {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+std::string formatNumber(double x) {
+  std::ostringstream out;
+  out.precision(17);
+  out << x;
+  return out.str();
+}
+
+void writeRunJson(const Scene& scene, const std::vector<std::string>& overrides, const Simulation& sim,
+                  const RunReport& r) {
+  nlohmann::ordered_json j;
+  j["scene"] = scene.file.string();
+  j["overrides"] = overrides;  // --set and the flags that set keys: `wobble blend` reads the scene as the run did
+  j["integrator"] = scene.integrator;
+  j["dt"] = scene.dt;
+  j["fps"] = scene.fps;
+  j["frames"] = {{"first", r.first_frame}, {"last", r.last_frame}, {"written", r.frames_written}};
+  j["steps"] = r.steps;
+  j["simulated_time"] = r.simulated_time;
+  j["wall_time_seconds"] = {
+      {"simulate", r.seconds_simulate}, {"export", r.seconds_export}, {"render", r.seconds_render}};
+  j["frames_rendered"] = r.frames_rendered;
+  j["energy"] = {{"start", r.energy_start}, {"end", r.energy_end}};
+  j["max_speed"] = r.max_speed;
+  j["particles"] = sim.system().particleCount();
+  j["springs"] = sim.system().springs().size();
+  if (const IntegratorStats& s = sim.integrator().stats(); s.jacobians > 0)  // backward-euler's linear solves
+    j["linear_solver"] = {
+        {"method", "filtered PCG (Baraff-Witkin), 3x3 block-Jacobi; stops at |S(b - A dv)| <= cg_tolerance |S(b - A z)|"},
+        {"cg_tolerance", scene.integrator_options.cg_tolerance},
+        {"cg_max_iterations", scene.integrator_options.cg_max_iterations},
+        {"cg_iterations", s.cg_iterations},
+        {"cg_iterations_per_step", s.steps ? double(s.cg_iterations) / double(s.steps) : 0.0},
+        {"max_relative_residual", s.max_cg_residual}};
+  j["interrupted"] = r.interrupted;
+  j["blew_up"] = r.blow_up.has_value();
+  if (r.blow_up)
+    j["blow_up"] = {{"step", r.blow_up->step}, {"time", r.blow_up->time}, {"particle", r.blow_up->particle},
+                    {"message", r.blow_up_message}};
+  if (const auto& e = r.error_estimate) {
+    j["error_estimate"] = {{"method", "step halving: the same run at dt/2 (rk45: rtol, atol / 32), position "
+                                      "difference at each frame times 2^p/(2^p - 1) (Richardson)"},
+                           {"order", e->order},
+                           {"max_m", e->max_error},
+                           {"rms_m", e->rms_error},
+                           {"final_max_m", e->final_max_error},
+                           {"frames_compared", e->frames},
+                           {"seconds", e->seconds}};
+    if (!e->failure.empty()) j["error_estimate"]["failure"] = e->failure;
+  }
+  writeTextFile(r.out / "run.json", j.dump(2) + "\n");
+}
+
+}  // namespace
+
+std::pair<int, int> parseFrameRange(const std::string& text, int count) {
+  const auto bad = [&] {
+    return InputError("--frames " + text + ": must be A:B or A with 1 <= A <= B <= " + std::to_string(count) +
+                      " (the scene has " + std::to_string(count) + " frames)");
+  };
+  int a = 0, b = 0;
+  std::istringstream in(text);
+  char colon = 0;
+  if (!(in >> a)) throw bad();
+  if (in >> colon) {
+    if (colon != ':' || !(in >> b)) throw bad();
+  } else {
+    b = a;
+  }
+  if (!in.eof() && in.peek() != EOF) throw bad();
+  if (a < 1 || b < a || b > count) throw bad();
+  return {a, b};
+}
+
+RunReport runScene(const RunOptions& options) {
+  std::vector<std::string> overrides = options.sets;
+  if (options.integrator) overrides.push_back("simulation.integrator=\"" + *options.integrator + "\"");
+  if (options.dt) overrides.push_back("simulation.dt=" + formatNumber(*options.dt));
+  if (options.pc2) overrides.push_back("output.pc2=true");
+  for (const std::string& o : renderOverrides(options.render)) overrides.push_back(o);
+  Scene scene = loadScene(options.scene, overrides);
+
+  RunReport report;
+  std::tie(report.first_frame, report.last_frame) =
+      options.frames ? parseFrameRange(*options.frames, scene.frameCount()) : std::pair{1, scene.frameCount()};
+  report.out = options.out.value_or(fs::path("out") / scene.name);
+
+  MassSpringSystem& system = *scene.system;
+  Simulation sim(system, makeIntegrator(scene.integrator, scene.integrator_options), scene.dt);
+  report.energy_start = system.energy(sim.x(), sim.v());
+
+  const OutputFolder folder(report.out);
+  report.files_cleared = folder.clearEarlierRun(scene.name);
+  std::vector<ObjSequenceWriter> writers;  // the sequence, and the point cache's base mesh
+  std::vector<std::unique_ptr<Pc2Writer>> caches;
+  writers.reserve(system.bodies().size());  // the caches keep references to the writers' vertex orders
+  if (scene.write_obj || scene.write_pc2)
+    for (const BodySlot& slot : system.bodies()) {
+      const auto texture = scene.textures.find(slot.body.name);
+      writers.emplace_back(report.out / "mesh", slot.body,
+                           texture == scene.textures.end() ? std::nullopt : std::optional(texture->second),
+                           scene.render.bodies.at(slot.body.name));
+      if (scene.write_pc2)
+        caches.push_back(std::make_unique<Pc2Writer>(Pc2Writer::path(report.out / "mesh", slot.body.name),
+                                                     writers.back().order(), report.first_frame));
+    }
+
+  std::optional<FrameOutput> pictures;  // renders while simulating: no second simulation
+  if (FrameOutput::wanted(scene)) pictures.emplace(scene, report.out);
+
+  std::optional<ErrorEstimator> estimator;
+  if (options.estimate_error)
+    estimator.emplace(loadScene(options.scene, overrides), scene.integrator, scene.integrator_options, scene.dt);
+
+  Progress progress(scene.name, report.last_frame);
+  for (int frame = 1; frame <= report.last_frame && !interrupted(); ++frame) {
+    auto start = Clock::now();
+    report.blow_up = sim.advanceTo(scene.frameTime(frame));
+    report.seconds_simulate += secondsSince(start);
+    if (report.blow_up) break;
+    if (estimator) estimator->compare(scene.frameTime(frame), sim.x());
+    start = Clock::now();
+    std::vector<SurfaceFrame> surfaces;  // of every body, for this frame's OBJ files and picture
+    if (frame >= report.first_frame) {
+      for (const BodySlot& slot : system.bodies())
+        surfaces.push_back(evaluateSurface(slot.body.surface, sim.x(), slot.first));
+      for (std::size_t b = 0; b < writers.size(); ++b) {
+        if (scene.write_obj) writers[b].write(frame, surfaces[b]);
+        if (caches.empty()) continue;
+        if (frame == report.first_frame) writers[b].writeBase(surfaces[b]);
+        caches[b]->append(surfaces[b]);
+      }
+      ++report.frames_written;
+    }
+    report.seconds_export += secondsSince(start);
+    if (pictures) {
+      start = Clock::now();
+      if (surfaces.empty())
+        pictures->observe(frame, sim.x());
+      else
+        pictures->frame(frame, surfaces, true);
+      report.seconds_render += secondsSince(start);
+    }
+    progress.update(frame);
+  }
+  progress.finish();
+  for (const auto& cache : caches) cache->finish();  // the frames written, also after a blow-up or an interrupt
+  if (pictures) {
+    report.frames_rendered = pictures->framesRendered();
+    const auto start = Clock::now();
+    report.video = pictures->finish();
+    report.seconds_render += secondsSince(start);
+  }
+
+  report.steps = sim.steps();
+  report.simulated_time = sim.time();
+  report.energy_end = system.energy(sim.x(), sim.v());
+  report.max_speed = sim.maxSpeed();
+  if (report.blow_up) report.blow_up_message = report.blow_up->message(scene.dt);
+  if (estimator) report.error_estimate = estimator->result();
+  report.interrupted = interrupted();  // between frames or during the video
+  writeRunJson(scene, overrides, sim, report);
+  return report;
+}
+
+}  // namespace wobble

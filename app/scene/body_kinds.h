@@ -1,0 +1,30 @@
+// The body kinds a scene may name (`type` in [bodies.NAME]), one entry each: the keys it reads and its default look.
+// Every body is drawn as its surface mesh and framed by its particles, so that is all a kind needs. Adding a kind: a
+// builder in sim/bodies/, an entry in body_kinds.cpp, its keys in scenes/README.md.
+#pragma once
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "sim/body.h"
+
+namespace wobble {
+
+class TableReader;
+struct Scene;
+
+struct BodyKind {
+  std::string_view type;       // the scene's `type` value
+  Vec3 color;                  // default `color` when untextured (a textured body defaults to white)
+  std::string_view material;   // default `material`: "jelly" (glossy coat) or "diffuse"
+  // Reads the kind's own keys and builds the body, charging its size to the scene's budget first (scene_budget.h).
+  Body (*read)(TableReader& r, const std::string& name, Scene& scene);
+};
+
+std::span<const BodyKind> bodyKinds();
+std::vector<std::string> bodyTypes();  // the `type` values, in table order
+// Throws std::out_of_range for a type not in the table (the reader has checked it).
+const BodyKind& bodyKind(std::string_view type);
+
+}  // namespace wobble

@@ -1,0 +1,81 @@
+#include "app/scene/collider_kinds.h"
+
+#include <array>
+#include <stdexcept>
+
+#include "app/scene/kind_table.h"
+#include "app/scene/table_reader.h"
+#include "sim/colliders/elevator.h"
+#include "sim/colliders/plane.h"
+#include "sim/colliders/sphere.h"
+
+namespace wobble {
+namespace {
+
+// plane: an infinite static plane, drawn as a finite textured square of its `size` centred on its `point`.
+std::unique_ptr<Collider> readPlane(TableReader& r, const std::string& name, const ContactParams& contact,
+                                    ColliderLook& look) {
+  const Vec3 normal = r.vec3("normal", Vec3::UnitY());
+  if (normal.norm() == 0) r.fail("normal", "must not be zero");
+  auto plane = std::make_unique<Plane>(name, contact, r.vec3("point", Vec3::Zero()), normal);
+  look.plane_size = r.number("size", look.plane_size, Range::positive());  // drawn extent: the renderer's only
+  return plane;
+}
+
+void readPlaneLook(TableReader& r, ColliderLook& look) {
+  look.texture_scale = r.number("texture_scale", look.texture_scale, Range::positive());
+}
+
+DrawnShape drawPlane(const Collider& c, const ColliderLook& look, double) {
+  const auto& plane = static_cast<const Plane&>(c);
+  return DrawnQuad{plane.point(), plane.normal(), look.plane_size, look.texture_scale};
+}
+
+// sphere: a solid ball, static or moving at constant velocity.
+std::unique_ptr<Collider> readSphere(TableReader& r, const std::string& name, const ContactParams& contact,
+                                     ColliderLook&) {
+  const Vec3 center = r.vec3("center", Vec3::Zero());
+  const double radius = r.number("radius", 1, Range::positive());
+  return std::make_unique<Sphere>(name, contact, center, radius, r.vec3("velocity", Vec3::Zero()));
+}
+
+// Drawn inset by the contact tolerance: a cloth resting on the sphere keeps its particles within epsilon of it, but
+// its flat triangles cut the chords between them (sagitta s^2 / 8r, ~3.5 mm on the default cloth) and would let the
+// exact sphere show through as specks.
+DrawnShape drawSphere(const Collider& c, const ColliderLook&, double t) {
+  const auto& sphere = static_cast<const Sphere&>(c);
+  return DrawnSphere{sphere.center(t), sphere.radius() - sphere.contact().epsilon};
+}
+
+// elevator: a square platform on a time schedule, drawn as a slab whose top face is the platform top.
+std::unique_ptr<Collider> readElevator(TableReader& r, const std::string& name, const ContactParams& contact,
+                                       ColliderLook&) {
+  ElevatorSchedule s;
+  s.start = r.vec3("start", s.start);
+  s.accel = r.number("accel", s.accel, Range::nonNegative());
+  s.travel = r.number("travel", s.travel, Range::positive());
+  s.pause = r.number("pause", s.pause, Range::nonNegative());
+  const double size = r.number("size", 5, Range::positive());
+  return std::make_unique<Elevator>(name, contact, s, size, r.number("thickness", 0.25, Range::positive()));
+}
+
+DrawnShape drawElevator(const Collider& c, const ColliderLook&, double t) {
+  const auto& e = static_cast<const Elevator&>(c);
+  return DrawnBox{e.topCenter(t) - Vec3(0, e.thickness() / 2, 0), Vec3(e.size(), e.thickness(), e.size())};
+}
+
+const std::array kKinds{
+    ColliderKind{"plane", Vec3(1, 1, 1), "checker", false, readPlane, readPlaneLook, drawPlane},
+    ColliderKind{"sphere", Vec3(0.75, 0.72, 0.68), "none", true, readSphere, nullptr, drawSphere},
+    ColliderKind{"elevator", Vec3(0.55, 0.6, 0.7), "none", true, readElevator, nullptr, drawElevator},
+};
+
+}  // namespace
+
+std::span<const ColliderKind> colliderKinds() { return kKinds; }
+
+std::vector<std::string> colliderTypes() { return kindTypes(colliderKinds()); }
+
+const ColliderKind& colliderKind(std::string_view type) { return findKind(colliderKinds(), type, "collider"); }
+
+}  // namespace wobble

@@ -1,0 +1,137 @@
+// Readers of the render-related scene keys (render_config.h): same TableReader checks as every other key.
+#include "app/scene/render_config.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "render/renderer.h"
+
+#include "app/scene/body_kinds.h"
+#include "app/scene/collider_kinds.h"
+#include "app/scene/scene.h"
+#include "app/scene/table_reader.h"
+
+namespace wobble {
+namespace {
+
+Vec3 readColor(TableReader& r, const Vec3& fallback) {
+  const Vec3 c = r.vec3("color", fallback);
+  if ((c.array() < 0).any() || (c.array() > 1).any()) r.fail("color", "each component must be in [0, 1] (linear RGB)");
+  return c;
+}
+
+std::array<int, 2> readResolution(TableReader& r, std::array<int, 2> fallback) {
+  const auto wh = r.pair("resolution", {double(fallback[0]), double(fallback[1])}, Range{2, 16384});
+  if (wh[0] != std::floor(wh[0]) || wh[1] != std::floor(wh[1]))
+    r.fail("resolution", "must be two whole numbers [width, height] in [2, 16384]");
+  return {int(wh[0]), int(wh[1])};
+}
+
+// Chosen from `wobble study render` on the shipped scenes (README, "Render quality"). One denoised sample per pixel
+// already has a several times lower error than the old eight noisy ones; a higher --spp turns on adaptive sampling
+// (noise threshold 0.1: at 16 spp, the error of 16 everywhere for a third of the samples).
+constexpr QualityPreset kPresets[] = {
+    {"preview", 1, 1, 0.1, true, 0.5, "half resolution, 1 sample per pixel, denoised: to check a run's motion"},
+    {"final", 1, 1, 0.1, true, 1.0, "full resolution, 1 sample per pixel, denoised (adaptive up to --spp)"},
+};
+
+}  // namespace
+
+const QualityPreset& qualityPreset(const std::string& name) {
+  for (const QualityPreset& p : kPresets)
+    if (name == p.name) return p;
+  throw std::out_of_range("no quality preset '" + name + "'");
+}
+
+std::vector<std::string> qualityNames() {
+  std::vector<std::string> names;
+  for (const QualityPreset& p : kPresets) names.emplace_back(p.name);
+  return names;
+}
+
+render::RenderSettings renderSettings(const RenderOptionsConfig& o, int frame) {
+  render::RenderSettings s;
+  s.samples_per_pixel = o.samples;
+  s.min_samples = o.min_samples;
+  s.noise_threshold = static_cast<float>(o.noise_threshold);
+  s.max_bounces = o.bounces;
+  render::parseSamplerKind(o.sampler, s.sampler);  // checked when read
+  s.sample_sky = o.sky_sampling;
+  s.roulette = o.russian_roulette;
+  s.frame = static_cast<std::uint32_t>(frame);  // the noise seed: the same frame is the same image
+  return s;
+}
+
+void readBodyLook(TableReader& r, const BodyKind& kind, const std::string& name, Scene& scene) {
+  BodyLook look;
+  const bool textured = scene.textures.count(name) > 0;
+  // Textured: white, so the texture shows its own colours.
+  look.color = readColor(r, textured ? Vec3(1, 1, 1) : kind.color);
+  look.material = r.string("material", std::string(kind.material), {"jelly", "diffuse"});
+  scene.render.bodies[name] = look;
+}
+
+void readColliderLook(TableReader& r, const ColliderKind& kind, const std::string& name, ColliderLook look,
+                      Scene& scene) {
+  look.type = kind.type;
+  look.color = readColor(r, kind.color);
+  look.texture = r.string("texture", std::string(kind.texture), {"none", "checker", "wood"});
+  if (kind.read_look) kind.read_look(r, look);
+  scene.render.colliders[name] = look;
+}
+
+void readRenderTables(TableReader& root, Scene& scene) {
+  static const toml::table kEmpty;
+  const toml::table* camera_table = root.table("camera");
+  TableReader c(camera_table ? *camera_table : kEmpty, scene.file, "camera");
+  CameraConfig& cam = scene.render.camera;
+  if (c.node("position")) cam.position = c.vec3("position", Vec3::Zero());
+  if (c.node("look_at")) cam.look_at = c.vec3("look_at", Vec3::Zero());
+  cam.up = c.vec3("up", cam.up);
+  cam.fov_deg = c.number("fov", cam.fov_deg, Range{0, 180, true, true});
+  cam.resolution = readResolution(c, cam.resolution);
+  cam.follow = c.string("follow", "");
+  cam.follow_smoothing = c.number("follow_smoothing", cam.follow_smoothing, Range::nonNegative());
+  if (cam.position && cam.look_at && (*cam.position - *cam.look_at).norm() == 0)
+    c.fail("look_at", "must differ from camera.position");
+  if (cam.up.norm() == 0) c.fail("up", "must not be zero");
+  const Vec3 view = cam.look_at.value_or(Vec3::Zero()) - cam.position.value_or(Vec3(0, 0, 1));
+  if (cam.position && cam.look_at && view.cross(cam.up).norm() < 1e-9 * view.norm() * cam.up.norm())
+    c.fail("up", "must not be parallel to the view direction (look_at - position)");
+  if (!cam.follow.empty() && !scene.render.bodies.count(cam.follow)) {
+    std::string list;
+    for (const auto& [body, look] : scene.render.bodies) list += (list.empty() ? "" : ", ") + body;
+    c.fail("follow", "must name a body of the scene: " + list);
+  }
+  c.finish();
+
+  const toml::table* render_table = root.table("render");
+  TableReader r(render_table ? *render_table : kEmpty, scene.file, "render");
+  RenderOptionsConfig& o = scene.render.options;
+  // A scene renders only if it asks to: no [render] table, no frames (unless --render png, which creates it).
+  o.png = r.boolean("png", render_table != nullptr);
+  o.exr = r.boolean("exr", o.exr);
+  o.video = r.boolean("video", o.video);
+  o.quality = r.string("quality", o.quality, qualityNames());
+  const QualityPreset& preset = qualityPreset(o.quality);
+  o.samples = r.integer("samples", preset.samples, Range{1, 65536});
+  o.min_samples = r.integer("min_samples", std::min(preset.min_samples, o.samples), Range{1, 65536});
+  if (o.min_samples > o.samples) r.fail("min_samples", "must be at most render.samples (" + std::to_string(o.samples) + ")");
+  o.noise_threshold = r.number("noise_threshold", preset.noise_threshold, Range{0, 1});
+  o.denoise = r.boolean("denoise", preset.denoise);
+  o.sampler = r.string("sampler", o.sampler, {"sobol", "independent"});
+  o.sky_sampling = r.boolean("sky_sampling", o.sky_sampling);
+  o.russian_roulette = r.boolean("russian_roulette", o.russian_roulette);
+  o.bounces = r.integer("bounces", o.bounces, Range{0, 16});
+  o.exposure = r.number("exposure", o.exposure, Range{-20, 20});
+  o.sun_direction = r.vec3("sun_direction", o.sun_direction);
+  if (o.sun_direction.norm() == 0) r.fail("sun_direction", "must not be zero");
+  o.sun_radius_deg = r.number("sun_radius_deg", o.sun_radius_deg, Range{0, 45});
+  if (o.video && !o.png) r.fail("video", "needs PNG frames: set render.png = true (or --render png)");
+  r.finish();
+  // The preset's resolution scale, kept even (the video's yuv420p needs even sizes) and at least 2.
+  if (preset.resolution_scale != 1)
+    for (int& size : cam.resolution) size = std::max(2, 2 * int(std::lround(size * preset.resolution_scale / 2)));
+}
+
+}  // namespace wobble

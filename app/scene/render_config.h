@@ -1,0 +1,100 @@
+// What a scene says about its pictures: the [camera] and [render] tables, and the look of each body (`color`,
+// `material`) and collider (`color`, `texture`, `texture_scale`). Read with the rest of the scene (scene.cpp calls
+// the readers below), so these keys get the same type, range and unknown-key checks; scenes/README.md documents them.
+// Values stay in double here, like the scene; the renderer's floats are made in render_scene.cpp.
+#pragma once
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sim/types.h"
+
+namespace wobble {
+
+class TableReader;
+struct Scene;
+struct BodyKind;
+struct ColliderKind;
+
+struct CameraConfig {
+  // Unset position/look_at: framed automatically around the bodies and finite colliders at t = 0 (camera_rig.h).
+  std::optional<Vec3> position, look_at;
+  Vec3 up = Vec3::UnitY();
+  double fov_deg = 40;  // vertical
+  std::array<int, 2> resolution{1280, 720};
+  std::string follow;            // body name, or empty: a fixed camera
+  double follow_smoothing = 0.5; // s: time constant of the exponential smoothing of the followed centroid
+};
+
+// A quality preset: the sampling and denoising settings a `render.quality` name stands for. Each can still be set
+// on its own (an explicit key or flag wins over the preset). Chosen from `wobble study render` (README).
+struct QualityPreset {
+  const char* name;
+  int samples;              // the most per pixel
+  int min_samples;          // adaptive sampling's first pass
+  double noise_threshold;   // 0: no adaptive sampling
+  bool denoise;
+  double resolution_scale;  // of camera.resolution (preview: half each way, a quarter of the pixels)
+  const char* summary;      // for --help and the docs
+};
+const QualityPreset& qualityPreset(const std::string& name);  // "preview" or "final"; throws std::out_of_range
+std::vector<std::string> qualityNames();
+
+struct RenderOptionsConfig {
+  bool png = true, exr = false, video = false;
+  std::string quality = "final";
+  int samples = 0;  // most per pixel; these four come from the quality preset unless set
+  int min_samples = 0;
+  double noise_threshold = 0;
+  bool denoise = true;
+  std::string sampler = "sobol";  // "sobol" or "independent" (render/sampler.h)
+  bool sky_sampling = false;
+  bool russian_roulette = false;  // from the second bounce on, by throughput (render/path_tracer.h)
+  int bounces = 2;
+  double exposure = -0.5;  // stops: the sun and sky on a light surface need a little less than 0
+  Vec3 sun_direction{-0.35, 1.0, 0.55};  // towards the sun
+  double sun_radius_deg = 2.0;           // apparent radius: the softness of shadows
+};
+
+struct BodyLook {
+  Vec3 color{1, 1, 1};
+  std::string material = "jelly";  // "jelly" (glossy coat) or "diffuse"
+};
+
+struct ColliderLook {
+  std::string type;  // the collider's kind (collider_kinds.h), which draws it
+  Vec3 color{0.7, 0.7, 0.7};
+  std::string texture = "none";  // "none", "checker", "wood"
+  double texture_scale = 4;      // planes: metres per texture tile
+  double plane_size = 30;        // planes: side of the drawn square (the plane's `size` key)
+};
+
+struct RenderConfig {
+  CameraConfig camera;
+  RenderOptionsConfig options;
+  std::map<std::string, BodyLook> bodies;
+  std::map<std::string, ColliderLook> colliders;
+};
+
+// Read from a body's or collider's table (type already read; a collider's own keys too, which may have set look
+// keys of its kind); fill scene.render.
+void readBodyLook(TableReader& r, const BodyKind& kind, const std::string& name, Scene& scene);
+void readColliderLook(TableReader& r, const ColliderKind& kind, const std::string& name, ColliderLook look,
+                      Scene& scene);
+// The root's [camera] and [render] tables (after bodies, so `follow` can be checked against them).
+void readRenderTables(TableReader& root, Scene& scene);
+
+}  // namespace wobble
+
+namespace wobble::render {
+struct RenderSettings;
+}
+
+namespace wobble {
+
+// The renderer's settings for one frame of a scene (render.* keys; the frame number seeds the noise).
+render::RenderSettings renderSettings(const RenderOptionsConfig& options, int frame);
+
+}  // namespace wobble

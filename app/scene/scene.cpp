@@ -1,0 +1,188 @@
+#include "app/scene/scene.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "app/scene/body_kinds.h"
+#include "app/scene/collider_kinds.h"
+#include "app/scene/identifier.h"
+#include "app/scene/input_error.h"
+#include "app/scene/overrides.h"
+#include "app/scene/scene_budget.h"
+#include "app/scene/table_reader.h"
+#include "app/scene/toml_depth.h"
+#include "io/text_table.h"
+#include "render/image/image_header.h"
+
+namespace fs = std::filesystem;
+
+namespace wobble {
+namespace {
+
+std::vector<std::string> names(std::span<const std::string_view> list) { return {list.begin(), list.end()}; }
+
+void readSimulation(TableReader r, Scene& scene, Vec3& gravity) {
+  scene.integrator = r.string("integrator", "rk4", names(integratorNames()));
+  scene.dt = r.number("dt", 0.001, Range::positive());
+  scene.duration = r.number("duration", 10, Range::positive());
+  scene.fps = r.number("fps", 30, Range::positive());
+  // Frames and steps are bounded so that no scene runs for ever or fills the disk (scene_limits.h).
+  const double frames = std::floor(scene.duration * scene.fps + 1e-9);
+  if (frames > double(kMaxFrames))
+    r.fail(r.node("duration") || !r.node("fps") ? "duration" : "fps",
+           "duration * fps = " + formatNumber(frames, 3) + " frames (duration " + formatNumber(scene.duration) +
+               " s at " + formatNumber(scene.fps) + " fps), above the cap of " +
+               std::to_string(kMaxFrames) + " frames per run");
+  if (1 / (scene.fps * scene.dt) > kMaxStepsPerFrame)
+    r.fail("dt", "1 / (fps dt) = " + formatNumber(1 / (scene.fps * scene.dt), 3) +
+                     " steps per frame, above the cap of " + std::to_string(std::llround(kMaxStepsPerFrame)) +
+                     ": dt must be >= " + formatNumber(1 / (scene.fps * kMaxStepsPerFrame), 3) + " s at " +
+                     formatNumber(scene.fps) + " fps");
+  gravity = r.vec3("gravity", Vec3(0, -9.8, 0));
+  IntegratorOptions& o = scene.integrator_options;
+  o.rtol = r.number("rtol", o.rtol, Range::positive());
+  o.atol = r.number("atol", o.atol, Range::positive());
+  o.newton = r.boolean("newton", o.newton);
+  o.cg_tolerance = r.number("cg_tolerance", o.cg_tolerance, Range::positive());
+  o.cg_max_iterations = r.integer("cg_max_iterations", o.cg_max_iterations, Range::atLeast(1));
+  r.finish();
+}
+
+void readOutput(TableReader r, Scene& scene) {
+  scene.write_obj = r.boolean("obj", true);
+  scene.write_pc2 = r.boolean("pc2", false);
+  r.finish();
+}
+
+void readBody(TableReader r, const std::string& name, Scene& scene) {
+  const BodyKind& kind = bodyKind(r.string("type", "", bodyTypes()));
+  if (const auto texture = r.optionalString("texture")) {
+    const fs::path path = scene.file.parent_path() / *texture;
+    if (!fs::is_regular_file(path)) r.fail("texture", "file not found: " + path.string());
+    std::string reason;
+    const auto header = render::readImageHeader(path, reason);
+    if (!header) r.fail("texture", "cannot read the image " + path.string() + " (" + reason + ")");
+    if (header->width > kMaxTextureSide || header->height > kMaxTextureSide)
+      r.fail("texture", path.string() + " is " + std::to_string(header->width) + " x " + std::to_string(header->height) +
+                            " pixels; a texture may have at most " + std::to_string(kMaxTextureSide) + " on each side");
+    SceneEstimate e = scene.estimate;
+    e.texture_pixels += std::int64_t(header->width) * header->height;
+    if (e.bytes(integratorTraits(scene.integrator).implicit) > scene.memory_budget) failOverBudget(r, scene, "texture", e, "");
+    scene.estimate = e;
+    scene.textures[name] = path;
+  }
+  // Built after every check of its table but the look (read below, cheap): nothing large is allocated for a body
+  // the reader refuses.
+  Body body = kind.read(r, name, scene);
+  readBodyLook(r, kind, name, scene);
+  r.finish();
+  scene.system->addBody(std::move(body));
+}
+
+ContactParams readContact(TableReader& r) {
+  ContactParams c;
+  c.restitution = r.number("restitution", c.restitution, Range::unit());
+  c.friction = r.number("friction", c.friction, Range::nonNegative());
+  c.epsilon = r.number("epsilon", c.epsilon, Range::positive());
+  return c;
+}
+
+void readCollider(TableReader r, const std::string& name, Scene& scene) {
+  const ColliderKind& kind = colliderKind(r.string("type", "", colliderTypes()));
+  const ContactParams contact = readContact(r);
+  ColliderLook look;
+  std::unique_ptr<Collider> collider = kind.read(r, name, contact, look);
+  readColliderLook(r, kind, name, look, scene);
+  r.finish();
+  scene.system->addCollider(std::move(collider));
+}
+
+// Reads each entry of a group table ("bodies", "colliders") with readOne(reader, name, scene).
+template <typename ReadOne>
+void readGroup(TableReader& root, std::string_view group, Scene& scene, ReadOne readOne) {
+  const toml::table* table = root.table(group);
+  if (!table) return;
+  for (const auto& [key, node] : *table) {
+    const std::string name(key.str());
+    if (const std::string problem = identifierProblem(name); !problem.empty())
+      TableReader(*table, scene.file, std::string(group)).failName(name, problem);
+    if (!node.is_table()) TableReader(*table, scene.file, std::string(group)).fail(name, "must be a table");
+    readOne(TableReader(*node.as_table(), scene.file, std::string(group) + "." + name), name, scene);
+  }
+}
+
+// Refuses text nested deeper than kMaxNestingDepth before toml++ (recursive) sees it; where: "file:" or "--set X:".
+void checkNesting(std::string_view text, const std::string& where) {
+  if (const auto excess = findExcessNesting(text, kMaxNestingDepth))
+    throw InputError(where + std::to_string(excess->line) + ": nesting too deep: " + std::to_string(excess->depth) +
+                     " levels of [, { and dotted keys, above the limit of " + std::to_string(kMaxNestingDepth));
+}
+
+toml::table parseFile(const fs::path& file) {
+  if (!fs::is_regular_file(file)) throw InputError(file.string() + ": scene file not found");
+  if (const auto size = fs::file_size(file); size > kMaxSceneFileBytes)
+    throw InputError(file.string() + ": " + std::to_string(size) + " bytes, above the limit of " +
+                     std::to_string(kMaxSceneFileBytes) + " bytes for a scene file");
+  std::ostringstream text;
+  text << std::ifstream(file, std::ios::binary).rdbuf();
+  const std::string content = text.str();
+  checkNesting(content, file.string() + ":");
+  try {
+    return toml::parse(content, file.string());
+  } catch (const toml::parse_error& e) {
+    const auto& at = e.source().begin;
+    throw InputError(file.string() + ":" + std::to_string(at.line) + ":" + std::to_string(at.column) +
+                     ": TOML syntax error: " + std::string(e.description()));
+  }
+}
+
+}  // namespace
+
+// Frames are capped at kMaxFrames when the scene is read: the int cannot overflow.
+int Scene::frameCount() const { return std::max(1, static_cast<int>(std::floor(duration * fps + 1e-9))); }
+
+Scene loadScene(const fs::path& file, const std::vector<std::string>& overrides, std::uint64_t max_memory) {
+  Scene scene;
+  scene.file = file;
+  scene.name = file.stem().string();
+  if (const std::string problem = identifierProblem(scene.name); !problem.empty())
+    throw InputError(file.string() + ": the scene name " + quotedName(scene.name) + " (the file name without .toml) is " +
+                     problem);
+  scene.memory_budget = max_memory > 0 ? max_memory : memoryBudget();
+  toml::table table = parseFile(file);
+  for (const std::string& o : overrides) {
+    checkNesting(o, "--set " + o.substr(0, 40) + ": line ");
+    applyOverride(table, o);
+  }
+  std::ostringstream text;
+  text << table;
+  scene.text = text.str();
+
+  TableReader root(table, file, "");
+  Vec3 gravity;
+  static const toml::table kEmpty;
+  const toml::table* simulation = root.table("simulation");
+  readSimulation(TableReader(simulation ? *simulation : kEmpty, file, "simulation"), scene, gravity);
+  scene.system = std::make_unique<MassSpringSystem>(gravity);
+  if (const toml::table* output = root.table("output")) readOutput(TableReader(*output, file, "output"), scene);
+  readGroup(root, "bodies", scene, readBody);
+  readGroup(root, "colliders", scene, readCollider);
+  readRenderTables(root, scene);
+  if (scene.render.options.png || scene.render.options.exr) {  // the render buffers count once the scene renders
+    SceneEstimate e = scene.estimate;
+    e.render_pixels = std::int64_t(scene.render.camera.resolution[0]) * scene.render.camera.resolution[1];
+    if (e.bytes(integratorTraits(scene.integrator).implicit) > scene.memory_budget) {
+      const toml::table* camera = root.table("camera");
+      TableReader c(camera ? *camera : kEmpty, file, "camera");
+      failOverBudget(c, scene, "resolution", e, "; a smaller camera.resolution (or --resolution) would fit");
+    }
+    scene.estimate = e;
+  }
+  if (scene.system->bodies().empty())
+    root.fail("bodies", "a scene needs at least one body: [bodies.NAME] with type = \"jelly\" or \"cloth\"");
+  root.finish();
+  return scene;
+}
+
+}  // namespace wobble

@@ -1,0 +1,357 @@
+#include "app/study/study_accuracy.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include "app/output/progress.h"
+#include "app/scene/input_error.h"
+#include "app/scene/scene.h"
+#include "app/study/order_fit.h"
+#include "app/study/study_report.h"
+#include "io/text_file.h"
+#include "io/text_table.h"
+#include "sim/simulation.h"
+
+namespace fs = std::filesystem;
+
+namespace wobble {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr long kContactSubsteps = 64;
+
+struct RunSpec {
+  std::string integrator;
+  double dt = 0;
+  IntegratorOptions options;
+};
+
+struct Trajectory {
+  std::vector<VecX> x;  // positions at the sample times reached
+  double seconds = 0;
+  long steps = 0, evaluations = 0, accepted = 0;
+  std::string failure;  // empty when every sample was reached
+};
+
+// One run of the system from its initial state through the sample times. The system is shared between runs: a
+// Simulation keeps the state; the system only takes the step size (for static friction), set anew per run.
+Trajectory simulate(MassSpringSystem& system, const RunSpec& spec, const std::vector<double>& times) {
+  Trajectory r;
+  r.x.reserve(times.size());
+  Simulation sim(system, makeIntegrator(spec.integrator, spec.options), spec.dt);
+  const auto start = Clock::now();
+  try {
+    for (double t : times) {
+      if (const auto blow_up = sim.advanceTo(t)) {
+        std::ostringstream m;
+        m << "blew up at t = " << blow_up->time << " s (step " << blow_up->step << ")";
+        r.failure = m.str();
+        break;
+      }
+      r.x.push_back(sim.x());
+    }
+  } catch (const std::exception& e) {
+    r.failure = e.what();
+  }
+  r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  const IntegratorStats& s = sim.integrator().stats();
+  r.steps = sim.steps();
+  r.evaluations = s.evaluations;
+  r.accepted = s.accepted;
+  return r;
+}
+
+// Final error: max over moving particles of |x - ref| at the last sample; RMS over all samples and moving particles.
+std::pair<double, double> errors(const Trajectory& run, const Trajectory& ref, const std::vector<int>& moving) {
+  double final_error = 0, sum = 0;
+  for (std::size_t s = 0; s < ref.x.size(); ++s)
+    for (int i : moving) {
+      const double d2 = (particle(run.x[s], i) - particle(ref.x[s], i)).squaredNorm();
+      sum += d2;
+      if (s + 1 == ref.x.size()) final_error = std::max(final_error, std::sqrt(d2));
+    }
+  const double count = double(ref.x.size()) * double(std::max<std::size_t>(1, moving.size()));
+  return {final_error, std::sqrt(sum / count)};
+}
+
+std::string dtLabel(double duration, double dt) {
+  const double k = std::log2(duration / dt);
+  if (std::abs(k - std::round(k)) < 1e-9) return "T/" + std::to_string(1L << long(std::round(k)));
+  return formatNumber(dt, 4);
+}
+
+void check(bool ok, const std::string& message) {
+  if (!ok) throw InputError(message);
+}
+
+void validate(const AccuracyOptions& o) {
+  check(o.duration > 0 && std::isfinite(o.duration), "--duration " + formatNumber(o.duration) + ": must be > 0");
+  check(o.samples >= 1 && (o.samples & (o.samples - 1)) == 0 && o.samples <= 4096,
+        "--samples " + std::to_string(o.samples) + ": must be a power of 2 in [1, 4096]");
+  check(o.k_min >= 0 && o.k_max <= 24 && o.k_min <= o.k_max,
+        "--kmin " + std::to_string(o.k_min) + " --kmax " + std::to_string(o.k_max) + ": need 0 <= kmin <= kmax <= 24");
+  check((1L << o.k_min) >= o.samples, "--kmin " + std::to_string(o.k_min) + ": the largest step T/2^kmin must divide the "
+                                      "sample interval T/" + std::to_string(o.samples) + " (use --kmin >= " +
+                                      std::to_string(int(std::log2(o.samples))) + " or fewer --samples)");
+  check(o.tol_min >= 1 && o.tol_max <= 13 && o.tol_min <= o.tol_max,
+        "--tol-min " + std::to_string(o.tol_min) + " --tol-max " + std::to_string(o.tol_max) +
+            ": need 1 <= tol-min <= tol-max <= 13 (rtol = 10^-j)");
+  check(o.repeats >= 0 && o.repeats <= 100, "--repeats " + std::to_string(o.repeats) + ": must be in [0, 100]");
+  check(o.reference == "auto" || o.reference == "rk45" || o.reference == "rk4",
+        "--reference " + o.reference + ": must be auto, rk45 or rk4");
+}
+
+}  // namespace
+
+std::vector<AccuracyFit> fitAccuracy(const std::vector<AccuracyPoint>& points) {
+  std::vector<AccuracyFit> fits;
+  for (const AccuracyPoint& p : points) {
+    auto it = std::find_if(fits.begin(), fits.end(), [&](const AccuracyFit& f) { return f.integrator == p.integrator; });
+    if (it == fits.end()) {
+      fits.push_back({p.integrator, convergenceOrder(p.integrator)});
+      it = fits.end() - 1;
+    }
+  }
+  for (AccuracyFit& f : fits) {
+    std::vector<double> h, final_error, rms_error;
+    for (const AccuracyPoint& p : points)
+      if (p.integrator == f.integrator && p.in_fit) {
+        h.push_back(p.mean_step);
+        final_error.push_back(p.final_error);
+        rms_error.push_back(p.rms_error);
+      }
+    f.points = int(h.size());
+    f.order_final = fitOrder(h, final_error);
+    f.order_rms = fitOrder(h, rms_error);
+  }
+  return fits;
+}
+
+AccuracyResult runAccuracyStudy(const AccuracyOptions& o) {
+  validate(o);
+  const std::vector<std::string> integrators = selectIntegrators(o.integrators);
+  Scene scene = loadScene(o.scene, o.sets);
+  MassSpringSystem& system = *scene.system;
+
+  AccuracyResult result;
+  result.scene_name = scene.name;
+  result.scene_file = o.scene;
+  result.has_colliders = !system.colliders().empty();
+  result.duration = o.duration;
+  result.particles = system.particleCount();
+  std::vector<int> moving;
+  for (int i = 0; i < system.particleCount(); ++i)
+    if (system.inverseMass()[i] != 0) moving.push_back(i);
+  result.moving_particles = int(moving.size());
+
+  std::vector<double> times;
+  for (int j = 1; j <= o.samples; ++j) times.push_back(o.duration * j / o.samples);
+  const double finest = o.duration / double(1L << o.k_max);
+
+  int total_runs = 2;
+  for (const std::string& name : integrators)
+    total_runs += (integratorTraits(name).adaptive ? o.tol_max - o.tol_min + 1 : o.k_max - o.k_min + 1) * (1 + o.repeats);
+  Progress progress("accuracy " + scene.name, total_runs, "run");
+  int done = 0;
+  const auto tick = [&] {
+    if (o.progress) progress.update(++done);
+  };
+
+  // The reference and a looser twin whose difference from it bounds the reference's own error.
+  // rk45's largest step: a sample interval on a smooth scene; with colliders the scene's dt, since collisions are
+  // resolved only between steps.
+  const double rk45_largest = result.has_colliders ? std::min(scene.dt, o.duration / o.samples) : o.duration / o.samples;
+  const bool use_rk45 = o.reference == "rk45" || (o.reference == "auto" && !result.has_colliders);
+  RunSpec ref{use_rk45 ? "rk45" : "rk4", use_rk45 ? rk45_largest : finest / 16, scene.integrator_options};
+  RunSpec twin = ref;
+  if (use_rk45) {
+    ref.options.rtol = ref.options.atol = 1e-12;
+    twin.options.rtol = twin.options.atol = 1e-11;
+    ref.options.max_substeps = twin.options.max_substeps = 100000000;
+    result.reference = "rk45 (DOPRI5) at rtol = atol = 1e-12, largest step " + formatNumber(ref.dt, 4) +
+                       " s; its error estimated against rtol = atol = 1e-11";
+  } else {
+    twin.dt = 2 * ref.dt;
+    result.reference = "rk4 at dt = " + dtLabel(o.duration, ref.dt) + " (finest swept dt / 16); its error estimated "
+                       "against rk4 at twice that step";
+  }
+  const Trajectory reference = simulate(system, ref, times);
+  tick();
+  if (!reference.failure.empty())
+    throw std::runtime_error("the reference solution (" + result.reference + ") failed: " + reference.failure);
+  result.reference_seconds = reference.seconds;
+  const Trajectory loose = simulate(system, twin, times);
+  tick();
+  result.reference_error = loose.failure.empty() ? errors(loose, reference, moving).first : kNaN;
+  const double floor = 10 * result.reference_error;
+
+  for (const std::string& name : integrators) {
+    const bool adaptive = integratorTraits(name).adaptive;
+    const int first = adaptive ? o.tol_min : o.k_min, last = adaptive ? o.tol_max : o.k_max;
+    for (int k = first; k <= last; ++k) {
+      RunSpec spec{name, adaptive ? rk45_largest : o.duration / double(1L << k), scene.integrator_options};
+      AccuracyPoint p;
+      p.integrator = name;
+      p.dt = spec.dt;
+      if (adaptive) p.rtol = spec.options.rtol = spec.options.atol = std::pow(10.0, -k);
+      // With contacts, tight tolerances make DOPRI5 crawl through every contact switch (substeps of nanoseconds):
+      // a run needing more than kContactSubsteps substeps in one scene step gives up, and is listed as left out.
+      if (adaptive && result.has_colliders) spec.options.max_substeps = kContactSubsteps;
+      const Trajectory warm = simulate(system, spec, times);
+      tick();
+      p.steps = warm.steps;
+      p.evaluations = warm.evaluations;
+      p.mean_step = o.duration / double(std::max(1L, adaptive ? warm.accepted : warm.steps));
+      if (!warm.failure.empty()) {
+        p.diverged = true;
+        p.failure = warm.failure;
+        p.final_error = p.rms_error = p.seconds = kNaN;
+        done += o.repeats;
+        result.points.push_back(p);
+        continue;
+      }
+      std::tie(p.final_error, p.rms_error) = errors(warm, reference, moving);
+      if (!std::isfinite(p.final_error) || !std::isfinite(p.rms_error)) {
+        p.diverged = true;
+        p.failure = "non-finite error";
+      }
+      p.seconds = warm.seconds;
+      for (int r = 0; r < o.repeats; ++r) {
+        p.seconds = r == 0 ? simulate(system, spec, times).seconds : std::min(p.seconds, simulate(system, spec, times).seconds);
+        tick();
+      }
+      p.in_fit = !p.diverged && !(p.final_error <= floor);  // a NaN floor (twin failed) excludes nothing
+      result.points.push_back(p);
+    }
+  }
+  progress.finish();
+  result.fits = fitAccuracy(result.points);
+  return result;
+}
+
+std::string accuracyMarkdown(const AccuracyResult& r) {
+  std::ostringstream md;
+  md << "# Accuracy study: " << r.scene_name << "\n\n";
+  md << "Scene `" << r.scene_file.string() << "`, simulated time T = " << formatNumber(r.duration) << " s, "
+     << r.moving_particles << " moving particles of " << r.particles << ". Machine: " << machineDescription() << ".\n\n";
+  if (r.has_colliders)
+    md << "**This scene has colliders: the fitted orders below are not meaningful.** Contact forces switch on and off "
+          "and collisions are resolved at step ends (static friction even depends on the step size), so the "
+          "trajectory is not a smooth function of time and no method keeps its textbook order; expect about 1 or "
+          "less for all of them. Read the errors and run times, not the slopes. rk45 may take at most "
+       << kContactSubsteps << " substeps per scene step here (it crawls through contact switches at tight "
+          "tolerances); runs that need more are left out.\n\n";
+  else
+    md << "The scene has no colliders: the motion is smooth, so the fitted orders should approach the theoretical "
+          "ones where the errors are in the asymptotic range.\n\n";
+  md << "- Reference: " << r.reference << " (run time " << formatNumber(r.reference_seconds, 3)
+     << " s, estimated error " << formatNumber(r.reference_error, 3)
+     << " m; errors below 10x that are left out of the fits).\n"
+     << "- Errors are of particle positions against the reference: final = max over moving particles at T; RMS = "
+        "over every sample time and moving particle (metres).\n"
+     << "- Fixed-step methods use dt = T/2^k; rk45 uses rtol = atol = 10^-j and its order is fitted against its mean "
+        "accepted substep.\n"
+     << "- Run time: minimum of several runs after a warm-up, wall clock, one thread.\n\n";
+
+  md << "## Fitted convergence order (slope of log error against log dt)\n\n";
+  TextTable fits{{"integrator", "theory", "fitted (final error)", "fitted (RMS error)", "points in fit"}};
+  for (const AccuracyFit& f : r.fits)
+    fits.add({f.integrator, std::to_string(f.expected), std::isnan(f.order_final) ? "n/a" : formatNumber(f.order_final, 3),
+              std::isnan(f.order_rms) ? "n/a" : formatNumber(f.order_rms, 3), std::to_string(f.points)});
+  md << fits.markdown() << "\n";
+
+  md << "## Fastest integrator to reach a final error\n\n";
+  TextTable fastest{{"final error at most (m)", "fastest integrator", "its setting", "run time (s)", "runner-up"}};
+  for (double target : {1e-1, 1e-2, 1e-3, 1e-4, 1e-6, 1e-8}) {
+    std::map<std::string, const AccuracyPoint*> best;  // per integrator
+    for (const AccuracyPoint& p : r.points)
+      if (!p.diverged && p.final_error <= target && (!best[p.integrator] || p.seconds < best[p.integrator]->seconds))
+        best[p.integrator] = &p;
+    std::vector<const AccuracyPoint*> order;
+    for (const auto& [name, p] : best)
+      if (p) order.push_back(p);
+    std::sort(order.begin(), order.end(), [](auto* a, auto* b) { return a->seconds < b->seconds; });
+    const auto setting = [&](const AccuracyPoint* p) {
+      return integratorTraits(p->integrator).adaptive ? "rtol " + formatNumber(p->rtol, 2) : "dt " + dtLabel(r.duration, p->dt);
+    };
+    if (order.empty()) {
+      fastest.add({formatNumber(target), "none reached it", "", "", ""});
+      continue;
+    }
+    fastest.add({formatNumber(target), order[0]->integrator, setting(order[0]), formatNumber(order[0]->seconds, 3),
+                 order.size() > 1 ? order[1]->integrator + " (" + formatNumber(order[1]->seconds, 3) + " s)" : "-"});
+  }
+  md << fastest.markdown() << "\n";
+
+  md << "## Every point\n\n";
+  TextTable all{{"integrator", "dt (s)", "rtol", "steps", "evaluations", "final error (m)", "RMS error (m)",
+                 "run time (s)", "in fit"}};
+  for (const AccuracyPoint& p : r.points)
+    all.add({p.integrator, dtLabel(r.duration, p.dt), p.rtol > 0 ? formatNumber(p.rtol, 2) : "-", std::to_string(p.steps),
+             std::to_string(p.evaluations), p.diverged ? "diverged" : formatNumber(p.final_error, 3),
+             p.diverged ? "diverged" : formatNumber(p.rms_error, 3), p.diverged ? "-" : formatNumber(p.seconds, 3),
+             p.in_fit ? "yes" : "no"});
+  md << all.markdown() << "\n";
+
+  md << "## Left out (diverged or failed)\n\n";
+  bool any = false;
+  for (const AccuracyPoint& p : r.points)
+    if (p.diverged) {
+      md << "- " << p.integrator << " at "
+         << (integratorTraits(p.integrator).adaptive ? "rtol " + formatNumber(p.rtol, 2) : "dt = " + dtLabel(r.duration, p.dt)) << ": "
+         << p.failure << "\n";
+      any = true;
+    }
+  if (!any) md << "None.\n";
+  return md.str();
+}
+
+PlotResult writeAccuracyOutputs(const AccuracyResult& r, const fs::path& out, const std::string& gnuplot) {
+  fs::create_directories(out);
+  TextTable csv{{"scene", "integrator", "dt", "rtol", "mean_step", "steps", "evaluations", "final_error", "rms_error",
+                 "seconds", "diverged", "in_fit", "failure", "has_colliders"}};
+  for (const AccuracyPoint& p : r.points)
+    csv.add({r.scene_name, p.integrator, formatNumber(p.dt, 17), formatNumber(p.rtol, 3), formatNumber(p.mean_step, 17),
+             std::to_string(p.steps), std::to_string(p.evaluations), formatNumber(p.final_error, 17),
+             formatNumber(p.rms_error, 17), formatNumber(p.seconds, 6), p.diverged ? "1" : "0", p.in_fit ? "1" : "0",
+             p.failure, r.has_colliders ? "1" : "0"});
+  writeTextFile(out / "accuracy.csv", csv.csv());
+  writeTextFile(out / "accuracy.md", accuracyMarkdown(r));
+
+  // Work-precision diagram (SciML style): error on x, run time on y, log-log, one curve per integrator; two panels.
+  std::ostringstream gp;
+  gp << "# Work-precision diagram of " << r.scene_name << ": gnuplot accuracy.gp (writes accuracy.png)\n"
+     << "if (!exists(\"out\")) out = 'accuracy.png'\n"
+     << "set terminal pngcairo size 1400,600 noenhanced\nset output out\n"
+     << "set logscale xy\nset grid\nset key top right\nset ylabel 'run time (s)'\n";
+  std::vector<std::string> names;
+  for (const AccuracyFit& f : r.fits) names.push_back(f.integrator);
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    gp << "$d" << i << " << EOD\n";
+    for (const AccuracyPoint& p : r.points)
+      if (p.integrator == names[i] && !p.diverged && p.final_error > 0 && p.rms_error > 0)
+        gp << formatNumber(p.final_error, 10) << " " << formatNumber(p.rms_error, 10) << " " << formatNumber(p.seconds, 6)
+           << "\n";
+    gp << "EOD\n";
+  }
+  gp << "set format x '%.0e'\nset multiplot layout 1,2 title " << gnuplotQuote("wobble study accuracy: " + r.scene_name +
+                                                                                   (r.has_colliders ? " (colliders: orders not meaningful)" : ""))
+     << "\n";
+  for (int panel = 0; panel < 2; ++panel) {
+    gp << "set xlabel '" << (panel == 0 ? "final error (m)" : "RMS error over frames (m)") << "'\nplot ";
+    for (std::size_t i = 0; i < names.size(); ++i)
+      gp << (i ? ", " : "") << "$d" << i << " using " << (panel == 0 ? 1 : 2) << ":3 with linespoints lw 2 pt 7 title "
+         << gnuplotQuote(names[i]);
+    gp << "\n";
+  }
+  gp << "unset multiplot\n";
+  writeTextFile(out / "accuracy.gp", gp.str());
+  return runGnuplot(out / "accuracy.gp", out / "accuracy.png", gnuplot);
+}
+
+}  // namespace wobble

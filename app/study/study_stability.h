@@ -1,0 +1,85 @@
+// `wobble study stability`: for each integrator, a map over spring stiffness ks (every spring of every body) and
+// time step dt of what a short run does: stable, blew up (sim/simulation.h's rule: a NaN or |v|^2 > 1e6), or
+// survived but lost its shape (largest spring strain |l - rest| / rest above strain_bound at any check, every
+// 0.01 s). Each cell runs the scene from its initial state for `duration` simulated seconds, or until it blows up.
+// Beside the map, theory's boundary (stability_theory.h): the largest stable dt at each ks from omega_max by
+// Gershgorin and by power iteration. rk45 picks its own steps (dt is only its largest), so it is skipped unless
+// named in integrators. With `infer`, a row (integrator, ks) is scanned from the largest dt down and stops at the
+// first cell that did not blow up; the smaller steps get its outcome (stable or lost shape) without running
+// ("inferred": stability regions of these methods contain the whole segment from 0 to their boundary, and a
+// smaller step solves the same physics more accurately). The extra `cases` (ks, dt) always run. Rows run
+// on `jobs` threads; each cell is single-threaded and deterministic, so the results do not depend on jobs.
+#pragma once
+#include <array>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "app/study/gnuplot.h"
+#include "sim/system.h"
+
+namespace wobble {
+
+struct StabilityOptions {
+  std::filesystem::path scene = "scenes/jelly_impact.toml";
+  std::vector<std::string> sets;
+  std::vector<std::string> integrators;  // empty: all but rk45
+  std::filesystem::path out;             // empty: out/study-stability-<scene name>
+  double duration = 0.5;                 // simulated seconds per cell
+  double strain_bound = 0.5;
+  double ks_min = 1e3, ks_max = 1e9, dt_min = 1e-5, dt_max = 1.0 / 30;
+  int ks_points = 7, dt_points = 6;      // log spaced, ends included (--fine: 13 x 12)
+  std::vector<std::array<double, 2>> cases = {{5e4, 1.2e-3}, {1e5, 1.4e-3}};  // (ks, dt): the users' reports
+  bool infer = true;
+  int jobs = 0;                          // 0: hardware threads
+  std::string gnuplot = "gnuplot";
+  bool progress = true;
+};
+
+enum class Outcome { Stable, LostShape, BlewUp, Failed };
+const char* toString(Outcome outcome);
+
+struct StabilityCell {
+  std::string integrator;
+  double ks = 0, dt = 0;
+  Outcome outcome = Outcome::Stable;
+  bool inferred = false, user_case = false;
+  double max_strain = 0, final_strain = 0;  // over the checks / at the end (NaN when it blew up)
+  double end_time = 0;                      // simulated time reached
+  double max_speed = 0;                     // largest particle speed seen (m/s)
+  long steps = 0;
+  std::string note;                         // the failure's message
+};
+
+struct StabilityTheory {
+  double ks = 0;
+  double omega_gershgorin = 0, omega_power = 0, damper_ratio = 0;
+  std::vector<double> dt_gershgorin, dt_power;  // per integrator, in StabilityResult::integrators order
+};
+
+struct StabilityResult {
+  std::string scene_name;
+  std::filesystem::path scene_file;
+  double duration = 0, strain_bound = 0;
+  std::vector<std::string> integrators;
+  std::vector<double> ks, dt;  // the grid
+  std::vector<StabilityCell> cells;
+  std::vector<StabilityTheory> theory;  // per grid ks, then per user-case ks
+  std::vector<std::string> notes;
+};
+
+// One cell on a system already built at that ks.
+StabilityCell classifyCell(MassSpringSystem& system, const std::string& integrator, double dt, double duration,
+                           double strain_bound);
+
+// Throws InputError for bad options or scene input.
+StabilityResult runStabilityStudy(const StabilityOptions& options);
+
+std::string stabilityMarkdown(const StabilityResult& result);
+
+// OUT/stability.csv, OUT/stability.md, and per integrator OUT/stability-<name>.gp and .png. Returns each plot's
+// outcome. Creates OUT.
+std::vector<PlotResult> writeStabilityOutputs(const StabilityResult& result, const std::filesystem::path& out,
+                                              const std::string& gnuplot = "gnuplot");
+
+}  // namespace wobble

@@ -1,0 +1,60 @@
+// FrameOutput: renders frames while a run simulates (or from an OBJ sequence, render_command.cpp) and writes them:
+// OUT/frames/<scene>_NNNN.png and, when asked, OUT/exr/<scene>_NNNN.exr (colour, albedo, normal, depth), each under a
+// temporary name and renamed into place. Render settings come from the scene's [render] and [camera] tables.
+// Determinism: the renderer's noise is seeded by the frame number, so a frame is the same bytes whoever renders it
+// (a run, or `wobble render` of its OBJ sequence) and whatever the thread count.
+#pragma once
+#include <filesystem>
+#include <future>
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "app/output/video.h"
+#include "app/scene/scene.h"
+#include "app/view/camera_rig.h"
+#include "app/view/render_scene.h"
+
+namespace wobble {
+
+class FrameOutput {
+ public:
+  // True when the scene asks for images (render.png or render.exr).
+  static bool wanted(const Scene& scene);
+  // Creates OUT/frames and/or OUT/exr; loads the textures.
+  FrameOutput(const Scene& scene, std::filesystem::path out);
+
+  // Call for every frame from 1 in order (the follow camera needs each one), with every body's surface (scene body
+  // order); renders and writes only when `write` (a frame not written needs only the followed body's surface).
+  void frame(int frame, std::span<const SurfaceFrame> surfaces, bool write);
+  // A frame that is not drawn, from the simulation's flat state: only the follow camera sees it.
+  void observe(int frame, const VecX& x);
+
+  // After the last frame: waits for the last files and for OUT/<scene>.mp4, encoded (when render.video is set) from
+  // the frames as they were written (video.h: VideoStream). Returns the video's path, or nothing (not asked, no
+  // frame, interrupted, or ffmpeg is missing: then it was said).
+  std::optional<std::filesystem::path> finish();
+
+  // Index of the body the camera follows in scene.system->bodies(), or -1 for a fixed camera.
+  int followedBody() const { return rig_.followedBody(); }
+  int framesRendered() const { return rendered_; }
+  static std::filesystem::path pngPath(const std::filesystem::path& out, const std::string& scene, int frame);
+  static std::filesystem::path exrPath(const std::filesystem::path& out, const std::string& scene, int frame);
+
+ private:
+  void render(int frame);
+
+  const Scene& scene_;
+  std::filesystem::path out_;
+  RenderScene render_scene_;
+  CameraRig rig_;
+  int rendered_ = 0;
+  // A frame's files (tone mapping, PNG and EXR encoding: single-threaded) are written while the next frame is
+  // simulated and rendered; at most one frame waits. get() rethrows a write error.
+  std::future<void> writing_;
+  std::unique_ptr<VideoStream> video_;  // opened with the first PNG written (its size), fed by the writer
+  bool video_opened_ = false;
+};
+
+}  // namespace wobble

@@ -1,0 +1,101 @@
+#include "app/view/render_scene.h"
+
+#include <memory>
+#include <stdexcept>
+#include <type_traits>
+#include <variant>
+
+#include "app/scene/collider_kinds.h"
+#include "render/image_texture.h"
+#include "render/texture.h"
+
+namespace wobble {
+namespace {
+
+render::Color toColor(const Vec3& c) { return c.cast<float>(); }
+
+render::Material bodyMaterial(const std::string& name, const BodyLook& look,
+                              std::shared_ptr<const render::Texture> texture) {
+  if (look.material == "jelly") return render::Material::jelly(name, toColor(look.color), std::move(texture));
+  return render::Material{name, toColor(look.color), std::move(texture)};
+}
+
+std::shared_ptr<const render::Texture> colliderTexture(const std::string& kind) {
+  if (kind == "wood") return std::make_shared<render::WoodTexture>();
+  // Two squares per tile, light and mid grey: enough contrast to read motion, not so much it flickers.
+  if (kind == "checker")
+    return std::make_shared<render::CheckerTexture>(render::Color(0.75f, 0.75f, 0.72f),
+                                                    render::Color(0.3f, 0.3f, 0.3f), 2.0f);
+  return nullptr;
+}
+
+// The renderer's shapes, in float, for a collider's drawn shape (collider_kinds.h).
+render::Quad toRender(const DrawnQuad& q) {
+  return {q.center.cast<float>(), q.normal.cast<float>(), float(q.size), float(q.size / q.tile)};
+}
+render::Sphere toRender(const DrawnSphere& s) { return {s.center.cast<float>(), static_cast<float>(s.radius)}; }
+render::Box toRender(const DrawnBox& b) { return {b.center.cast<float>(), b.size.cast<float>()}; }
+
+render::TriangleMesh bodyMesh(const Body& body) {
+  const SurfaceFrame frame = evaluateSurface(body.surface, body.x, 0);
+  render::TriangleMesh mesh;
+  mesh.name = body.name;
+  mesh.positions = frame.positions;
+  mesh.normals = frame.normals;
+  mesh.uv = body.surface.uv;
+  mesh.triangles = body.surface.triangles;
+  return mesh;
+}
+
+}  // namespace
+
+RenderScene::RenderScene(const Scene& scene) {
+  for (const BodySlot& slot : scene.system->bodies()) {
+    const Body& body = slot.body;
+    std::shared_ptr<const render::Texture> texture;
+    if (const auto file = scene.textures.find(body.name); file != scene.textures.end())
+      texture = std::make_shared<render::ImageTexture>(render::ImageTexture::load(file->second));
+    const auto material = scene_.addMaterial(bodyMaterial(body.name, scene.render.bodies.at(body.name), texture));
+    body_shapes_.push_back(scene_.addMesh(bodyMesh(body), material));
+  }
+  for (const auto& c : scene.system->colliders()) {
+    const ColliderLook& look = scene.render.colliders.at(c->name());
+    const ColliderKind& kind = colliderKind(look.type);
+    const auto material = scene_.addMaterial(
+        render::Material{c->name(), toColor(look.color), colliderTexture(look.texture)});
+    const render::ShapeId shape = std::visit(
+        [&](const auto& drawn) {
+          using Drawn = std::decay_t<decltype(drawn)>;
+          if constexpr (std::is_same_v<Drawn, DrawnQuad>) return scene_.addQuad(c->name(), toRender(drawn), material);
+          if constexpr (std::is_same_v<Drawn, DrawnSphere>) return scene_.addSphere(c->name(), toRender(drawn), material);
+          if constexpr (std::is_same_v<Drawn, DrawnBox>) return scene_.addBox(c->name(), toRender(drawn), material);
+        },
+        kind.drawn(*c, look, 0));
+    if (kind.moves) moving_.push_back({shape, c.get(), &kind, look});
+  }
+  const RenderOptionsConfig& o = scene.render.options;
+  render::SunLight sun;
+  sun.direction = o.sun_direction.cast<float>();
+  sun.angular_radius_deg = static_cast<float>(o.sun_radius_deg);
+  scene_.lights.suns = {sun};
+  scene_.lights.sky = render::Sky{};
+  scene_.commit();
+}
+
+void RenderScene::update(double t, std::span<const SurfaceFrame> surfaces) {
+  if (surfaces.size() != body_shapes_.size()) throw std::logic_error("RenderScene::update: wrong body count");
+  for (std::size_t b = 0; b < surfaces.size(); ++b)
+    scene_.updateMesh(body_shapes_[b], surfaces[b].positions, surfaces[b].normals);
+  for (const MovingCollider& m : moving_)
+    std::visit(
+        [&](const auto& drawn) {
+          using Drawn = std::decay_t<decltype(drawn)>;
+          if constexpr (std::is_same_v<Drawn, DrawnQuad>) scene_.updateQuad(m.shape, toRender(drawn));
+          if constexpr (std::is_same_v<Drawn, DrawnSphere>) scene_.updateSphere(m.shape, toRender(drawn));
+          if constexpr (std::is_same_v<Drawn, DrawnBox>) scene_.updateBox(m.shape, toRender(drawn));
+        },
+        m.kind->drawn(*m.collider, m.look, t));
+  scene_.commit();
+}
+
+}  // namespace wobble

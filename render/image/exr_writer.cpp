@@ -1,0 +1,67 @@
+// Film -> multi-layer OpenEXR file (see exr_writer.h).
+#include "render/image/exr_writer.h"
+
+#include <stdexcept>
+#include <string>
+
+#include <vector>
+
+#include <Imath/half.h>
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStdIO.h>
+
+#include "io/atomic_file.h"
+
+namespace wobble::render {
+
+void writeExr(const std::filesystem::path& file, const Film& film, std::span<const Color> denoised) {
+  const std::size_t n = std::size_t(film.width) * film.height;
+  if (film.width <= 0 || film.height <= 0 || film.color.size() != n || film.albedo.size() != n ||
+      film.normal.size() != n || film.depth.size() != n || (!denoised.empty() && denoised.size() != n))
+    throw std::invalid_argument(file.string() + ": cannot write EXR of an empty or inconsistent film");
+
+  Imf::Header header(film.width, film.height);
+  header.compression() = Imf::ZIP_COMPRESSION;
+  Imf::FrameBuffer frame;
+  // OpenEXR converts pixel types when reading but not when writing: half channels need half buffers.
+  std::vector<std::vector<half>> halves;
+  halves.reserve(12);
+  const auto addVector = [&](const std::string& layer, const char* names, std::span<const Eigen::Vector3f> values) {
+    for (int k = 0; k < 3; ++k) {
+      const std::string name = layer.empty() ? std::string(1, names[k]) : layer + "." + names[k];
+      std::vector<half>& channel = halves.emplace_back(n);
+      for (std::size_t i = 0; i < n; ++i) channel[i] = half(values[i][k]);
+      header.channels().insert(name, Imf::Channel(Imf::HALF));
+      frame.insert(name, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(channel.data()), sizeof(half),
+                                    sizeof(half) * film.width));
+    }
+  };
+  if (denoised.empty()) {
+    addVector("", "RGB", film.color);
+  } else {
+    addVector("", "RGB", denoised);
+    addVector("noisy", "RGB", film.color);
+  }
+  addVector("albedo", "RGB", film.albedo);
+  addVector("normal", "XYZ", film.normal);
+  // OpenEXR takes non-const pointers even for writing; it only reads through them here.
+  header.channels().insert("depth.Z", Imf::Channel(Imf::FLOAT));
+  frame.insert("depth.Z", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(const_cast<float*>(film.depth.data())),
+                                     sizeof(float), sizeof(float) * film.width));
+
+  // Encoded in memory, then written by the one checked writer: a full disk is reported with the OS reason.
+  Imf::StdOSStream bytes;
+  try {
+    Imf::OutputFile out(bytes, header);
+    out.setFrameBuffer(frame);
+    out.writePixels(film.height);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(file.string() + ": cannot encode EXR: " + e.what());
+  }
+  io::writeFileAtomically(file, bytes.str());
+}
+
+}  // namespace wobble::render

@@ -1,0 +1,46 @@
+// Film: the rendered frame, linear and unclamped, with the per-pixel layers written to EXR.
+//   color    mean radiance over the pixel's samples (linear RGB)
+//   albedo   mean base colour at the first hit (zero where the sky shows)
+//   normal   mean shading normal at the first hit, world space, turned towards the camera (not renormalised: it
+//            shortens along silhouettes, as denoisers expect; zero where the sky shows)
+//   depth    nearest first-hit distance along the optical axis (camera z) over the samples; +inf where every
+//            sample saw the sky
+//   diffuse  the part of colour that the first surface's diffuse lobe reflects (path_tracer.h); colour - diffuse is
+//            the coat's reflection and the sky seen directly. The denoiser filters the two apart.
+//   variance_diffuse, variance_other   estimated variance of the pixel mean's luminance, for diffuse / albedo and
+//            for colour - diffuse: sample variance / samples; -1 where a pixel has a single sample
+//   samples  samples taken in the pixel (adaptive sampling varies it)
+// Pixels are stored row-major, row 0 at the top.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "render/color.h"
+#include "render/image/image.h"
+
+namespace wobble::render {
+
+struct Film {
+  int width = 0, height = 0;
+  std::vector<Color> color, albedo;
+  std::vector<Eigen::Vector3f> normal;
+  std::vector<float> depth;
+  std::vector<Color> diffuse;
+  std::vector<float> variance_diffuse, variance_other;
+  std::vector<std::uint32_t> samples;
+
+  Film() = default;
+  Film(int w, int h);
+  std::size_t index(int x, int y) const { return std::size_t(y) * width + x; }
+};
+
+// Tone maps colour (width * height values, row-major) to an 8-bit sRGB RGB image (see color.h for the curve).
+Image8 develop(int width, int height, std::span<const Color> color, const ToneMap& tone_map = {});
+inline Image8 develop(const Film& film, const ToneMap& tone_map = {}) {
+  return develop(film.width, film.height, film.color, tone_map);
+}
+
+}  // namespace wobble::render

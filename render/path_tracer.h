@@ -1,0 +1,85 @@
+// tracePath: the light arriving along one camera ray, by a short path tracer.
+//
+// At every surface the path meets it samples each sun and area light (one shadow ray each) and, when the path goes
+// on, the sky (if PathSettings::sample_sky); then it continues in a direction drawn from the BSDF. A continuation
+// that escapes picks up the sky and any sun disc it points into; one that passes an area light picks that up. Light
+// and BSDF samples of the same light are weighted by the power heuristic (Veach 1995), so each light is counted once
+// and noise goes to whichever strategy does better. At the last vertex (no continuation) light samples count fully.
+// With Russian roulette (PathSettings::roulette) continuations after the first are taken with the path's throughput
+// as probability.
+// max_bounces counts the continuations: 0 = direct light only (no sky on surfaces), 1 = one indirect bounce (sky
+// light and colour bleeding onto surfaces: the "ambient" term), 2 = two bounces (the default; light between the jelly
+// and the floor). Camera rays see the sky only (suns and area lights are not drawn).
+//
+// Every random number comes from the pixel's sampler at a fixed slot (sampler.h: pixel jitter, texture filter, then
+// per bounce one 2D slot per light, the sky, the lobe, the direction and Russian roulette), so the path is a pure
+// function of (pixel, frame, sample).
+//
+// For the denoiser the result is split at the first surface: `diffuse` is the light its diffuse lobe reflects
+// (a multiple of its base colour, which the denoiser divides out), the rest of `radiance` comes from the coat,
+// and the sky seen directly.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "render/color.h"
+#include "render/lights.h"
+#include "render/ray.h"
+#include "render/sampler.h"
+
+namespace wobble::render {
+
+class Scene;
+
+struct PathSettings {
+  int max_bounces = 2;
+  bool sample_sky = false;  // next-event estimation of the sky, with MIS against BSDF sampling
+  // false: suns and area lights by light sampling alone (full weight; BSDF samples that find them are ignored), as
+  // the renderer did before MIS. For the render study's comparison.
+  bool mis = true;
+  // Russian roulette from the second continuation on: a path goes on with its throughput as probability (at least
+  // 0.05) and is weighted by its inverse (unbiased), so dim indirect light costs fewer rays.
+  bool roulette = false;
+};
+
+// What the first hit's texture filter needs of the camera ray. The first surface's texture is averaged over the
+// whole pixel's footprint (the neighbouring pixels' rays met on the hit's tangent plane), centred on the pixel's
+// centre rather than on the sample: every sample of a pixel then sees the same box-filtered texture, so texture
+// detail adds no noise at any sample count, and its mean is the pixel's box filter, as the reference's.
+struct CameraSample {
+  Eigen::Vector3f ddx = Eigen::Vector3f::Zero(), ddy = Eigen::Vector3f::Zero();  // ray differentials (camera.h)
+  Eigen::Vector2f offset = Eigen::Vector2f::Zero();  // the sample's position in its pixel minus the centre (pixels)
+};
+
+// What a path needs besides its ray, built once per frame (render()).
+struct PathContext {
+  PathContext(const Scene& scene, const PathSettings& settings);
+
+  const Scene& scene;
+  PathSettings settings;
+  SampleLayout layout;
+  Sky sky;  // the scene's, with a unit up vector
+  SkyDistribution sky_distribution;
+  std::vector<SunCone> suns;
+};
+
+struct PathResult {
+  Color radiance = Color::Zero();
+  Color diffuse = Color::Zero();         // the part reflected by the first surface's diffuse lobe
+  float diffuse_demodulated = 0;         // luminance of diffuse / base colour (for the denoiser's variance)
+  // First-hit values for the EXR layers; albedo and normal stay zero and t infinite when the ray escapes.
+  Color albedo = Color::Zero();
+  Eigen::Vector3f normal = Eigen::Vector3f::Zero();  // shading normal, turned towards the camera
+  Eigen::Vector3f position = Eigen::Vector3f::Zero();
+  bool hit = false;
+  std::uint32_t rays = 0;  // rays traced (intersection and shadow), for statistics
+};
+
+PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& camera, const PixelSampler& sampler,
+                     std::uint32_t sample);
+
+// Origin for rays leaving a surface at p on the side of the unit normal n: far enough to not hit the same surface
+// again through rounding (relative to the coordinates' magnitude), close enough to keep contact shadows.
+Eigen::Vector3f offsetFromSurface(const Eigen::Vector3f& p, const Eigen::Vector3f& n);
+
+}  // namespace wobble::render
