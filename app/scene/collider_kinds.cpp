@@ -5,6 +5,7 @@
 
 #include "app/scene/kind_table.h"
 #include "app/scene/table_reader.h"
+#include "sim/colliders/box.h"
 #include "sim/colliders/elevator.h"
 #include "sim/colliders/plane.h"
 #include "sim/colliders/sphere.h"
@@ -64,10 +65,25 @@ DrawnShape drawElevator(const Collider& c, const ColliderLook&, double t) {
   return DrawnBox{e.topCenter(t) - Vec3(0, e.thickness() / 2, 0), Vec3(e.size(), e.thickness(), e.size())};
 }
 
+// box: a static axis-aligned box, drawn as itself.
+std::unique_ptr<Collider> readBox(TableReader& r, const std::string& name, const ContactParams& contact,
+                                  ColliderLook&) {
+  const Vec3 center = r.vec3("center", Vec3::Zero());
+  const Vec3 size = r.vec3("size", Vec3::Ones());
+  if ((size.array() <= 0).any()) r.fail("size", "each extent must be > 0");
+  return std::make_unique<Box>(name, contact, center, size);
+}
+
+DrawnShape drawBox(const Collider& c, const ColliderLook&, double) {
+  const auto& box = static_cast<const Box&>(c);
+  return DrawnBox{box.center(), box.size()};
+}
+
 const std::array kKinds{
     ColliderKind{"plane", Vec3(1, 1, 1), "checker", false, readPlane, readPlaneLook, drawPlane},
     ColliderKind{"sphere", Vec3(0.75, 0.72, 0.68), "none", true, readSphere, nullptr, drawSphere},
     ColliderKind{"elevator", Vec3(0.55, 0.6, 0.7), "none", true, readElevator, nullptr, drawElevator},
+    ColliderKind{"box", Vec3(0.6, 0.45, 0.3), "wood", false, readBox, nullptr, drawBox},
 };
 
 }  // namespace
