@@ -1,4 +1,4 @@
-// Feeds arbitrary bytes to loadScene as a scene file: every input must load or end in a InputError (exit 2); any
+// Feeds arbitrary bytes to loadScene as a scene file: every input must load or end in an InputError (exit 2); any
 // other exception, a crash, a leak or a sanitizer report is a finding. Seed corpus: scenes/*.toml.
 #include <unistd.h>
 

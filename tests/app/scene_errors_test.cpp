@@ -1,4 +1,4 @@
-// Every kind of bad scene input gives a InputError naming the file, the line, the key, the value and what is allowed.
+// Every kind of bad scene input gives an InputError naming the file, the line, the key, the value and what is allowed.
 #include <gtest/gtest.h>
 
 #include "app/scene/input_error.h"
