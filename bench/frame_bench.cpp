@@ -18,7 +18,7 @@
 #include <benchmark/benchmark.h>
 
 #include "app/scene/render_config.h"
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "app/view/frame_view.h"
 #include "render/denoiser.h"
 #include "render/image/png_io.h"
@@ -29,7 +29,7 @@ namespace {
 using namespace wobble;
 
 struct Prepared {
-  Scene scene;
+  SceneFile scene;
   FrameView view;
   render::Film film;
   std::vector<render::Color> denoised;
@@ -45,7 +45,7 @@ Prepared& prepared(int frame) {
   auto& p = cache[frame];
   if (!p) {
     const char* file = std::getenv("WOBBLE_BENCH_SCENE");
-    Scene scene = loadScene(file ? file : "scenes/jelly_slope.toml");
+    SceneFile scene = loadScene(file ? file : "scenes/jelly_slope.toml");
     FrameView view = simulateTo(scene, frame);
     p = std::make_unique<Prepared>(Prepared{std::move(scene), std::move(view), {}, {}});
     p->film = render::render(p->view.scene.scene(), render::Camera(p->view.camera),

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "app/scene/input_error.h"
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 
 namespace fs = std::filesystem;
 

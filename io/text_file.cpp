@@ -2,10 +2,10 @@
 
 #include "io/atomic_file.h"
 
-namespace wobble {
+namespace wobble::io {
 
 void writeTextFile(const std::filesystem::path& path, const std::string& text) {
   io::writeFileAtomically(path, text);
 }
 
-}  // namespace wobble
+}  // namespace wobble::io

@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <string>
 
-namespace wobble {
+namespace wobble::io {
 
 void writeTextFile(const std::filesystem::path& path, const std::string& text);
 
-}  // namespace wobble
+}  // namespace wobble::io

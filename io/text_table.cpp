@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-namespace wobble {
+namespace wobble::io {
 namespace {
 
 std::string csvField(const std::string& s) {
@@ -49,4 +49,4 @@ std::string formatNumber(double x, int precision) {
   return buffer;
 }
 
-}  // namespace wobble
+}  // namespace wobble::io

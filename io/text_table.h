@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-namespace wobble {
+namespace wobble::io {
 
 struct TextTable {
   std::vector<std::string> header;
@@ -17,4 +17,4 @@ struct TextTable {
 
 std::string formatNumber(double x, int precision = 6);
 
-}  // namespace wobble
+}  // namespace wobble::io

@@ -10,7 +10,6 @@
 #include <Eigen/Geometry>
 
 #include "render/sampling.h"
-#include "render/scene.h"
 
 namespace wobble::render {
 
@@ -45,8 +44,7 @@ SunCone::SunCone(const SunLight& light) : sun(&light), axis(light.direction.norm
   }
 }
 
-LightSample sampleSun(const Scene& scene, const SunCone& cone, const Eigen::Vector3f& p, const Eigen::Vector3f& ng,
-                      float u1, float u2) {
+LightSample sampleSun(const SunCone& cone, const Eigen::Vector3f& p, const Eigen::Vector3f& ng, float u1, float u2) {
   LightSample s;
   if (cone.pdf > 0) {
     const Eigen::Vector3f local = sampleUniformCone(u1, u2, cone.cos_max);
@@ -55,19 +53,16 @@ LightSample sampleSun(const Scene& scene, const SunCone& cone, const Eigen::Vect
     s.wi = cone.axis;
   }
   if (s.wi.dot(ng) <= 0) return s;
-  Ray shadow;
-  shadow.origin = p;
-  shadow.direction = s.wi;
-  s.traced = true;
-  if (scene.occluded(shadow)) return s;
+  s.shadow.origin = p;
+  s.shadow.direction = s.wi;
   // Uniform cone sampling of a disc of constant radiance: radiance / pdf = irradiance at normal incidence.
   s.value = cone.sun->irradiance;
   s.pdf = cone.pdf;
   return s;
 }
 
-LightSample sampleRect(const Scene& scene, const RectLight& light, const Eigen::Vector3f& p,
-                       const Eigen::Vector3f& ng, float u1, float u2) {
+LightSample sampleRect(const RectLight& light, const Eigen::Vector3f& p, const Eigen::Vector3f& ng, float u1,
+                       float u2) {
   LightSample s;
   const Eigen::Vector3f area_normal = light.edge_u.cross(light.edge_v);
   const float area = area_normal.norm();
@@ -79,12 +74,9 @@ LightSample sampleRect(const Scene& scene, const RectLight& light, const Eigen::
   s.wi = d / dist;
   const float cos_light = -s.wi.dot(area_normal) / area;
   if (cos_light <= 0 || s.wi.dot(ng) <= 0) return s;
-  Ray shadow;
-  shadow.origin = p;
-  shadow.direction = s.wi;
-  shadow.tfar = dist * (1.0f - 1e-4f);
-  s.traced = true;
-  if (scene.occluded(shadow)) return s;
+  s.shadow.origin = p;
+  s.shadow.direction = s.wi;
+  s.shadow.tfar = dist * (1.0f - 1e-4f);
   s.pdf = dist2 / (cos_light * area);  // area sampling: pdf = 1 / area, converted to solid angle
   s.value = light.radiance / s.pdf;
   return s;

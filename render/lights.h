@@ -19,10 +19,9 @@
 #include <Eigen/Core>
 
 #include "render/color.h"
+#include "render/ray.h"
 
 namespace wobble::render {
-
-class Scene;
 
 struct SunLight {
   Eigen::Vector3f direction{0.4f, 1.0f, 0.3f};
@@ -52,14 +51,15 @@ struct Lights {
 };
 
 // One light sample seen from point p (already offset off its surface) whose face-forwarded geometric normal is ng.
-// value = incident radiance / pdf (solid angle), with visibility included: the receiver multiplies by its BSDF and
-// its own cosine. value is zero when the light is below the surface, behind, or occluded. pdf is the solid-angle
-// density of wi (for the MIS weight); 0 for a sun of radius 0, which BSDF sampling can never hit.
+// value = incident radiance / pdf (solid angle) if nothing blocks shadow: the receiver traces shadow (the path
+// tracer's unoccluded, as pbrt's Unoccluded) and multiplies by its BSDF and its own cosine. value is zero when the
+// light is below the surface or behind; then no shadow ray is needed. pdf is the solid-angle density of wi (for the
+// MIS weight); 0 for a sun of radius 0, which BSDF sampling can never hit.
 struct LightSample {
   Eigen::Vector3f wi = Eigen::Vector3f::UnitY();  // unit, towards the light
   Color value = Color::Zero();
   float pdf = 0;
-  bool traced = false;  // whether a shadow ray was traced (statistics)
+  Ray shadow;  // from p towards the light, ending just before it
 };
 
 // A sun prepared for sampling: its unit axis, frame and cone, computed once per frame instead of per sample.
@@ -70,14 +70,13 @@ struct SunCone {
   float cos_max = 1, pdf = 0;  // pdf 0: a point sun (radius 0)
 };
 
-LightSample sampleSun(const Scene& scene, const SunCone& cone, const Eigen::Vector3f& p, const Eigen::Vector3f& ng,
-                      float u1, float u2);
-inline LightSample sampleSun(const Scene& scene, const SunLight& sun, const Eigen::Vector3f& p,
-                             const Eigen::Vector3f& ng, float u1, float u2) {
-  return sampleSun(scene, SunCone(sun), p, ng, u1, u2);
+LightSample sampleSun(const SunCone& cone, const Eigen::Vector3f& p, const Eigen::Vector3f& ng, float u1, float u2);
+inline LightSample sampleSun(const SunLight& sun, const Eigen::Vector3f& p, const Eigen::Vector3f& ng, float u1,
+                             float u2) {
+  return sampleSun(SunCone(sun), p, ng, u1, u2);
 }
-LightSample sampleRect(const Scene& scene, const RectLight& light, const Eigen::Vector3f& p,
-                       const Eigen::Vector3f& ng, float u1, float u2);
+LightSample sampleRect(const RectLight& light, const Eigen::Vector3f& p, const Eigen::Vector3f& ng, float u1,
+                       float u2);
 
 // What a ray leaving a surface in direction d finds of a light (no visibility test: the caller traces the ray).
 // radiance is zero, and pdf (the light-sampling density of d, solid angle) 0, when it misses the light.

@@ -142,8 +142,9 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
       }
     };
     const auto sampleLight = [&](const LightSample& s) {
-      result.rays += s.traced;
       if (s.value.isZero() || ns.dot(s.wi) <= 0) return;
+      ++result.rays;
+      if (!unoccluded(scene, s.shadow)) return;
       // With no continuation from here, light samples are the only strategy: full weight.
       const bool combined = continues && s.pdf > 0 && context.settings.mis;
       const float weight = combined ? powerHeuristic(s.pdf, q * bsdf.pdf(s.wi)) : 1.0f;
@@ -152,11 +153,11 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
     int light_index = 0;
     for (const SunCone& sun : context.suns) {
       const Eigen::Vector2f u = sampler.get2D(sample, layout.light(bounce, light_index++));
-      sampleLight(sampleSun(scene, sun, origin, ng, u.x(), u.y()));
+      sampleLight(sampleSun(sun, origin, ng, u.x(), u.y()));
     }
     for (const RectLight& rect : lights.rects) {
       const Eigen::Vector2f u = sampler.get2D(sample, layout.light(bounce, light_index++));
-      sampleLight(sampleRect(scene, rect, origin, ng, u.x(), u.y()));
+      sampleLight(sampleRect(rect, origin, ng, u.x(), u.y()));
     }
     if (!continues) break;
     if (context.settings.sample_sky) {  // the sky is reached by continuations only, so only where one follows
@@ -165,7 +166,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
       const Eigen::Vector3f wi = context.sky_distribution.sample(u.x(), u.y(), pdf);
       if (pdf > 0 && wi.dot(ng) > 0 && ns.dot(wi) > 0) {
         ++result.rays;
-        if (!scene.occluded(Ray{origin, wi}))
+        if (unoccluded(scene, Ray{origin, wi}))
           reflect(wi, context.sky.eval(wi) * (powerHeuristic(pdf, q * bsdf.pdf(wi)) / pdf));
       }
     }
@@ -191,5 +192,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
   result.radiance = result.diffuse + other;
   return result;
 }
+
+bool unoccluded(const Scene& scene, const Ray& shadow) { return !scene.occluded(shadow); }
 
 }  // namespace wobble::render

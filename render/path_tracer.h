@@ -82,4 +82,8 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
 // again through rounding (relative to the coordinates' magnitude), close enough to keep contact shadows.
 Eigen::Vector3f offsetFromSurface(const Eigen::Vector3f& p, const Eigen::Vector3f& n);
 
+// Whether nothing in the scene blocks the shadow ray of a light sample (LightSample::shadow) between its tnear and
+// tfar: the one visibility test of the path tracer (pbrt's Unoccluded). Lights only say where to look.
+bool unoccluded(const Scene& scene, const Ray& shadow);
+
 }  // namespace wobble::render

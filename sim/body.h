@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "springs.h"
-#include "surface.h"
-#include "types.h"
+#include "sim/springs.h"
+#include "sim/surface.h"
+#include "sim/types.h"
 
 namespace wobble {
 

@@ -1,4 +1,4 @@
-#include "contact.h"
+#include "sim/contact.h"
 
 #include <cmath>
 #include <vector>

@@ -14,7 +14,7 @@
 #include <memory>
 #include <span>
 
-#include "colliders/collider.h"
+#include "sim/colliders/collider.h"
 
 namespace wobble {
 

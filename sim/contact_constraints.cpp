@@ -1,4 +1,4 @@
-#include "contact_constraints.h"
+#include "sim/contact_constraints.h"
 
 #include <algorithm>
 

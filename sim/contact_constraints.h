@@ -1,7 +1,7 @@
 // Contacts as velocity constraints, for implicit integrators: which particles a surface holds at a state.
 #pragma once
-#include "contact.h"
-#include "dynamics.h"
+#include "sim/contact.h"
+#include "sim/dynamics.h"
 
 namespace wobble {
 

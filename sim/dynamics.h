@@ -5,7 +5,7 @@
 
 #include <Eigen/SparseCore>
 
-#include "types.h"
+#include "sim/types.h"
 
 namespace wobble {
 

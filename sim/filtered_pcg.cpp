@@ -1,4 +1,4 @@
-#include "filtered_pcg.h"
+#include "sim/filtered_pcg.h"
 
 #include <algorithm>
 #include <cmath>

@@ -7,8 +7,8 @@
 #pragma once
 #include <vector>
 
-#include "pair_block_matrix.h"
-#include "particle_filter.h"
+#include "sim/pair_block_matrix.h"
+#include "sim/particle_filter.h"
 
 namespace wobble {
 

@@ -1,4 +1,4 @@
-#include "force_jacobian.h"
+#include "sim/force_jacobian.h"
 
 #include <algorithm>
 

@@ -1,8 +1,8 @@
 // Jacobians of the spring, damper and air-drag forces, for implicit integrators (Baraff & Witkin 1998).
 #pragma once
-#include "dynamics.h"
-#include "springs.h"
-#include "sym3.h"
+#include "sim/dynamics.h"
+#include "sim/springs.h"
+#include "sim/sym3.h"
 
 namespace wobble {
 

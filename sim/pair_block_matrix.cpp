@@ -1,4 +1,4 @@
-#include "pair_block_matrix.h"
+#include "sim/pair_block_matrix.h"
 
 namespace wobble {
 

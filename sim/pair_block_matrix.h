@@ -4,8 +4,8 @@
 #pragma once
 #include <vector>
 
-#include "pair_schedule.h"
-#include "sym3.h"
+#include "sim/pair_schedule.h"
+#include "sim/sym3.h"
 
 namespace wobble {
 

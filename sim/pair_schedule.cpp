@@ -1,4 +1,4 @@
-#include "pair_schedule.h"
+#include "sim/pair_schedule.h"
 
 #include <algorithm>
 #include <cstdlib>

@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-#include "parallel.h"
+#include "sim/parallel.h"
 
 namespace wobble {
 

@@ -1,4 +1,4 @@
-#include "parallel.h"
+#include "sim/parallel.h"
 
 #include <atomic>
 

@@ -1,4 +1,4 @@
-#include "particle_filter.h"
+#include "sim/particle_filter.h"
 
 namespace wobble {
 

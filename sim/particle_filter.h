@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "types.h"
+#include "sim/types.h"
 
 namespace wobble {
 

@@ -5,8 +5,8 @@
 #include <optional>
 #include <string>
 
-#include "integrators/integrator.h"
-#include "system.h"
+#include "sim/integrators/integrator.h"
+#include "sim/system.h"
 
 namespace wobble {
 

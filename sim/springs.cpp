@@ -1,4 +1,4 @@
-#include "springs.h"
+#include "sim/springs.h"
 
 #include <algorithm>
 #include <cmath>

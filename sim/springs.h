@@ -4,7 +4,7 @@
 #include <string_view>
 #include <vector>
 
-#include "types.h"
+#include "sim/types.h"
 
 namespace wobble {
 

@@ -1,4 +1,4 @@
-#include "surface.h"
+#include "sim/surface.h"
 
 
 namespace wobble {

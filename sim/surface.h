@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-#include "types.h"
+#include "sim/types.h"
 
 namespace wobble {
 

@@ -1,7 +1,7 @@
 // A symmetric 3x3 block, stored as its six distinct values: the unit of the implicit solver's matrices (a spring's
 // Jacobian block, a particle's diagonal block) at two thirds of a full block's memory traffic.
 #pragma once
-#include "types.h"
+#include "sim/types.h"
 
 namespace wobble {
 

@@ -1,11 +1,11 @@
-#include "system.h"
+#include "sim/system.h"
 
 #include <stdexcept>
 
-#include "contact.h"
-#include "contact_constraints.h"
-#include "force_jacobian.h"
-#include "pair_block_matrix.h"
+#include "sim/contact.h"
+#include "sim/contact_constraints.h"
+#include "sim/force_jacobian.h"
+#include "sim/pair_block_matrix.h"
 
 namespace wobble {
 namespace {

@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include "body.h"
-#include "colliders/collider.h"
-#include "dynamics.h"
-#include "pair_schedule.h"
+#include "sim/body.h"
+#include "sim/colliders/collider.h"
+#include "sim/dynamics.h"
+#include "sim/pair_schedule.h"
 
 namespace wobble {
 

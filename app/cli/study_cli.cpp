@@ -53,8 +53,8 @@ void addAccuracy(CLI::App& study, int& status) {
     if (r.has_colliders) std::printf("note: the scene has colliders, so the fitted orders are not meaningful\n");
     std::printf("%-17s %6s %14s %14s %6s\n", "integrator", "theory", "order (final)", "order (RMS)", "points");
     for (const AccuracyFit& f : r.fits)
-      std::printf("%-17s %6d %14s %14s %6d\n", f.integrator.c_str(), f.expected, formatNumber(f.order_final, 3).c_str(),
-                  formatNumber(f.order_rms, 3).c_str(), f.points);
+      std::printf("%-17s %6d %14s %14s %6d\n", f.integrator.c_str(), f.expected, io::formatNumber(f.order_final, 3).c_str(),
+                  io::formatNumber(f.order_rms, 3).c_str(), f.points);
     int left_out = 0;
     for (const AccuracyPoint& p : r.points) left_out += p.diverged;
     if (left_out) std::printf("%d point(s) diverged and were left out (listed in accuracy.md)\n", left_out);
@@ -106,7 +106,7 @@ void addStability(CLI::App& study, int& status) {
     for (const StabilityCell& c : r.cells)
       if (c.user_case)
         std::printf("  ks %-6g dt %-7g %-17s %-10s max strain %s\n", c.ks, c.dt, c.integrator.c_str(),
-                    toString(c.outcome), formatNumber(c.max_strain, 3).c_str());
+                    toString(c.outcome), io::formatNumber(c.max_strain, 3).c_str());
     std::printf("wrote %s/stability.csv and stability.md\n", out.c_str());
     for (const PlotResult& p : plots) {
       if (!p.ok) std::fprintf(stderr, "wobble: %s\n", p.message.c_str());
@@ -143,16 +143,16 @@ void addRender(CLI::App& study, int& status) {
     const PlotResult plot = writeRenderStudyOutputs(r, out, o->gnuplot);
     std::printf("render study of %s, frame %d at %dx%d; reference %d spp (%s), its own RMSE ~%s\n",
                 r.scene_name.c_str(), r.frame, r.width, r.height, r.reference_spp,
-                r.reference_cached ? "cached" : (formatNumber(r.reference_seconds, 3) + " s").c_str(),
-                formatNumber(r.reference_rmse, 3).c_str());
+                r.reference_cached ? "cached" : (io::formatNumber(r.reference_seconds, 3) + " s").c_str(),
+                io::formatNumber(r.reference_rmse, 3).c_str());
     std::printf("%-20s %-16s %9s %9s %9s\n", "variant", "setting", "mean spp", "RMSE", "time (s)");
     for (const RenderPoint& p : r.points)
       std::printf("%-20s %-16s %9s %9s %9s\n", p.variant.c_str(),
-                  p.threshold > 0 ? ("threshold " + formatNumber(p.threshold, 3)).c_str()
+                  p.threshold > 0 ? ("threshold " + io::formatNumber(p.threshold, 3)).c_str()
                                   : (std::to_string(p.spp) + " spp").c_str(),
-                  formatNumber(p.mean_spp, 4).c_str(), formatNumber(p.rmse, 3).c_str(), formatNumber(p.seconds, 3).c_str());
+                  io::formatNumber(p.mean_spp, 4).c_str(), io::formatNumber(p.rmse, 3).c_str(), io::formatNumber(p.seconds, 3).c_str());
     for (const RenderVariantFit& f : r.fits)
-      std::printf("slope of log RMSE against log spp, %-20s %s\n", f.variant.c_str(), formatNumber(f.slope, 3).c_str());
+      std::printf("slope of log RMSE against log spp, %-20s %s\n", f.variant.c_str(), io::formatNumber(f.slope, 3).c_str());
     std::printf("wrote %s/render.csv and render.md\n", out.c_str());
     if (!plot.ok) std::fprintf(stderr, "wobble: %s\n", plot.message.c_str());
     else std::printf("%s\n", plot.message.c_str());

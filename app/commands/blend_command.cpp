@@ -16,7 +16,7 @@
 #include "app/output/pc2_writer.h"
 #include "app/scene/collider_kinds.h"
 #include "app/scene/input_error.h"
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "app/view/camera_rig.h"
 #include "io/atomic_file.h"
 #include "io/text_file.h"
@@ -63,7 +63,7 @@ SurfaceFrame surfaceAt(const Pc2File& pc2, int sample, const ObjVertexOrder& ord
   return frame;
 }
 
-json cameraViews(const Scene& scene, const RunRecord& run, const std::vector<Pc2File>& caches,
+json cameraViews(const SceneFile& scene, const RunRecord& run, const std::vector<Pc2File>& caches,
                  const std::vector<ObjVertexOrder>& orders) {
   CameraRig rig(scene);
   const auto view = [&] {
@@ -81,7 +81,7 @@ json cameraViews(const Scene& scene, const RunRecord& run, const std::vector<Pc2
   return views;
 }
 
-json colliders(const Scene& scene, const RunRecord& run) {
+json colliders(const SceneFile& scene, const RunRecord& run) {
   json list = json::array();
   for (const auto& c : scene.system->colliders()) {
     const ColliderLook& look = scene.render.colliders.at(c->name());
@@ -134,7 +134,7 @@ BlendReport makeBlend(const BlendOptions& options) {
     if (options.scene) r.scene = *options.scene;
     return r;
   }();
-  const Scene scene = loadScene(run.scene, run.overrides);
+  const SceneFile scene = loadScene(run.scene, run.overrides);
   const fs::path mesh = out / "mesh";
 
   // The inputs, checked before Blender starts: every body's base mesh and a point cache of the run's frames.
@@ -204,8 +204,8 @@ BlendReport makeBlend(const BlendOptions& options) {
   // Absolute: Blender's save operator refuses a relative file path (`wobble blend out/scene` from the project root).
   const fs::path partial = fs::absolute(io::temporarySibling(report.blend, "partial"));
   temporary.paths = {manifest_file, script, log, partial};
-  writeTextFile(manifest_file, manifest.dump(1) + "\n");
-  writeTextFile(script, kBlendScript);
+  io::writeTextFile(manifest_file, manifest.dump(1) + "\n");
+  io::writeTextFile(script, kBlendScript);
   const int status = runProgram({blender->string(), "-b", "--factory-startup", "--python-exit-code", "1", "--python",
                                  script.string(), "--", manifest_file.string(), partial.string()},
                                 log);

@@ -10,7 +10,7 @@
 #include "app/output/output_folder.h"
 #include "app/output/progress.h"
 #include "app/scene/input_error.h"
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "app/view/frame_output.h"
 
 namespace fs = std::filesystem;
@@ -23,7 +23,7 @@ fs::path objPath(const fs::path& dir, const Body& body, int frame) {
 }
 
 // Every body's surface at frame k; bodies other than `only` (when >= 0) are left empty.
-std::vector<SurfaceFrame> readFrame(const fs::path& dir, const Scene& scene, int frame, int only = -1) {
+std::vector<SurfaceFrame> readFrame(const fs::path& dir, const SceneFile& scene, int frame, int only = -1) {
   const auto& bodies = scene.system->bodies();
   std::vector<SurfaceFrame> surfaces(bodies.size());
   for (std::size_t b = 0; b < bodies.size(); ++b)
@@ -37,7 +37,7 @@ std::vector<SurfaceFrame> readFrame(const fs::path& dir, const Scene& scene, int
 RenderCommandReport renderSequence(const RenderCommandOptions& options) {
   std::vector<std::string> overrides = options.sets;
   for (const std::string& o : renderOverrides(options.render)) overrides.push_back(o);
-  const Scene scene = loadScene(options.scene, overrides);
+  const SceneFile scene = loadScene(options.scene, overrides);
   if (!FrameOutput::wanted(scene))
     throw InputError("nothing to render: render.png and render.exr are both false (--render png, exr or png,exr)");
   if (!fs::is_directory(options.mesh_dir))

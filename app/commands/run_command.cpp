@@ -12,7 +12,7 @@
 #include "app/output/pc2_writer.h"
 #include "app/output/progress.h"
 #include "app/scene/input_error.h"
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "app/view/frame_output.h"
 #include "io/text_file.h"
 
@@ -25,14 +25,14 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-std::string formatNumber(double x) {
+std::string roundTripNumber(double x) {  // 17 digits: reads back as the same double
   std::ostringstream out;
   out.precision(17);
   out << x;
   return out.str();
 }
 
-void writeRunJson(const Scene& scene, const std::vector<std::string>& overrides, const Simulation& sim,
+void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overrides, const Simulation& sim,
                   const RunReport& r) {
   nlohmann::ordered_json j;
   j["scene"] = scene.file.string();
@@ -74,7 +74,7 @@ void writeRunJson(const Scene& scene, const std::vector<std::string>& overrides,
                            {"seconds", e->seconds}};
     if (!e->failure.empty()) j["error_estimate"]["failure"] = e->failure;
   }
-  writeTextFile(r.out / "run.json", j.dump(2) + "\n");
+  io::writeTextFile(r.out / "run.json", j.dump(2) + "\n");
 }
 
 }  // namespace
@@ -101,10 +101,10 @@ std::pair<int, int> parseFrameRange(const std::string& text, int count) {
 RunReport runScene(const RunOptions& options) {
   std::vector<std::string> overrides = options.sets;
   if (options.integrator) overrides.push_back("simulation.integrator=\"" + *options.integrator + "\"");
-  if (options.dt) overrides.push_back("simulation.dt=" + formatNumber(*options.dt));
+  if (options.dt) overrides.push_back("simulation.dt=" + roundTripNumber(*options.dt));
   if (options.pc2) overrides.push_back("output.pc2=true");
   for (const std::string& o : renderOverrides(options.render)) overrides.push_back(o);
-  Scene scene = loadScene(options.scene, overrides);
+  SceneFile scene = loadScene(options.scene, overrides);
 
   RunReport report;
   std::tie(report.first_frame, report.last_frame) =

@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include "app/scene/kind_table.h"
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "app/scene/scene_budget.h"
 #include "app/scene/table_reader.h"
 #include "sim/bodies/cloth.h"
@@ -22,7 +22,7 @@ void checkSpeed(TableReader& r, const Vec3& velocity) {
                            " m/s is above the blow-up threshold of 1000 m/s (|v|^2 > 1e6, sim/simulation.h)");
 }
 
-Body readJelly(TableReader& r, const std::string& name, Scene& scene) {
+Body readJelly(TableReader& r, const std::string& name, SceneFile& scene) {
   JellyParams p;
   // n^3 particles: the cube root of the most one body may have bounds n before anything is multiplied.
   p.n = r.integer("n", p.n, Range{2, std::floor(std::cbrt(double(kMaxBodyParticles)))});
@@ -64,7 +64,7 @@ void readPins(TableReader& r, ClothParams& p) {
   }
 }
 
-Body readCloth(TableReader& r, const std::string& name, Scene& scene) {
+Body readCloth(TableReader& r, const std::string& name, SceneFile& scene) {
   ClothParams p;
   // nx ny particles; bounding each by the most one body may have over 2 keeps 64-bit counts from overflowing.
   const Range side{2, double(kMaxBodyParticles / 2)};

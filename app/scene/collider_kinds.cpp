@@ -18,7 +18,7 @@ std::unique_ptr<Collider> readPlane(TableReader& r, const std::string& name, con
                                     ColliderLook& look) {
   const Vec3 normal = r.vec3("normal", Vec3::UnitY());
   if (normal.norm() == 0) r.fail("normal", "must not be zero");
-  auto plane = std::make_unique<Plane>(name, contact, r.vec3("point", Vec3::Zero()), normal);
+  auto plane = std::make_unique<PlaneCollider>(name, contact, r.vec3("point", Vec3::Zero()), normal);
   look.plane_size = r.number("size", look.plane_size, Range::positive());  // drawn extent: the renderer's only
   return plane;
 }
@@ -28,7 +28,7 @@ void readPlaneLook(TableReader& r, ColliderLook& look) {
 }
 
 DrawnShape drawPlane(const Collider& c, const ColliderLook& look, double) {
-  const auto& plane = static_cast<const Plane&>(c);
+  const auto& plane = static_cast<const PlaneCollider&>(c);
   return DrawnQuad{plane.point(), plane.normal(), look.plane_size, look.texture_scale};
 }
 
@@ -37,14 +37,14 @@ std::unique_ptr<Collider> readSphere(TableReader& r, const std::string& name, co
                                      ColliderLook&) {
   const Vec3 center = r.vec3("center", Vec3::Zero());
   const double radius = r.number("radius", 1, Range::positive());
-  return std::make_unique<Sphere>(name, contact, center, radius, r.vec3("velocity", Vec3::Zero()));
+  return std::make_unique<SphereCollider>(name, contact, center, radius, r.vec3("velocity", Vec3::Zero()));
 }
 
 // Drawn inset by the contact tolerance: a cloth resting on the sphere keeps its particles within epsilon of it, but
 // its flat triangles cut the chords between them (sagitta s^2 / 8r, ~3.5 mm on the default cloth) and would let the
 // exact sphere show through as specks.
 DrawnShape drawSphere(const Collider& c, const ColliderLook&, double t) {
-  const auto& sphere = static_cast<const Sphere&>(c);
+  const auto& sphere = static_cast<const SphereCollider&>(c);
   return DrawnSphere{sphere.center(t), sphere.radius() - sphere.contact().epsilon};
 }
 
@@ -57,11 +57,11 @@ std::unique_ptr<Collider> readElevator(TableReader& r, const std::string& name, 
   s.travel = r.number("travel", s.travel, Range::positive());
   s.pause = r.number("pause", s.pause, Range::nonNegative());
   const double size = r.number("size", 5, Range::positive());
-  return std::make_unique<Elevator>(name, contact, s, size, r.number("thickness", 0.25, Range::positive()));
+  return std::make_unique<ElevatorCollider>(name, contact, s, size, r.number("thickness", 0.25, Range::positive()));
 }
 
 DrawnShape drawElevator(const Collider& c, const ColliderLook&, double t) {
-  const auto& e = static_cast<const Elevator&>(c);
+  const auto& e = static_cast<const ElevatorCollider&>(c);
   return DrawnBox{e.topCenter(t) - Vec3(0, e.thickness() / 2, 0), Vec3(e.size(), e.thickness(), e.size())};
 }
 
@@ -71,11 +71,11 @@ std::unique_ptr<Collider> readBox(TableReader& r, const std::string& name, const
   const Vec3 center = r.vec3("center", Vec3::Zero());
   const Vec3 size = r.vec3("size", Vec3::Ones());
   if ((size.array() <= 0).any()) r.fail("size", "each extent must be > 0");
-  return std::make_unique<Box>(name, contact, center, size);
+  return std::make_unique<BoxCollider>(name, contact, center, size);
 }
 
 DrawnShape drawBox(const Collider& c, const ColliderLook&, double) {
-  const auto& box = static_cast<const Box&>(c);
+  const auto& box = static_cast<const BoxCollider&>(c);
   return DrawnBox{box.center(), box.size()};
 }
 

@@ -8,7 +8,7 @@
 
 #include "app/scene/body_kinds.h"
 #include "app/scene/collider_kinds.h"
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "app/scene/table_reader.h"
 
 namespace wobble {
@@ -62,7 +62,7 @@ render::RenderSettings renderSettings(const RenderOptionsConfig& o, int frame) {
   return s;
 }
 
-void readBodyLook(TableReader& r, const BodyKind& kind, const std::string& name, Scene& scene) {
+void readBodyLook(TableReader& r, const BodyKind& kind, const std::string& name, SceneFile& scene) {
   BodyLook look;
   const bool textured = scene.textures.count(name) > 0;
   // Textured: white, so the texture shows its own colours.
@@ -72,7 +72,7 @@ void readBodyLook(TableReader& r, const BodyKind& kind, const std::string& name,
 }
 
 void readColliderLook(TableReader& r, const ColliderKind& kind, const std::string& name, ColliderLook look,
-                      Scene& scene) {
+                      SceneFile& scene) {
   look.type = kind.type;
   look.color = readColor(r, kind.color);
   look.texture = r.string("texture", std::string(kind.texture), {"none", "checker", "wood"});
@@ -80,7 +80,7 @@ void readColliderLook(TableReader& r, const ColliderKind& kind, const std::strin
   scene.render.colliders[name] = look;
 }
 
-void readRenderTables(TableReader& root, Scene& scene) {
+void readRenderTables(TableReader& root, SceneFile& scene) {
   static const toml::table kEmpty;
   const toml::table* camera_table = root.table("camera");
   TableReader c(camera_table ? *camera_table : kEmpty, scene.file, "camera");

@@ -14,7 +14,7 @@
 namespace wobble {
 
 class TableReader;
-struct Scene;
+struct SceneFile;
 struct BodyKind;
 struct ColliderKind;
 
@@ -80,11 +80,11 @@ struct RenderConfig {
 
 // Read from a body's or collider's table (type already read; a collider's own keys too, which may have set look
 // keys of its kind); fill scene.render.
-void readBodyLook(TableReader& r, const BodyKind& kind, const std::string& name, Scene& scene);
+void readBodyLook(TableReader& r, const BodyKind& kind, const std::string& name, SceneFile& scene);
 void readColliderLook(TableReader& r, const ColliderKind& kind, const std::string& name, ColliderLook look,
-                      Scene& scene);
+                      SceneFile& scene);
 // The root's [camera] and [render] tables (after bodies, so `follow` can be checked against them).
-void readRenderTables(TableReader& root, Scene& scene);
+void readRenderTables(TableReader& root, SceneFile& scene);
 
 }  // namespace wobble
 

@@ -1,18 +1,18 @@
 #include "app/scene/scene_budget.h"
 
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "app/scene/table_reader.h"
 
 namespace wobble {
 
-[[noreturn]] void failOverBudget(TableReader& r, const Scene& scene, std::string_view key, const SceneEstimate& e,
+[[noreturn]] void failOverBudget(TableReader& r, const SceneFile& scene, std::string_view key, const SceneEstimate& e,
                                  const std::string& hint) {
   const bool implicit = integratorTraits(scene.integrator).implicit;
   r.fail(key, "the scene would need " + e.describe(implicit) + ", above the memory budget of " +
                   formatBytes(scene.memory_budget) + " (--max-memory; the default is half of physical memory)" + hint);
 }
 
-void reserveBody(TableReader& r, Scene& scene, std::string_view key, int value,
+void reserveBody(TableReader& r, SceneFile& scene, std::string_view key, int value,
                  const std::function<BodySize(int)>& sizeOf) {
   const bool implicit = integratorTraits(scene.integrator).implicit;
   const auto fits = [&](int v) {

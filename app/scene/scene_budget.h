@@ -11,16 +11,16 @@
 namespace wobble {
 
 class TableReader;
-struct Scene;
+struct SceneFile;
 
 // Fails at key: the scene with estimate e would be over the budget; hint ends the message ("" or "; ...").
-[[noreturn]] void failOverBudget(TableReader& r, const Scene& scene, std::string_view key, const SceneEstimate& e,
+[[noreturn]] void failOverBudget(TableReader& r, const SceneFile& scene, std::string_view key, const SceneEstimate& e,
                                  const std::string& hint);
 
 // Adds a body to the scene's estimate before it is built, or fails at key (value as read): over the particle count
 // one body may have, or over the memory budget. sizeOf(v) is the body's size with key = v; the message names the
 // largest v that would fit.
-void reserveBody(TableReader& r, Scene& scene, std::string_view key, int value,
+void reserveBody(TableReader& r, SceneFile& scene, std::string_view key, int value,
                  const std::function<BodySize(int)>& sizeOf);
 
 }  // namespace wobble

@@ -7,7 +7,7 @@
 
 namespace wobble {
 
-ErrorEstimator::ErrorEstimator(Scene scene, const std::string& integrator, const IntegratorOptions& options, double dt)
+ErrorEstimator::ErrorEstimator(SceneFile scene, const std::string& integrator, const IntegratorOptions& options, double dt)
     : scene_(std::move(scene)) {
   IntegratorOptions half = options;
   const IntegratorTraits& traits = integratorTraits(integrator);

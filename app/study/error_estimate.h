@@ -10,7 +10,7 @@
 #include <memory>
 #include <string>
 
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "sim/simulation.h"
 
 namespace wobble {
@@ -27,13 +27,13 @@ struct ErrorEstimate {
 class ErrorEstimator {
  public:
   // scene: a fresh copy of the run's scene (the estimator simulates its own system).
-  ErrorEstimator(Scene scene, const std::string& integrator, const IntegratorOptions& options, double dt);
+  ErrorEstimator(SceneFile scene, const std::string& integrator, const IntegratorOptions& options, double dt);
   // Advances the half-step run to time t and compares it with x, the run's positions at t.
   void compare(double t, const VecX& x);
   ErrorEstimate result() const;
 
  private:
-  Scene scene_;
+  SceneFile scene_;
   std::unique_ptr<Simulation> sim_;
   ErrorEstimate e_;
   double sum_squares_ = 0;

@@ -9,7 +9,7 @@
 
 #include "app/output/progress.h"
 #include "app/scene/input_error.h"
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "app/study/order_fit.h"
 #include "app/study/study_report.h"
 #include "io/text_file.h"
@@ -82,7 +82,7 @@ std::pair<double, double> errors(const Trajectory& run, const Trajectory& ref, c
 std::string dtLabel(double duration, double dt) {
   const double k = std::log2(duration / dt);
   if (std::abs(k - std::round(k)) < 1e-9) return "T/" + std::to_string(1L << long(std::round(k)));
-  return formatNumber(dt, 4);
+  return io::formatNumber(dt, 4);
 }
 
 void check(bool ok, const std::string& message) {
@@ -90,7 +90,7 @@ void check(bool ok, const std::string& message) {
 }
 
 void validate(const AccuracyOptions& o) {
-  check(o.duration > 0 && std::isfinite(o.duration), "--duration " + formatNumber(o.duration) + ": must be > 0");
+  check(o.duration > 0 && std::isfinite(o.duration), "--duration " + io::formatNumber(o.duration) + ": must be > 0");
   check(o.samples >= 1 && (o.samples & (o.samples - 1)) == 0 && o.samples <= 4096,
         "--samples " + std::to_string(o.samples) + ": must be a power of 2 in [1, 4096]");
   check(o.k_min >= 0 && o.k_max <= 24 && o.k_min <= o.k_max,
@@ -135,7 +135,7 @@ std::vector<AccuracyFit> fitAccuracy(const std::vector<AccuracyPoint>& points) {
 AccuracyResult runAccuracyStudy(const AccuracyOptions& o) {
   validate(o);
   const std::vector<std::string> integrators = selectIntegrators(o.integrators);
-  Scene scene = loadScene(o.scene, o.sets);
+  SceneFile scene = loadScene(o.scene, o.sets);
   MassSpringSystem& system = *scene.system;
 
   AccuracyResult result;
@@ -173,7 +173,7 @@ AccuracyResult runAccuracyStudy(const AccuracyOptions& o) {
     ref.options.rtol = ref.options.atol = 1e-12;
     twin.options.rtol = twin.options.atol = 1e-11;
     ref.options.max_substeps = twin.options.max_substeps = 100000000;
-    result.reference = "rk45 (DOPRI5) at rtol = atol = 1e-12, largest step " + formatNumber(ref.dt, 4) +
+    result.reference = "rk45 (DOPRI5) at rtol = atol = 1e-12, largest step " + io::formatNumber(ref.dt, 4) +
                        " s; its error estimated against rtol = atol = 1e-11";
   } else {
     twin.dt = 2 * ref.dt;
@@ -237,7 +237,7 @@ AccuracyResult runAccuracyStudy(const AccuracyOptions& o) {
 std::string accuracyMarkdown(const AccuracyResult& r) {
   std::ostringstream md;
   md << "# Accuracy study: " << r.scene_name << "\n\n";
-  md << "Scene `" << r.scene_file.string() << "`, simulated time T = " << formatNumber(r.duration) << " s, "
+  md << "Scene `" << r.scene_file.string() << "`, simulated time T = " << io::formatNumber(r.duration) << " s, "
      << r.moving_particles << " moving particles of " << r.particles << ". Machine: " << machineDescription() << ".\n\n";
   if (r.has_colliders)
     md << "**This scene has colliders: the fitted orders below are not meaningful.** Contact forces switch on and off "
@@ -249,8 +249,8 @@ std::string accuracyMarkdown(const AccuracyResult& r) {
   else
     md << "The scene has no colliders: the motion is smooth, so the fitted orders should approach the theoretical "
           "ones where the errors are in the asymptotic range.\n\n";
-  md << "- Reference: " << r.reference << " (run time " << formatNumber(r.reference_seconds, 3)
-     << " s, estimated error " << formatNumber(r.reference_error, 3)
+  md << "- Reference: " << r.reference << " (run time " << io::formatNumber(r.reference_seconds, 3)
+     << " s, estimated error " << io::formatNumber(r.reference_error, 3)
      << " m; errors below 10x that are left out of the fits).\n"
      << "- Errors are of particle positions against the reference: final = max over moving particles at T; RMS = "
         "over every sample time and moving particle (metres).\n"
@@ -259,14 +259,14 @@ std::string accuracyMarkdown(const AccuracyResult& r) {
      << "- Run time: minimum of several runs after a warm-up, wall clock, one thread.\n\n";
 
   md << "## Fitted convergence order (slope of log error against log dt)\n\n";
-  TextTable fits{{"integrator", "theory", "fitted (final error)", "fitted (RMS error)", "points in fit"}};
+  io::TextTable fits{{"integrator", "theory", "fitted (final error)", "fitted (RMS error)", "points in fit"}};
   for (const AccuracyFit& f : r.fits)
-    fits.add({f.integrator, std::to_string(f.expected), std::isnan(f.order_final) ? "n/a" : formatNumber(f.order_final, 3),
-              std::isnan(f.order_rms) ? "n/a" : formatNumber(f.order_rms, 3), std::to_string(f.points)});
+    fits.add({f.integrator, std::to_string(f.expected), std::isnan(f.order_final) ? "n/a" : io::formatNumber(f.order_final, 3),
+              std::isnan(f.order_rms) ? "n/a" : io::formatNumber(f.order_rms, 3), std::to_string(f.points)});
   md << fits.markdown() << "\n";
 
   md << "## Fastest integrator to reach a final error\n\n";
-  TextTable fastest{{"final error at most (m)", "fastest integrator", "its setting", "run time (s)", "runner-up"}};
+  io::TextTable fastest{{"final error at most (m)", "fastest integrator", "its setting", "run time (s)", "runner-up"}};
   for (double target : {1e-1, 1e-2, 1e-3, 1e-4, 1e-6, 1e-8}) {
     std::map<std::string, const AccuracyPoint*> best;  // per integrator
     for (const AccuracyPoint& p : r.points)
@@ -277,24 +277,24 @@ std::string accuracyMarkdown(const AccuracyResult& r) {
       if (p) order.push_back(p);
     std::sort(order.begin(), order.end(), [](auto* a, auto* b) { return a->seconds < b->seconds; });
     const auto setting = [&](const AccuracyPoint* p) {
-      return integratorTraits(p->integrator).adaptive ? "rtol " + formatNumber(p->rtol, 2) : "dt " + dtLabel(r.duration, p->dt);
+      return integratorTraits(p->integrator).adaptive ? "rtol " + io::formatNumber(p->rtol, 2) : "dt " + dtLabel(r.duration, p->dt);
     };
     if (order.empty()) {
-      fastest.add({formatNumber(target), "none reached it", "", "", ""});
+      fastest.add({io::formatNumber(target), "none reached it", "", "", ""});
       continue;
     }
-    fastest.add({formatNumber(target), order[0]->integrator, setting(order[0]), formatNumber(order[0]->seconds, 3),
-                 order.size() > 1 ? order[1]->integrator + " (" + formatNumber(order[1]->seconds, 3) + " s)" : "-"});
+    fastest.add({io::formatNumber(target), order[0]->integrator, setting(order[0]), io::formatNumber(order[0]->seconds, 3),
+                 order.size() > 1 ? order[1]->integrator + " (" + io::formatNumber(order[1]->seconds, 3) + " s)" : "-"});
   }
   md << fastest.markdown() << "\n";
 
   md << "## Every point\n\n";
-  TextTable all{{"integrator", "dt (s)", "rtol", "steps", "evaluations", "final error (m)", "RMS error (m)",
+  io::TextTable all{{"integrator", "dt (s)", "rtol", "steps", "evaluations", "final error (m)", "RMS error (m)",
                  "run time (s)", "in fit"}};
   for (const AccuracyPoint& p : r.points)
-    all.add({p.integrator, dtLabel(r.duration, p.dt), p.rtol > 0 ? formatNumber(p.rtol, 2) : "-", std::to_string(p.steps),
-             std::to_string(p.evaluations), p.diverged ? "diverged" : formatNumber(p.final_error, 3),
-             p.diverged ? "diverged" : formatNumber(p.rms_error, 3), p.diverged ? "-" : formatNumber(p.seconds, 3),
+    all.add({p.integrator, dtLabel(r.duration, p.dt), p.rtol > 0 ? io::formatNumber(p.rtol, 2) : "-", std::to_string(p.steps),
+             std::to_string(p.evaluations), p.diverged ? "diverged" : io::formatNumber(p.final_error, 3),
+             p.diverged ? "diverged" : io::formatNumber(p.rms_error, 3), p.diverged ? "-" : io::formatNumber(p.seconds, 3),
              p.in_fit ? "yes" : "no"});
   md << all.markdown() << "\n";
 
@@ -303,7 +303,7 @@ std::string accuracyMarkdown(const AccuracyResult& r) {
   for (const AccuracyPoint& p : r.points)
     if (p.diverged) {
       md << "- " << p.integrator << " at "
-         << (integratorTraits(p.integrator).adaptive ? "rtol " + formatNumber(p.rtol, 2) : "dt = " + dtLabel(r.duration, p.dt)) << ": "
+         << (integratorTraits(p.integrator).adaptive ? "rtol " + io::formatNumber(p.rtol, 2) : "dt = " + dtLabel(r.duration, p.dt)) << ": "
          << p.failure << "\n";
       any = true;
     }
@@ -313,15 +313,15 @@ std::string accuracyMarkdown(const AccuracyResult& r) {
 
 PlotResult writeAccuracyOutputs(const AccuracyResult& r, const fs::path& out, const std::string& gnuplot) {
   fs::create_directories(out);
-  TextTable csv{{"scene", "integrator", "dt", "rtol", "mean_step", "steps", "evaluations", "final_error", "rms_error",
+  io::TextTable csv{{"scene", "integrator", "dt", "rtol", "mean_step", "steps", "evaluations", "final_error", "rms_error",
                  "seconds", "diverged", "in_fit", "failure", "has_colliders"}};
   for (const AccuracyPoint& p : r.points)
-    csv.add({r.scene_name, p.integrator, formatNumber(p.dt, 17), formatNumber(p.rtol, 3), formatNumber(p.mean_step, 17),
-             std::to_string(p.steps), std::to_string(p.evaluations), formatNumber(p.final_error, 17),
-             formatNumber(p.rms_error, 17), formatNumber(p.seconds, 6), p.diverged ? "1" : "0", p.in_fit ? "1" : "0",
+    csv.add({r.scene_name, p.integrator, io::formatNumber(p.dt, 17), io::formatNumber(p.rtol, 3), io::formatNumber(p.mean_step, 17),
+             std::to_string(p.steps), std::to_string(p.evaluations), io::formatNumber(p.final_error, 17),
+             io::formatNumber(p.rms_error, 17), io::formatNumber(p.seconds, 6), p.diverged ? "1" : "0", p.in_fit ? "1" : "0",
              p.failure, r.has_colliders ? "1" : "0"});
-  writeTextFile(out / "accuracy.csv", csv.csv());
-  writeTextFile(out / "accuracy.md", accuracyMarkdown(r));
+  io::writeTextFile(out / "accuracy.csv", csv.csv());
+  io::writeTextFile(out / "accuracy.md", accuracyMarkdown(r));
 
   // Work-precision diagram (SciML style): error on x, run time on y, log-log, one curve per integrator; two panels.
   std::ostringstream gp;
@@ -335,7 +335,7 @@ PlotResult writeAccuracyOutputs(const AccuracyResult& r, const fs::path& out, co
     gp << "$d" << i << " << EOD\n";
     for (const AccuracyPoint& p : r.points)
       if (p.integrator == names[i] && !p.diverged && p.final_error > 0 && p.rms_error > 0)
-        gp << formatNumber(p.final_error, 10) << " " << formatNumber(p.rms_error, 10) << " " << formatNumber(p.seconds, 6)
+        gp << io::formatNumber(p.final_error, 10) << " " << io::formatNumber(p.rms_error, 10) << " " << io::formatNumber(p.seconds, 6)
            << "\n";
     gp << "EOD\n";
   }
@@ -350,7 +350,7 @@ PlotResult writeAccuracyOutputs(const AccuracyResult& r, const fs::path& out, co
     gp << "\n";
   }
   gp << "unset multiplot\n";
-  writeTextFile(out / "accuracy.gp", gp.str());
+  io::writeTextFile(out / "accuracy.gp", gp.str());
   return runGnuplot(out / "accuracy.gp", out / "accuracy.png", gnuplot);
 }
 

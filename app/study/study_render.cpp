@@ -10,7 +10,7 @@
 #include "app/scene/render_overrides.h"
 #include "app/output/progress.h"
 #include "app/scene/input_error.h"
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "app/study/order_fit.h"
 #include "app/study/study_report.h"
 #include "app/view/frame_view.h"
@@ -59,7 +59,7 @@ render::RenderSettings settingsFor(const RenderVariant& v, int spp, double thres
 }
 
 std::string pointLabel(const RenderPoint& p) {
-  return p.threshold > 0 ? "threshold " + formatNumber(p.threshold, 3) : std::to_string(p.spp) + " spp";
+  return p.threshold > 0 ? "threshold " + io::formatNumber(p.threshold, 3) : std::to_string(p.spp) + " spp";
 }
 
 void check(bool ok, const std::string& message) {
@@ -106,7 +106,7 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
   check(o.max_spp >= 1 && o.max_spp <= 65536, "--max-spp " + std::to_string(o.max_spp) + ": must be in [1, 65536]");
   check(o.repeats >= 1 && o.repeats <= 100, "--repeats " + std::to_string(o.repeats) + ": must be in [1, 100]");
   for (double t : o.thresholds)
-    check(t > 0 && t <= 1, "--thresholds " + formatNumber(t) + ": each must be in (0, 1]");
+    check(t > 0 && t <= 1, "--thresholds " + io::formatNumber(t) + ": each must be in (0, 1]");
   std::vector<RenderVariant> variants;
   for (const std::string& name : o.variants) {
     const auto& all = renderStudyVariants();
@@ -124,7 +124,7 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
   flags.resolution = o.resolution;
   std::vector<std::string> overrides = o.sets;
   for (const std::string& s : renderOverrides(flags)) overrides.push_back(s);
-  const Scene scene = loadScene(o.scene, overrides);
+  const SceneFile scene = loadScene(o.scene, overrides);
   const int frame = o.frame > 0 ? o.frame : (scene.frameCount() + 1) / 2;
   check(frame <= scene.frameCount(), "--frame " + std::to_string(frame) + ": the scene has " +
                                          std::to_string(scene.frameCount()) + " frames");
@@ -224,7 +224,7 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
       p.rays_per_sample = double(stats.rays) / double(stats.camera_rays);
       const render::ImageError e = render::imageError(w, h, image, reference, tone);
       p.rmse = e.rmse, p.relmse = e.relmse, p.worst_tile_rmse = e.worst_tile_rmse, p.worst_tile_relmse = e.worst_tile_relmse;
-      std::string file = v.name + "_" + (v.adaptive ? "t" + formatNumber(threshold, 3) : std::to_string(spp)) + ".png";
+      std::string file = v.name + "_" + (v.adaptive ? "t" + io::formatNumber(threshold, 3) : std::to_string(spp)) + ".png";
       std::replace(file.begin(), file.end(), '+', '-');
       render::writePng(out / "images" / file, render::develop(w, h, image, tone));
       result.points.push_back(p);
@@ -242,8 +242,8 @@ std::string renderStudyMarkdown(const RenderStudyResult& r) {
   md << "Scene `" << r.scene_file.string() << "`, " << r.width << " x " << r.height << ", " << r.bounces
      << " bounces. Machine: " << machineDescription() << ".\n\n";
   md << "- Reference: " << r.reference_spp << " spp (Sobol, two halves with independent seeds), "
-     << (r.reference_cached ? "read from the cache" : "rendered in " + formatNumber(r.reference_seconds, 3) + " s")
-     << "; its own RMSE is about " << formatNumber(r.reference_rmse, 3)
+     << (r.reference_cached ? "read from the cache" : "rendered in " + io::formatNumber(r.reference_seconds, 3) + " s")
+     << "; its own RMSE is about " << io::formatNumber(r.reference_rmse, 3)
      << " (half the RMSE between its halves): errors below twice that are left out of the slopes.\n"
      << "- RMSE: of display values (tone-mapped, sRGB-encoded, 0..1, as in the PNG) over all pixels and channels; "
         "relMSE: (x - ref)^2 / (ref^2 + 0.01) of linear colour. Worst tile: the 32 x 32 tile with the largest error.\n"
@@ -252,9 +252,9 @@ std::string renderStudyMarkdown(const RenderStudyResult& r) {
   md << "## Convergence: slope of log RMSE against log samples per pixel\n\n"
         "Plain Monte Carlo converges as spp^-0.5; a steeper (more negative) slope means error falls faster than "
         "1/sqrt(spp). Denoised variants are flat by design: most of their error is the filter's bias.\n\n";
-  TextTable slopes{{"variant", "slope", "points in fit"}};
+  io::TextTable slopes{{"variant", "slope", "points in fit"}};
   for (const RenderVariantFit& f : r.fits)
-    slopes.add({f.variant, std::isnan(f.slope) ? "n/a" : formatNumber(f.slope, 3), std::to_string(f.points)});
+    slopes.add({f.variant, std::isnan(f.slope) ? "n/a" : io::formatNumber(f.slope, 3), std::to_string(f.points)});
   md << slopes.markdown() << "\n";
 
   md << "## Samples per pixel and time to reach an error\n\n"
@@ -262,8 +262,8 @@ std::string renderStudyMarkdown(const RenderStudyResult& r) {
         "reached it.\n\n";
   const std::vector<double> targets = {0.05, 0.02, 0.01, 0.005, 0.002, 0.001};
   std::vector<std::string> header = {"variant"};
-  for (double t : targets) header.push_back("RMSE " + formatNumber(t) + ": spp / s");
-  TextTable reach{header};
+  for (double t : targets) header.push_back("RMSE " + io::formatNumber(t) + ": spp / s");
+  io::TextTable reach{header};
   std::vector<std::string> names;
   for (const RenderPoint& p : r.points)
     if (std::find(names.begin(), names.end(), p.variant) == names.end()) names.push_back(p.variant);
@@ -278,12 +278,12 @@ std::string renderStudyMarkdown(const RenderStudyResult& r) {
       for (std::size_t i = 0; i < curve.size(); ++i) {
         if (curve[i]->rmse > target) continue;
         if (i == 0) {
-          cell = "<= " + formatNumber(curve[0]->mean_spp, 3) + " / " + formatNumber(curve[0]->seconds, 3);
+          cell = "<= " + io::formatNumber(curve[0]->mean_spp, 3) + " / " + io::formatNumber(curve[0]->seconds, 3);
         } else {
           const RenderPoint &a = *curve[i - 1], &b = *curve[i];
           const double f = std::log(target / a.rmse) / std::log(b.rmse / a.rmse);
           const auto lerp = [&](double x, double y) { return std::exp(std::log(x) + f * (std::log(y) - std::log(x))); };
-          cell = formatNumber(lerp(a.mean_spp, b.mean_spp), 3) + " / " + formatNumber(lerp(a.seconds, b.seconds), 3);
+          cell = io::formatNumber(lerp(a.mean_spp, b.mean_spp), 3) + " / " + io::formatNumber(lerp(a.seconds, b.seconds), 3);
         }
         break;
       }
@@ -294,12 +294,12 @@ std::string renderStudyMarkdown(const RenderStudyResult& r) {
   md << reach.markdown() << "\n";
 
   md << "## Every point\n\n";
-  TextTable all{{"variant", "setting", "mean spp", "RMSE", "worst tile RMSE", "relMSE", "worst tile relMSE",
+  io::TextTable all{{"variant", "setting", "mean spp", "RMSE", "worst tile RMSE", "relMSE", "worst tile relMSE",
                  "time (s)", "of which denoising (s)"}};
   for (const RenderPoint& p : r.points)
-    all.add({p.variant, pointLabel(p), formatNumber(p.mean_spp, 4), formatNumber(p.rmse, 3),
-             formatNumber(p.worst_tile_rmse, 3), formatNumber(p.relmse, 3), formatNumber(p.worst_tile_relmse, 3),
-             formatNumber(p.seconds, 3), formatNumber(p.denoise_seconds, 3)});
+    all.add({p.variant, pointLabel(p), io::formatNumber(p.mean_spp, 4), io::formatNumber(p.rmse, 3),
+             io::formatNumber(p.worst_tile_rmse, 3), io::formatNumber(p.relmse, 3), io::formatNumber(p.worst_tile_relmse, 3),
+             io::formatNumber(p.seconds, 3), io::formatNumber(p.denoise_seconds, 3)});
   md << all.markdown() << "\n";
   md << "## Variants\n\n";
   for (const RenderVariant& v : renderStudyVariants())
@@ -309,16 +309,16 @@ std::string renderStudyMarkdown(const RenderStudyResult& r) {
 
 PlotResult writeRenderStudyOutputs(const RenderStudyResult& r, const fs::path& out, const std::string& gnuplot) {
   fs::create_directories(out);
-  TextTable csv{{"scene", "frame", "width", "height", "variant", "spp", "threshold", "mean_spp", "rmse", "relmse",
+  io::TextTable csv{{"scene", "frame", "width", "height", "variant", "spp", "threshold", "mean_spp", "rmse", "relmse",
                  "worst_tile_rmse", "worst_tile_relmse", "seconds", "denoise_seconds", "rays_per_sample", "reference_rmse"}};
   for (const RenderPoint& p : r.points)
     csv.add({r.scene_name, std::to_string(r.frame), std::to_string(r.width), std::to_string(r.height), p.variant,
-             std::to_string(p.spp), formatNumber(p.threshold, 4), formatNumber(p.mean_spp, 6), formatNumber(p.rmse, 6),
-             formatNumber(p.relmse, 6), formatNumber(p.worst_tile_rmse, 6), formatNumber(p.worst_tile_relmse, 6),
-             formatNumber(p.seconds, 6), formatNumber(p.denoise_seconds, 6), formatNumber(p.rays_per_sample, 4),
-             formatNumber(r.reference_rmse, 6)});
-  writeTextFile(out / "render.csv", csv.csv());
-  writeTextFile(out / "render.md", renderStudyMarkdown(r));
+             std::to_string(p.spp), io::formatNumber(p.threshold, 4), io::formatNumber(p.mean_spp, 6), io::formatNumber(p.rmse, 6),
+             io::formatNumber(p.relmse, 6), io::formatNumber(p.worst_tile_rmse, 6), io::formatNumber(p.worst_tile_relmse, 6),
+             io::formatNumber(p.seconds, 6), io::formatNumber(p.denoise_seconds, 6), io::formatNumber(p.rays_per_sample, 4),
+             io::formatNumber(r.reference_rmse, 6)});
+  io::writeTextFile(out / "render.csv", csv.csv());
+  io::writeTextFile(out / "render.md", renderStudyMarkdown(r));
 
   std::ostringstream gp;
   gp << "# Work-precision diagram of the renderer on " << r.scene_name << ": gnuplot render.gp (writes render.png)\n"
@@ -332,7 +332,7 @@ PlotResult writeRenderStudyOutputs(const RenderStudyResult& r, const fs::path& o
     gp << "$d" << i << " << EOD\n";
     for (const RenderPoint& p : r.points)
       if (p.variant == names[i])
-        gp << formatNumber(p.rmse, 8) << " " << formatNumber(p.seconds, 6) << " " << formatNumber(p.mean_spp, 6) << "\n";
+        gp << io::formatNumber(p.rmse, 8) << " " << io::formatNumber(p.seconds, 6) << " " << io::formatNumber(p.mean_spp, 6) << "\n";
     gp << "EOD\n";
   }
   gp << "set multiplot layout 1,2 title "
@@ -346,12 +346,12 @@ PlotResult writeRenderStudyOutputs(const RenderStudyResult& r, const fs::path& o
     for (std::size_t i = 0; i < names.size(); ++i)
       gp << (i ? ", " : "") << "$d" << i << " using " << (panel == 0 ? "1:2" : "3:1") << " with linespoints lw 2 pt 7 title "
          << gnuplotQuote(names[i]);
-    if (panel == 1) gp << ", " << formatNumber(r.points.empty() ? 0.1 : r.points.front().rmse, 6)
+    if (panel == 1) gp << ", " << io::formatNumber(r.points.empty() ? 0.1 : r.points.front().rmse, 6)
                        << " / sqrt(x) dt 2 lc 'grey' title '1/sqrt(spp)'";
     gp << "\n";
   }
   gp << "unset multiplot\n";
-  writeTextFile(out / "render.gp", gp.str());
+  io::writeTextFile(out / "render.gp", gp.str());
   return runGnuplot(out / "render.gp", out / "render.png", gnuplot);
 }
 

@@ -12,7 +12,7 @@
 
 #include "app/output/progress.h"
 #include "app/scene/input_error.h"
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "app/study/stability_theory.h"
 #include "app/study/study_report.h"
 #include "io/text_file.h"
@@ -38,21 +38,21 @@ void check(bool ok, const std::string& message) {
 }
 
 void validate(const StabilityOptions& o) {
-  check(o.duration > 0 && std::isfinite(o.duration), "--duration " + formatNumber(o.duration) + ": must be > 0");
-  check(o.strain_bound > 0, "--strain-bound " + formatNumber(o.strain_bound) + ": must be > 0");
+  check(o.duration > 0 && std::isfinite(o.duration), "--duration " + io::formatNumber(o.duration) + ": must be > 0");
+  check(o.strain_bound > 0, "--strain-bound " + io::formatNumber(o.strain_bound) + ": must be > 0");
   check(o.ks_min > 0 && o.ks_min <= o.ks_max, "--ks-min/--ks-max: need 0 < min <= max");
   check(o.dt_min > 0 && o.dt_min <= o.dt_max, "--dt-min/--dt-max: need 0 < min <= max");
   check(o.ks_points >= 1 && o.ks_points <= 200 && o.dt_points >= 1 && o.dt_points <= 200,
         "--ks-points/--dt-points: must be in [1, 200]");
   check(o.jobs >= 0, "--jobs " + std::to_string(o.jobs) + ": must be >= 0");
   for (const auto& c : o.cases)
-    check(c[0] >= 0 && c[1] > 0, "--case " + formatNumber(c[0]) + "," + formatNumber(c[1]) + ": need ks >= 0, dt > 0");
+    check(c[0] >= 0 && c[1] > 0, "--case " + io::formatNumber(c[0]) + "," + io::formatNumber(c[1]) + ": need ks >= 0, dt > 0");
 }
 
 // The scene with every spring's ks set: one override per body.
 std::unique_ptr<MassSpringSystem> systemAt(const StabilityOptions& o, const std::vector<std::string>& bodies, double ks) {
   std::vector<std::string> sets = o.sets;
-  for (const std::string& b : bodies) sets.push_back("bodies." + b + ".ks=" + formatNumber(ks, 17));
+  for (const std::string& b : bodies) sets.push_back("bodies." + b + ".ks=" + io::formatNumber(ks, 17));
   return std::move(loadScene(o.scene, sets).system);
 }
 
@@ -121,7 +121,7 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
   if (o.integrators.empty())
     result.notes.push_back("rk45 is left out by default: it chooses its own substeps (dt is only its largest step), "
                            "so it does not blow up at any dt, it only slows down; name it with --integrators to map it.");
-  const Scene base = loadScene(o.scene, o.sets);
+  const SceneFile base = loadScene(o.scene, o.sets);
   result.scene_name = base.name;
   result.scene_file = o.scene;
   result.duration = o.duration;
@@ -221,10 +221,10 @@ std::string stabilityMarkdown(const StabilityResult& r) {
   };
   md << "# Stability study: " << r.scene_name << "\n\n"
      << "Scene `" << r.scene_file.string() << "` with every spring's ks set to the map's value (kd as in the scene), "
-     << "each cell run for " << formatNumber(r.duration) << " simulated seconds from the initial state. Machine: "
+     << "each cell run for " << io::formatNumber(r.duration) << " simulated seconds from the initial state. Machine: "
      << machineDescription() << ".\n\n"
-     << "- **ok**: ran to the end with the largest spring strain |l - rest|/rest <= " << formatNumber(r.strain_bound)
-     << " at every check (every 0.01 s); **SHAPE**: survived but the strain exceeded " << formatNumber(r.strain_bound)
+     << "- **ok**: ran to the end with the largest spring strain |l - rest|/rest <= " << io::formatNumber(r.strain_bound)
+     << " at every check (every 0.01 s); **SHAPE**: survived but the strain exceeded " << io::formatNumber(r.strain_bound)
      << "; **ok\\*** / **SHAPE\\***: not run, inferred from the largest dt at this ks that did not blow up (stability "
         "regions contain the segment from 0 to their boundary, and a smaller step solves the same physics more "
         "accurately; --no-infer runs them); **BLOW**: blew up (a NaN or |v|^2 > 1e6, sim/simulation.h), the cell "
@@ -244,15 +244,15 @@ std::string stabilityMarkdown(const StabilityResult& r) {
     md << "## The users' cases (course framework reports)\n\n"
        << "Reported with the course framework: at ks 5e4, dt 1.2e-3 explicit Euler and pc-euler blow up, midpoint and "
           "RK4 survive; at ks 1e5, dt 1.4e-3 midpoint jitters and shrinks, RK4 stays stable.\n\n";
-    TextTable t{{"ks", "dt (s)", "integrator", "outcome", "max strain", "final strain", "max speed (m/s)",
+    io::TextTable t{{"ks", "dt (s)", "integrator", "outcome", "max strain", "final strain", "max speed (m/s)",
                  "theory dt_max (power it.)", "theory dt_max (Gershgorin)", "note"}};
     for (const StabilityCell& c : r.cells)
       if (c.user_case) {
         const StabilityTheory* th = theoryAt(c.ks);
         const std::size_t i = index(c.integrator);
-        t.add({formatNumber(c.ks), formatNumber(c.dt), c.integrator, toString(c.outcome), formatNumber(c.max_strain, 3),
-               formatNumber(c.final_strain, 3), formatNumber(c.max_speed, 3),
-               th ? formatNumber(th->dt_power[i], 3) : "", th ? formatNumber(th->dt_gershgorin[i], 3) : "", c.note});
+        t.add({io::formatNumber(c.ks), io::formatNumber(c.dt), c.integrator, toString(c.outcome), io::formatNumber(c.max_strain, 3),
+               io::formatNumber(c.final_strain, 3), io::formatNumber(c.max_speed, 3),
+               th ? io::formatNumber(th->dt_power[i], 3) : "", th ? io::formatNumber(th->dt_gershgorin[i], 3) : "", c.note});
       }
     md << t.markdown() << "\n";
   }
@@ -260,20 +260,20 @@ std::string stabilityMarkdown(const StabilityResult& r) {
   md << "## Theory: fastest mode and largest stable dt per ks\n\n";
   std::vector<std::string> header{"ks", "omega_max Gershgorin", "omega_max power it.", "zeta at omega_max (power)"};
   for (const std::string& n : r.integrators) header.push_back(n + " dt_max");
-  TextTable theory{header};
+  io::TextTable theory{header};
   for (const StabilityTheory& t : r.theory) {
-    std::vector<std::string> row{formatNumber(t.ks), formatNumber(t.omega_gershgorin, 4), formatNumber(t.omega_power, 4),
-                                 formatNumber(t.damper_ratio * t.omega_power / 2, 3)};
+    std::vector<std::string> row{io::formatNumber(t.ks), io::formatNumber(t.omega_gershgorin, 4), io::formatNumber(t.omega_power, 4),
+                                 io::formatNumber(t.damper_ratio * t.omega_power / 2, 3)};
     for (std::size_t i = 0; i < r.integrators.size(); ++i)
       row.push_back(std::isinf(t.dt_power[i]) ? "unbounded"
-                                              : formatNumber(t.dt_power[i], 3) + " (G " + formatNumber(t.dt_gershgorin[i], 3) + ")");
+                                              : io::formatNumber(t.dt_power[i], 3) + " (G " + io::formatNumber(t.dt_gershgorin[i], 3) + ")");
     theory.add(row);
   }
   md << "dt_max from the power-iteration omega_max, and in brackets from Gershgorin's bound (smaller, safe).\n\n"
      << theory.markdown() << "\n";
 
   md << "## Measured boundary against theory\n\n";
-  TextTable boundary{{"integrator", "ks", "largest dt that did not blow up", "smallest dt that blew up or failed",
+  io::TextTable boundary{{"integrator", "ks", "largest dt that did not blow up", "smallest dt that blew up or failed",
                       "theory dt_max (power it.)",
                       "theory dt_max (Gershgorin)"}};
   for (const std::string& name : r.integrators)
@@ -287,10 +287,10 @@ std::string stabilityMarkdown(const StabilityResult& r) {
         }
       const StabilityTheory* th = theoryAt(ks);
       const std::size_t i = index(name);
-      boundary.add({name, formatNumber(ks), largest_ok > 0 ? formatNumber(largest_ok, 3) : "none",
-                    std::isinf(smallest_bad) ? "none" : formatNumber(smallest_bad, 3),
-                    std::isinf(th->dt_power[i]) ? "unbounded" : formatNumber(th->dt_power[i], 3),
-                    std::isinf(th->dt_gershgorin[i]) ? "unbounded" : formatNumber(th->dt_gershgorin[i], 3)});
+      boundary.add({name, io::formatNumber(ks), largest_ok > 0 ? io::formatNumber(largest_ok, 3) : "none",
+                    std::isinf(smallest_bad) ? "none" : io::formatNumber(smallest_bad, 3),
+                    std::isinf(th->dt_power[i]) ? "unbounded" : io::formatNumber(th->dt_power[i], 3),
+                    std::isinf(th->dt_gershgorin[i]) ? "unbounded" : io::formatNumber(th->dt_gershgorin[i], 3)});
     }
   md << boundary.markdown() << "\n";
 
@@ -298,16 +298,16 @@ std::string stabilityMarkdown(const StabilityResult& r) {
   for (const std::string& name : r.integrators) {
     md << "### " << name << "\n\n";
     std::vector<std::string> head{"ks \\ dt"};
-    for (double dt : r.dt) head.push_back(formatNumber(dt, 3));
+    for (double dt : r.dt) head.push_back(io::formatNumber(dt, 3));
     head.push_back("theory dt_max");
-    TextTable map{head};
+    io::TextTable map{head};
     for (double ks : r.ks) {
-      std::vector<std::string> row{formatNumber(ks)};
+      std::vector<std::string> row{io::formatNumber(ks)};
       for (double dt : r.dt)
         for (const StabilityCell& c : r.cells)
           if (!c.user_case && c.integrator == name && c.ks == ks && c.dt == dt) row.push_back(cellSymbol(c));
       const double th = theoryAt(ks)->dt_power[index(name)];
-      row.push_back(std::isinf(th) ? "unbounded" : formatNumber(th, 3));
+      row.push_back(std::isinf(th) ? "unbounded" : io::formatNumber(th, 3));
       map.add(row);
     }
     md << map.markdown() << "\n";
@@ -317,21 +317,21 @@ std::string stabilityMarkdown(const StabilityResult& r) {
 
 std::vector<PlotResult> writeStabilityOutputs(const StabilityResult& r, const fs::path& out, const std::string& gnuplot) {
   fs::create_directories(out);
-  TextTable csv{{"scene", "integrator", "ks", "dt", "outcome", "inferred", "user_case", "max_strain", "final_strain",
+  io::TextTable csv{{"scene", "integrator", "ks", "dt", "outcome", "inferred", "user_case", "max_strain", "final_strain",
                  "max_speed", "end_time", "steps", "theory_dt_power", "theory_dt_gershgorin", "note"}};
   for (const StabilityCell& c : r.cells) {
     const auto i = std::size_t(std::find(r.integrators.begin(), r.integrators.end(), c.integrator) - r.integrators.begin());
     const StabilityTheory* th = nullptr;
     for (const StabilityTheory& t : r.theory)
       if (t.ks == c.ks) th = &t;
-    csv.add({r.scene_name, c.integrator, formatNumber(c.ks, 10), formatNumber(c.dt, 10), toString(c.outcome),
-             c.inferred ? "1" : "0", c.user_case ? "1" : "0", formatNumber(c.max_strain, 6),
-             formatNumber(c.final_strain, 6), formatNumber(c.max_speed, 6), formatNumber(c.end_time, 6),
-             std::to_string(c.steps), th ? formatNumber(th->dt_power[i], 6) : "", th ? formatNumber(th->dt_gershgorin[i], 6) : "",
+    csv.add({r.scene_name, c.integrator, io::formatNumber(c.ks, 10), io::formatNumber(c.dt, 10), toString(c.outcome),
+             c.inferred ? "1" : "0", c.user_case ? "1" : "0", io::formatNumber(c.max_strain, 6),
+             io::formatNumber(c.final_strain, 6), io::formatNumber(c.max_speed, 6), io::formatNumber(c.end_time, 6),
+             std::to_string(c.steps), th ? io::formatNumber(th->dt_power[i], 6) : "", th ? io::formatNumber(th->dt_gershgorin[i], 6) : "",
              c.note});
   }
-  writeTextFile(out / "stability.csv", csv.csv());
-  writeTextFile(out / "stability.md", stabilityMarkdown(r));
+  io::writeTextFile(out / "stability.csv", csv.csv());
+  io::writeTextFile(out / "stability.md", stabilityMarkdown(r));
 
   std::vector<PlotResult> plots;
   for (std::size_t i = 0; i < r.integrators.size(); ++i) {
@@ -345,19 +345,19 @@ std::vector<PlotResult> writeStabilityOutputs(const StabilityResult& r, const fs
        << "set xrange [" << r.dt.front() / 1.6 << ":" << r.dt.back() * 1.6 << "]\n"
        << "set yrange [" << r.ks.front() / 2 << ":" << r.ks.back() * 2 << "]\n"
        << "set title " << gnuplotQuote("wobble study stability: " + name + " on " + r.scene_name + ", " +
-                                       formatNumber(r.duration) + " s per cell") << "\n";
+                                       io::formatNumber(r.duration) + " s per cell") << "\n";
     const char* kinds[] = {"ok", "ok*", "SHAPE", "BLOW", "FAIL", "SHAPE*"};
     for (int k = 0; k < 6; ++k) {
       gp << "$c" << k << " << EOD\n";
       for (const StabilityCell& c : r.cells)
         if (c.integrator == name && cellSymbol(c) == kinds[k])
-          gp << formatNumber(c.dt, 10) << " " << formatNumber(c.ks, 10) << " " << (c.user_case ? 1 : 0) << "\n";
+          gp << io::formatNumber(c.dt, 10) << " " << io::formatNumber(c.ks, 10) << " " << (c.user_case ? 1 : 0) << "\n";
       gp << "EOD\n";
     }
     gp << "$theory << EOD\n";
     for (const StabilityTheory& t : r.theory)
       if (std::find(r.ks.begin(), r.ks.end(), t.ks) != r.ks.end() && std::isfinite(t.dt_power[i]))
-        gp << formatNumber(t.dt_power[i], 10) << " " << formatNumber(t.ks, 10) << " " << formatNumber(t.dt_gershgorin[i], 10)
+        gp << io::formatNumber(t.dt_power[i], 10) << " " << io::formatNumber(t.ks, 10) << " " << io::formatNumber(t.dt_gershgorin[i], 10)
            << "\n";
     gp << "EOD\n"
        << "plot $c0 using 1:2 with points pt 5 ps 4 lc rgb '#2ca02c' title 'stable', "
@@ -369,7 +369,7 @@ std::vector<PlotResult> writeStabilityOutputs(const StabilityResult& r, const fs
        << "$theory using 1:2 with lines lw 3 lc rgb 'black' title 'theory dt_max (power iteration)', "
        << "$theory using 3:2 with lines lw 2 dt 2 lc rgb 'black' title 'theory dt_max (Gershgorin)'\n";
     const fs::path script = out / ("stability-" + name + ".gp");
-    writeTextFile(script, gp.str());
+    io::writeTextFile(script, gp.str());
     plots.push_back(runGnuplot(script, out / ("stability-" + name + ".png"), gnuplot));
   }
   return plots;

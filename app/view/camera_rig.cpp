@@ -10,7 +10,7 @@ namespace wobble {
 namespace {
 
 // Bounding box of the bodies at t = 0 and the colliders that have an extent (Collider::bounds: planes are left out).
-Eigen::AlignedBox3d actionBox(const Scene& scene) {
+Eigen::AlignedBox3d actionBox(const SceneFile& scene) {
   Eigen::AlignedBox3d box;
   for (const BodySlot& slot : scene.system->bodies())
     for (int i = 0; i < slot.body.particleCount(); ++i) box.extend(Vec3(slot.body.x.segment<3>(3 * i)));
@@ -27,7 +27,7 @@ Vec3 centroid(const SurfaceFrame& surface) {
   return surface.positions.empty() ? sum : Vec3(sum / double(surface.positions.size()));
 }
 
-CameraRig::CameraRig(const Scene& scene) {
+CameraRig::CameraRig(const SceneFile& scene) {
   const CameraConfig& c = scene.render.camera;
   up_ = c.up;
   fov_deg_ = c.fov_deg;

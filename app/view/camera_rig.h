@@ -11,7 +11,7 @@
 #pragma once
 #include <span>
 
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "render/camera.h"
 #include "sim/surface.h"
 
@@ -19,7 +19,7 @@ namespace wobble {
 
 class CameraRig {
  public:
-  explicit CameraRig(const Scene& scene);
+  explicit CameraRig(const SceneFile& scene);
 
   // Index of the followed body in scene.system->bodies(), or -1 for a fixed camera.
   int followedBody() const { return followed_; }

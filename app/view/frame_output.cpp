@@ -15,7 +15,7 @@ namespace fs = std::filesystem;
 
 namespace wobble {
 
-bool FrameOutput::wanted(const Scene& scene) { return scene.render.options.png || scene.render.options.exr; }
+bool FrameOutput::wanted(const SceneFile& scene) { return scene.render.options.png || scene.render.options.exr; }
 
 fs::path FrameOutput::pngPath(const fs::path& out, const std::string& scene, int frame) {
   return out / "frames" / frameFileName(scene, frame, "png");
@@ -25,7 +25,7 @@ fs::path FrameOutput::exrPath(const fs::path& out, const std::string& scene, int
   return out / "exr" / frameFileName(scene, frame, "exr");
 }
 
-FrameOutput::FrameOutput(const Scene& scene, fs::path out)
+FrameOutput::FrameOutput(const SceneFile& scene, fs::path out)
     : scene_(scene), out_(std::move(out)), render_scene_(scene), rig_(scene) {
   if (scene.render.options.png) fs::create_directories(out_ / "frames");
   if (scene.render.options.exr) fs::create_directories(out_ / "exr");

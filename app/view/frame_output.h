@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "app/output/video.h"
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "app/view/camera_rig.h"
 #include "app/view/render_scene.h"
 
@@ -21,9 +21,9 @@ namespace wobble {
 class FrameOutput {
  public:
   // True when the scene asks for images (render.png or render.exr).
-  static bool wanted(const Scene& scene);
+  static bool wanted(const SceneFile& scene);
   // Creates OUT/frames and/or OUT/exr; loads the textures.
-  FrameOutput(const Scene& scene, std::filesystem::path out);
+  FrameOutput(const SceneFile& scene, std::filesystem::path out);
 
   // Call for every frame from 1 in order (the follow camera needs each one), with every body's surface (scene body
   // order); renders and writes only when `write` (a frame not written needs only the followed body's surface).
@@ -45,7 +45,7 @@ class FrameOutput {
  private:
   void render(int frame);
 
-  const Scene& scene_;
+  const SceneFile& scene_;
   std::filesystem::path out_;
   RenderScene render_scene_;
   CameraRig rig_;

@@ -8,7 +8,7 @@
 
 namespace wobble {
 
-FrameView simulateTo(const Scene& scene, int frame) {
+FrameView simulateTo(const SceneFile& scene, int frame) {
   MassSpringSystem& system = *scene.system;
   Simulation sim(system, makeIntegrator(scene.integrator, scene.integrator_options), scene.dt);
   CameraRig rig(scene);

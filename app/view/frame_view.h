@@ -2,7 +2,7 @@
 // observing every frame on the way, as in a run), its render scene updated to that frame, and the camera there.
 // For studies and benchmarks that look at a single frame (`wobble study render`, bench/frame_bench.cpp).
 #pragma once
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "app/view/render_scene.h"
 #include "render/camera.h"
 
@@ -14,6 +14,6 @@ struct FrameView {
 };
 
 // Throws InputError if the simulation blows up before the frame.
-FrameView simulateTo(const Scene& scene, int frame);
+FrameView simulateTo(const SceneFile& scene, int frame);
 
 }  // namespace wobble

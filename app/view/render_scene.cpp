@@ -49,7 +49,7 @@ render::TriangleMesh bodyMesh(const Body& body) {
 
 }  // namespace
 
-RenderScene::RenderScene(const Scene& scene) {
+RenderScene::RenderScene(const SceneFile& scene) {
   for (const BodySlot& slot : scene.system->bodies()) {
     const Body& body = slot.body;
     std::shared_ptr<const render::Texture> texture;

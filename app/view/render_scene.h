@@ -1,4 +1,4 @@
-// RenderScene: a wobble Scene as a render::Scene. Each body's surface mesh (topology once, positions and normals
+// RenderScene: a wobble SceneFile as a render::Scene. Each body's surface mesh (topology once, positions and normals
 // every frame), each collider the scene names as the shape its kind draws (collider_kinds.h; the moving ones again at
 // every frame), the sun and the sky.
 // Materials come from the bodies' and colliders' look keys (render_config.h) and the bodies' textures.
@@ -6,7 +6,7 @@
 #include <span>
 #include <vector>
 
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "render/scene.h"
 #include "sim/surface.h"
 
@@ -17,7 +17,7 @@ struct ColliderKind;
 class RenderScene {
  public:
   // Loads the body textures the scene names (and no others). Throws std::runtime_error if one cannot be read.
-  explicit RenderScene(const Scene& scene);
+  explicit RenderScene(const SceneFile& scene);
 
   // Surfaces of every body, in scene.system->bodies() order, and the time for the moving colliders; commits.
   // Throws std::invalid_argument (from the renderer) on a non-finite vertex.

@@ -1,8 +1,8 @@
-#include "cloth.h"
+#include "sim/bodies/cloth.h"
 
 #include <stdexcept>
 
-#include "lattice.h"
+#include "sim/bodies/lattice.h"
 
 namespace wobble {
 namespace {

@@ -15,7 +15,7 @@
 #include <string_view>
 #include <vector>
 
-#include "../body.h"
+#include "sim/body.h"
 
 namespace wobble {
 

@@ -1,10 +1,10 @@
-#include "jelly.h"
+#include "sim/bodies/jelly.h"
 
 #include <stdexcept>
 
 #include <Eigen/Geometry>
 
-#include "lattice.h"
+#include "sim/bodies/lattice.h"
 
 namespace wobble {
 namespace {

@@ -14,7 +14,7 @@
 #pragma once
 #include <string>
 
-#include "../body.h"
+#include "sim/body.h"
 
 namespace wobble {
 

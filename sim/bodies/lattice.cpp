@@ -1,4 +1,4 @@
-#include "lattice.h"
+#include "sim/bodies/lattice.h"
 
 #include <algorithm>
 #include <cstdlib>

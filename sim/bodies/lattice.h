@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <span>
 
-#include "../springs.h"
+#include "sim/springs.h"
 
 namespace wobble {
 

@@ -1,13 +1,13 @@
-#include "box.h"
+#include "sim/colliders/box.h"
 
 namespace wobble {
 
-Box::Box(std::string name, ContactParams contact, const Vec3& center, const Vec3& size)
+BoxCollider::BoxCollider(std::string name, ContactParams contact, const Vec3& center, const Vec3& size)
     : Collider(std::move(name), contact), center_(center), size_(size) {}
 
 // Signed distance to the box surface: outside, the distance to the nearest point of the box, with the normal
 // towards x; inside, minus the distance to the nearest face, with that face's normal.
-std::optional<SurfacePoint> Box::query(double, const Vec3& x) const {
+std::optional<SurfacePoint> BoxCollider::query(double, const Vec3& x) const {
   const Vec3 d = x - center_;
   const Vec3 q = d.cwiseAbs() - size_ / 2;
   const Vec3 outside = q.cwiseMax(0.0);
@@ -22,7 +22,7 @@ std::optional<SurfacePoint> Box::query(double, const Vec3& x) const {
   return SurfacePoint{distance, normal, Vec3::Zero(), Vec3::Zero()};
 }
 
-std::optional<Eigen::AlignedBox3d> Box::bounds(double) const {
+std::optional<Eigen::AlignedBox3d> BoxCollider::bounds(double) const {
   return Eigen::AlignedBox3d(center_ - size_ / 2, center_ + size_ / 2);
 }
 

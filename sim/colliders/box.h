@@ -1,13 +1,13 @@
-// Box: a solid static axis-aligned box (a step, a crate, a table top).
+// BoxCollider: a solid static axis-aligned box (a step, a crate, a table top).
 // Parameters: center, size (full extents along x, y, z; each > 0), restitution, friction, epsilon.
 #pragma once
-#include "collider.h"
+#include "sim/colliders/collider.h"
 
 namespace wobble {
 
-class Box final : public Collider {
+class BoxCollider final : public Collider {
  public:
-  Box(std::string name, ContactParams contact, const Vec3& center, const Vec3& size);
+  BoxCollider(std::string name, ContactParams contact, const Vec3& center, const Vec3& size);
   std::optional<SurfacePoint> query(double t, const Vec3& x) const override;
   std::optional<Eigen::AlignedBox3d> bounds(double t) const override;
   const Vec3& center() const { return center_; }

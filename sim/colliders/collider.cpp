@@ -1,4 +1,4 @@
-#include "collider.h"
+#include "sim/colliders/collider.h"
 
 namespace wobble {
 

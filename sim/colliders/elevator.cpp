@@ -1,4 +1,4 @@
-#include "elevator.h"
+#include "sim/colliders/elevator.h"
 
 #include <cmath>
 
@@ -46,10 +46,10 @@ double ElevatorSchedule::acceleration(double t) const {
   return 0;
 }
 
-Elevator::Elevator(std::string name, ContactParams contact, ElevatorSchedule schedule, double size, double thickness)
+ElevatorCollider::ElevatorCollider(std::string name, ContactParams contact, ElevatorSchedule schedule, double size, double thickness)
     : Collider(std::move(name), contact), schedule_(schedule), size_(size), thickness_(thickness) {}
 
-std::optional<SurfacePoint> Elevator::query(double t, const Vec3& x) const {
+std::optional<SurfacePoint> ElevatorCollider::query(double t, const Vec3& x) const {
   const Vec3 top = topCenter(t);
   const double half = size_ / 2, distance = x.y() - top.y();
   if (std::abs(x.x() - top.x()) > half || std::abs(x.z() - top.z()) > half || distance < -thickness_)
@@ -58,7 +58,7 @@ std::optional<SurfacePoint> Elevator::query(double t, const Vec3& x) const {
                       Vec3(0, schedule_.acceleration(t), 0)};
 }
 
-void Elevator::near(double t, const VecX& x, double margin, std::vector<int>& out) const {
+void ElevatorCollider::near(double t, const VecX& x, double margin, std::vector<int>& out) const {
   out.clear();
   const Vec3 top = topCenter(t);  // query's tests, once per call instead of once per particle
   const double half = size_ / 2;
@@ -73,7 +73,7 @@ void Elevator::near(double t, const VecX& x, double margin, std::vector<int>& ou
   }
 }
 
-std::optional<Eigen::AlignedBox3d> Elevator::bounds(double) const {
+std::optional<Eigen::AlignedBox3d> ElevatorCollider::bounds(double) const {
   const Vec3 half(size_ / 2, 0, size_ / 2);
   const Vec3 bottom = topCenter(0) - half - Vec3(0, thickness_, 0);
   const Vec3 top = topCenter(0) + half + Vec3(0, schedule_.accel * schedule_.travel * schedule_.travel / 2, 0);

@@ -1,4 +1,4 @@
-// Elevator: a horizontal square platform (normal +y) driven by a time schedule, as in the course framework:
+// ElevatorCollider: a horizontal square platform (normal +y) driven by a time schedule, as in the course framework:
 // from rest, accelerate upward for `travel` seconds, stop dead and hold for `pause`, accelerate downward from rest
 // for `travel`, stop dead and hold for `pause`; repeat. The schedule is a function of time, not of steps, so the
 // motion does not depend on dt. Infinite mass: particles bounce relative to its velocity, v_n' = u_n - e (v_n - u_n).
@@ -7,7 +7,7 @@
 // thickness = 0.25 (slab depth; particles further below are not pushed up), accel = 3 (m/s^2), travel = 2 (s),
 // pause = 0.001 (s) — period 4.002 s, rising 6 m and reaching 6 m/s — restitution, friction, epsilon.
 #pragma once
-#include "collider.h"
+#include "sim/colliders/collider.h"
 
 namespace wobble {
 
@@ -22,9 +22,9 @@ struct ElevatorSchedule {
   double acceleration(double t) const;
 };
 
-class Elevator final : public Collider {
+class ElevatorCollider final : public Collider {
  public:
-  Elevator(std::string name, ContactParams contact, ElevatorSchedule schedule, double size, double thickness);
+  ElevatorCollider(std::string name, ContactParams contact, ElevatorSchedule schedule, double size, double thickness);
   std::optional<SurfacePoint> query(double t, const Vec3& x) const override;
   void near(double t, const VecX& x, double margin, std::vector<int>& out) const override;
   // The slab over its whole travel, from its lowest bottom to its highest top (the same at every t).

@@ -1,15 +1,15 @@
-#include "plane.h"
+#include "sim/colliders/plane.h"
 
 namespace wobble {
 
-Plane::Plane(std::string name, ContactParams contact, const Vec3& point, const Vec3& normal)
+PlaneCollider::PlaneCollider(std::string name, ContactParams contact, const Vec3& point, const Vec3& normal)
     : Collider(std::move(name), contact), point_(point), normal_(normal.normalized()) {}
 
-std::optional<SurfacePoint> Plane::query(double, const Vec3& x) const {
+std::optional<SurfacePoint> PlaneCollider::query(double, const Vec3& x) const {
   return SurfacePoint{normal_.dot(x - point_), normal_, Vec3::Zero(), Vec3::Zero()};
 }
 
-void Plane::near(double, const VecX& x, double margin, std::vector<int>& out) const {
+void PlaneCollider::near(double, const VecX& x, double margin, std::vector<int>& out) const {
   out.clear();
   const int n = static_cast<int>(x.size() / 3);
   out.reserve(n);  // once: the list never reallocates while a body settles onto the collider

@@ -1,15 +1,15 @@
-// Plane: an infinite static plane (the half-space below it is solid).
+// PlaneCollider: an infinite static plane (the half-space below it is solid).
 // Parameters: point (on the plane), normal (any length; normalized), size (drawn extent, renderer only),
 // restitution, friction, epsilon. The slope of the course framework is the plane through the origin with normal
 // (sin 20deg, cos 20deg, 0).
 #pragma once
-#include "collider.h"
+#include "sim/colliders/collider.h"
 
 namespace wobble {
 
-class Plane final : public Collider {
+class PlaneCollider final : public Collider {
  public:
-  Plane(std::string name, ContactParams contact, const Vec3& point, const Vec3& normal);
+  PlaneCollider(std::string name, ContactParams contact, const Vec3& point, const Vec3& normal);
   std::optional<SurfacePoint> query(double t, const Vec3& x) const override;
   void near(double t, const VecX& x, double margin, std::vector<int>& out) const override;
   std::optional<Eigen::AlignedBox3d> bounds(double) const override { return std::nullopt; }  // infinite

@@ -1,18 +1,18 @@
-#include "sphere.h"
+#include "sim/colliders/sphere.h"
 
 namespace wobble {
 
-Sphere::Sphere(std::string name, ContactParams contact, const Vec3& center, double radius, const Vec3& velocity)
+SphereCollider::SphereCollider(std::string name, ContactParams contact, const Vec3& center, double radius, const Vec3& velocity)
     : Collider(std::move(name), contact), center_(center), radius_(radius), velocity_(velocity) {}
 
-std::optional<SurfacePoint> Sphere::query(double t, const Vec3& x) const {
+std::optional<SurfacePoint> SphereCollider::query(double t, const Vec3& x) const {
   const Vec3 d = x - center(t);
   const double len = d.norm();
   const Vec3 normal = len > 0 ? Vec3(d / len) : Vec3::UnitY();
   return SurfacePoint{len - radius_, normal, velocity_, Vec3::Zero()};
 }
 
-void Sphere::near(double t, const VecX& x, double margin, std::vector<int>& out) const {
+void SphereCollider::near(double t, const VecX& x, double margin, std::vector<int>& out) const {
   out.clear();
   const Vec3 c = center(t);
   // |x - c| - r < margin without a square root; a hair wider than that, so round-off never drops a particle
@@ -27,7 +27,7 @@ void Sphere::near(double t, const VecX& x, double margin, std::vector<int>& out)
   }
 }
 
-std::optional<Eigen::AlignedBox3d> Sphere::bounds(double t) const {
+std::optional<Eigen::AlignedBox3d> SphereCollider::bounds(double t) const {
   return Eigen::AlignedBox3d(center(t) - Vec3::Constant(radius_), center(t) + Vec3::Constant(radius_));
 }
 

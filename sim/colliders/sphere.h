@@ -1,13 +1,13 @@
-// Sphere: a solid ball, static or moving at constant velocity (the cloth scene's obstacle).
+// SphereCollider: a solid ball, static or moving at constant velocity (the cloth scene's obstacle).
 // Parameters: center (at t = 0), radius (> 0), velocity (default 0), restitution, friction, epsilon.
 #pragma once
-#include "collider.h"
+#include "sim/colliders/collider.h"
 
 namespace wobble {
 
-class Sphere final : public Collider {
+class SphereCollider final : public Collider {
  public:
-  Sphere(std::string name, ContactParams contact, const Vec3& center, double radius, const Vec3& velocity);
+  SphereCollider(std::string name, ContactParams contact, const Vec3& center, double radius, const Vec3& velocity);
   std::optional<SurfacePoint> query(double t, const Vec3& x) const override;
   void near(double t, const VecX& x, double margin, std::vector<int>& out) const override;
   std::optional<Eigen::AlignedBox3d> bounds(double t) const override;

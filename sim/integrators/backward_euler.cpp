@@ -26,8 +26,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "../filtered_pcg.h"
-#include "methods.h"
+#include "sim/filtered_pcg.h"
+#include "sim/integrators/methods.h"
 
 namespace wobble {
 namespace {

@@ -1,5 +1,5 @@
 // Explicit (forward) Euler: x1 = x0 + h v0, v1 = v0 + h a(x0, v0). First order; unstable on undamped oscillators.
-#include "methods.h"
+#include "sim/integrators/methods.h"
 
 namespace wobble {
 namespace {

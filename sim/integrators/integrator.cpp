@@ -1,9 +1,9 @@
-#include "integrator.h"
+#include "sim/integrators/integrator.h"
 
 #include <array>
 #include <stdexcept>
 
-#include "methods.h"
+#include "sim/integrators/methods.h"
 
 namespace wobble {
 namespace {

@@ -6,7 +6,7 @@
 #include <string>
 #include <string_view>
 
-#include "../dynamics.h"
+#include "sim/dynamics.h"
 
 namespace wobble {
 

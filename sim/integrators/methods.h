@@ -1,6 +1,6 @@
 // Constructors of the integration methods, one per file in this folder; integrator.cpp maps names to them.
 #pragma once
-#include "integrator.h"
+#include "sim/integrators/integrator.h"
 
 namespace wobble {
 

@@ -1,5 +1,5 @@
 // Explicit midpoint (RK2): one Euler half step, then the full step with the midpoint derivative. Second order.
-#include "methods.h"
+#include "sim/integrators/methods.h"
 
 namespace wobble {
 namespace {

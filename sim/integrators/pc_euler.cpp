@@ -3,7 +3,7 @@
 //   x1 = x0 + h vp,  v1 = v0 + h a(t + h, xp, vp).
 // On y' = lambda y this is y1 = (1 + z + z^2) y0 with z = h lambda: an explicit method, first order, stable on an
 // undamped oscillator only up to omega h = 1. It is not backward Euler.
-#include "methods.h"
+#include "sim/integrators/methods.h"
 
 namespace wobble {
 namespace {

@@ -1,6 +1,6 @@
 // Classical fourth-order Runge-Kutta on the first-order system (x' = v, v' = a). Every stage starts from the
 // step's start state (x0, v0); forgetting that is what made a course framework's RK4 jelly fall in slow motion.
-#include "methods.h"
+#include "sim/integrators/methods.h"
 
 namespace wobble {
 namespace {

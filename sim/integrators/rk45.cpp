@@ -18,7 +18,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "methods.h"
+#include "sim/integrators/methods.h"
 
 namespace wobble {
 namespace {

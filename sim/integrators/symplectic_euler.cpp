@@ -2,7 +2,7 @@
 // First order, one evaluation per step. Symplectic for conservative forces: on an undamped oscillator the energy
 // oscillates but does not drift, and it is stable up to omega h = 2; with explicit damping (dampers, drag) the limit
 // drops to 2 (sqrt(1 + zeta^2) - zeta). No options.
-#include "methods.h"
+#include "sim/integrators/methods.h"
 
 namespace wobble {
 namespace {

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "app/scene/input_error.h"
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "app/view/camera_rig.h"
 #include "app/view/render_scene.h"
 #include "tests/app/scratch_dir.h"
@@ -28,7 +28,7 @@ png = true
 class BoxColliderScene : public testing::ScratchDir {};
 
 TEST_F(BoxColliderScene, IsReadDrawnAndFramed) {
-  const Scene scene = loadScene(write("box.toml", kScene));
+  const SceneFile scene = loadScene(write("box.toml", kScene));
   ASSERT_EQ(scene.system->colliders().size(), 1u);
   const ColliderLook& look = scene.render.colliders.at("crate");
   EXPECT_EQ(look.type, "box");

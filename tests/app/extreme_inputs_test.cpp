@@ -10,7 +10,7 @@
 
 #include "app/commands/run_command.h"
 #include "app/scene/input_error.h"
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "sim/simulation.h"
 #include "tests/app/scratch_dir.h"
 
@@ -163,7 +163,7 @@ normal = [0.3420201433256687, 0.9396926207859084, 0.0]
     EXPECT_TRUE(std::isfinite(r.energy_end)) << integrator;
   }
   // Every particle ends on the free side of the plane (within the contact tolerance epsilon = 0.01).
-  Scene s = loadScene(dir() / "scene.toml", {"simulation.integrator=\"rk4\""});
+  SceneFile s = loadScene(dir() / "scene.toml", {"simulation.integrator=\"rk4\""});
   Simulation sim(*s.system, makeIntegrator("rk4"), s.dt);
   ASSERT_FALSE(sim.advanceTo(0.5));
   const Vec3 normal = Vec3(0.3420201433256687, 0.9396926207859084, 0).normalized();

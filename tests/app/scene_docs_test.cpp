@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "app/scene/input_error.h"
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "tests/app/scratch_dir.h"
 
 namespace wobble {

@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "app/scene/input_error.h"
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "tests/app/scratch_dir.h"
 
 namespace wobble {
@@ -47,7 +47,7 @@ void expectAll(const std::string& message, std::initializer_list<const char*> pa
 }
 
 TEST_F(InputErrors, ValidSceneLoads) {
-  const Scene scene = loadScene(write("ok.toml", kValid));
+  const SceneFile scene = loadScene(write("ok.toml", kValid));
   EXPECT_EQ(scene.system->particleCount(), 27);
   EXPECT_EQ(scene.system->colliders().size(), 1u);
   EXPECT_EQ(scene.frameCount(), 30);
@@ -126,7 +126,7 @@ TEST_F(InputErrors, OverridesAreCheckedLikeTheFile) {
 
 TEST_F(InputErrors, OverridesApply) {
   const auto file = write("ok.toml", kValid);
-  const Scene scene = loadScene(file, {"jelly.ks=2800", "simulation.integrator=midpoint", "simulation.dt=2e-3",
+  const SceneFile scene = loadScene(file, {"jelly.ks=2800", "simulation.integrator=midpoint", "simulation.dt=2e-3",
                                        "bodies.jelly.n=4", "floor.friction=0"});
   EXPECT_EQ(scene.integrator, "midpoint");
   EXPECT_EQ(scene.dt, 2e-3);
@@ -137,7 +137,7 @@ TEST_F(InputErrors, OverridesApply) {
 
 TEST_F(InputErrors, ShippedScenesLoad) {
   for (const char* name : {"jelly_slope", "jelly_elevator", "cloth_sphere", "cat_jelly"}) {
-    const Scene scene = loadScene(testing::sourceDir() / "scenes" / (std::string(name) + ".toml"));
+    const SceneFile scene = loadScene(testing::sourceDir() / "scenes" / (std::string(name) + ".toml"));
     EXPECT_EQ(scene.system->colliders().size(), 1u) << name;
     EXPECT_EQ(scene.textures.size(), std::string(name) == "cat_jelly" ? 1u : 0u) << name;  // only where named
   }

@@ -25,6 +25,13 @@ Scene floorWithBlocker() {
 
 Vector3f onFloor(float x, float z) { return offsetFromSurface(Vector3f(x, 0, z), Vector3f::UnitY()); }
 
+// A light sample as the path tracer uses it: its value where the shadow ray is unoccluded, zero where it is not.
+LightSample visible(const Scene& scene, LightSample s) {
+  if (!s.value.isZero() && !unoccluded(scene, s.shadow)) s.value = Color::Zero();
+  return s;
+}
+Color seen(const Scene& scene, const LightSample& s) { return visible(scene, s).value; }
+
 TEST(Lighting, SunShadowOnUnderABlockerAndOffBesideIt) {
   const Scene scene = floorWithBlocker();
   SunLight sun;
@@ -32,17 +39,17 @@ TEST(Lighting, SunShadowOnUnderABlockerAndOffBesideIt) {
   sun.irradiance = {2, 2, 2};
   sun.angular_radius_deg = 0;
   const Vector3f up = Vector3f::UnitY();
-  EXPECT_TRUE(sampleSun(scene, sun, onFloor(0, 0), up, 0.5f, 0.5f).value.isZero());
-  const LightSample lit = sampleSun(scene, sun, onFloor(3, 0), up, 0.5f, 0.5f);
+  EXPECT_TRUE(seen(scene, sampleSun(sun, onFloor(0, 0), up, 0.5f, 0.5f)).isZero());
+  const LightSample lit = visible(scene, sampleSun(sun, onFloor(3, 0), up, 0.5f, 0.5f));
   EXPECT_TRUE(lit.value.isApprox(Color(2, 2, 2)));
   EXPECT_NEAR((lit.wi - up).norm(), 0, 1e-6);
   // A low sun from +x moves the shadow: the point at x = -1 is now under it, the origin is lit.
   sun.direction = {1, 1, 0};
-  EXPECT_TRUE(sampleSun(scene, sun, onFloor(-1, 0), up, 0.5f, 0.5f).value.isZero());
-  EXPECT_FALSE(sampleSun(scene, sun, onFloor(0.6f, 0), up, 0.5f, 0.5f).value.isZero());
+  EXPECT_TRUE(seen(scene, sampleSun(sun, onFloor(-1, 0), up, 0.5f, 0.5f)).isZero());
+  EXPECT_FALSE(seen(scene, sampleSun(sun, onFloor(0.6f, 0), up, 0.5f, 0.5f)).isZero());
   // A sun below the horizon lights nothing.
   sun.direction = {0, -1, 0};
-  EXPECT_TRUE(sampleSun(scene, sun, onFloor(3, 0), up, 0.5f, 0.5f).value.isZero());
+  EXPECT_TRUE(seen(scene, sampleSun(sun, onFloor(3, 0), up, 0.5f, 0.5f)).isZero());
 }
 
 TEST(Lighting, SoftSunGivesPenumbraAtTheShadowEdge) {
@@ -55,7 +62,7 @@ TEST(Lighting, SoftSunGivesPenumbraAtTheShadowEdge) {
   const int n = 32;
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j)
-      lit += !sampleSun(scene, sun, onFloor(0.5f, 0), Vector3f::UnitY(), (i + 0.5f) / n, (j + 0.5f) / n).value.isZero();
+      lit += !seen(scene, sampleSun(sun, onFloor(0.5f, 0), Vector3f::UnitY(), (i + 0.5f) / n, (j + 0.5f) / n)).isZero();
   EXPECT_GT(lit, n * n / 4);
   EXPECT_LT(lit, 3 * n * n / 4);
 }
@@ -69,14 +76,14 @@ TEST(Lighting, AreaLightIsShadowedAndFallsOffWithDistance) {
   light.edge_v = {0, 0, 0.2f};  // edge_u x edge_v = -y: emits downwards
   light.radiance = {100, 100, 100};
   const Vector3f up = Vector3f::UnitY();
-  EXPECT_TRUE(sampleRect(scene, light, onFloor(0, 0), up, 0.5f, 0.5f).value.isZero());
+  EXPECT_TRUE(seen(scene, sampleRect(light, onFloor(0, 0), up, 0.5f, 0.5f)).isZero());
   // Beside the blocker, at (3, 0, 0): one sample at the light's centre gives L cos_light A / d^2.
-  const LightSample s = sampleRect(scene, light, onFloor(3, 0), up, 0.5f, 0.5f);
+  const LightSample s = visible(scene, sampleRect(light, onFloor(3, 0), up, 0.5f, 0.5f));
   const float d2 = 9 + 100, cos_light = 10 / std::sqrt(d2);
   EXPECT_NEAR(s.value.x(), 100 * cos_light * 0.04f / d2, 1e-4);
   // Facing away: a light emitting upwards does not light the floor.
   std::swap(light.edge_u, light.edge_v);
-  EXPECT_TRUE(sampleRect(scene, light, onFloor(3, 0), up, 0.5f, 0.5f).value.isZero());
+  EXPECT_TRUE(seen(scene, sampleRect(light, onFloor(3, 0), up, 0.5f, 0.5f)).isZero());
 }
 
 // Oracle: a white diffuse sphere under a sun with irradiance pi and no sky has radiance albedo * max(0, n.l) at the

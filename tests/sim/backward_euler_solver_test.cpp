@@ -32,7 +32,7 @@ Landed landedJelly() {
   body.pinned[0] = true;
   Landed l{std::make_unique<MassSpringSystem>()};
   l.system->addBody(std::move(body));
-  l.system->addCollider(std::make_unique<Plane>("floor", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), Vec3::UnitY()));
+  l.system->addCollider(std::make_unique<PlaneCollider>("floor", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), Vec3::UnitY()));
   Simulation sim(*l.system, makeIntegrator("backward-euler"), l.h);
   EXPECT_FALSE(sim.advanceTo(0.5));
   l.x = sim.x();

@@ -111,7 +111,7 @@ JellyRun runStiffJelly(double ground_y, double restitution, int frames) {
   system.addBody(buildJelly("jelly", p));
   ContactParams contact;
   contact.restitution = restitution;
-  system.addCollider(std::make_unique<Plane>("ground", contact, Vec3::Zero(), Vec3::UnitY()));
+  system.addCollider(std::make_unique<PlaneCollider>("ground", contact, Vec3::Zero(), Vec3::UnitY()));
   Simulation sim(system, makeIntegrator("backward-euler"), 1.0 / 60);
   JellyRun run;
   for (int frame = 1; frame <= frames; ++frame) {

@@ -9,7 +9,7 @@ namespace wobble {
 namespace {
 
 TEST(BoxCollider, DistanceAndNormalOutsideInsideAndAtAnEdge) {
-  const Box box("crate", ContactParams{}, Vec3(0, 1, 0), Vec3(2, 2, 2));
+  const BoxCollider box("crate", ContactParams{}, Vec3(0, 1, 0), Vec3(2, 2, 2));
   const auto above = box.query(0, Vec3(0, 2.5, 0));
   EXPECT_DOUBLE_EQ(above->distance, 0.5);
   EXPECT_TRUE(above->normal.isApprox(Vec3::UnitY()));
@@ -28,7 +28,7 @@ TEST(BoxCollider, DistanceAndNormalOutsideInsideAndAtAnEdge) {
 TEST(BoxCollider, ADroppedParticleComesToRestOnTheTop) {
   MassSpringSystem system;
   system.addBody(testing::particles({Vec3(0.2, 3, -0.3)}));
-  system.addCollider(std::make_unique<Box>("crate", ContactParams{0.5, 0.5, 0.01}, Vec3(0, 1, 0), Vec3(2, 2, 2)));
+  system.addCollider(std::make_unique<BoxCollider>("crate", ContactParams{0.5, 0.5, 0.01}, Vec3(0, 1, 0), Vec3(2, 2, 2)));
   Simulation sim(system, makeIntegrator("rk4"), 1e-3);
   ASSERT_FALSE(sim.advanceTo(3));
   EXPECT_NEAR(sim.x()[1], 2, 0.011);  // on the top face, within the contact tolerance

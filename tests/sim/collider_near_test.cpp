@@ -33,9 +33,9 @@ void expectNearMatchesQuery(const Collider& c, double t, bool exact) {
 }
 
 TEST(ColliderNear, KeepsExactlyTheParticlesWithinTheMargin) {
-  expectNearMatchesQuery(Plane("plane", {}, Vec3(0, 0.5, 0), Vec3(1, 2, 0.5)), 0, true);
-  expectNearMatchesQuery(Sphere("sphere", {}, Vec3(0.1, 0, 0), 1.5, Vec3(0.2, 0, 0)), 1.0, false);
-  expectNearMatchesQuery(Elevator("elevator", {}, ElevatorSchedule{}, 3, 0.5), 0.5, true);
+  expectNearMatchesQuery(PlaneCollider("plane", {}, Vec3(0, 0.5, 0), Vec3(1, 2, 0.5)), 0, true);
+  expectNearMatchesQuery(SphereCollider("sphere", {}, Vec3(0.1, 0, 0), 1.5, Vec3(0.2, 0, 0)), 1.0, false);
+  expectNearMatchesQuery(ElevatorCollider("elevator", {}, ElevatorSchedule{}, 3, 0.5), 0.5, true);
 }
 
 }  // namespace

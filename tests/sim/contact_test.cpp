@@ -21,7 +21,7 @@ TEST(Bounce, ApexHeightsFollowRestitutionSquared) {
   const double e = 0.8, h0 = 2.0;
   MassSpringSystem system;
   system.addBody(testing::particles({Vec3(0, h0, 0)}));
-  system.addCollider(std::make_unique<Plane>("floor", ContactParams{e, 0, 0.01}, Vec3::Zero(), Vec3::UnitY()));
+  system.addCollider(std::make_unique<PlaneCollider>("floor", ContactParams{e, 0, 0.01}, Vec3::Zero(), Vec3::UnitY()));
   Simulation sim(system, makeIntegrator("rk4"), 1e-4);
   std::vector<double> apexes;
   double previous_vy = 0;
@@ -41,7 +41,7 @@ TEST(Bounce, RestitutionIsRelativeToTheMovingElevator) {
   // falling at -2 m/s, leaves at u - e (v - u) = 3 - 0.8 (-5) = 7 m/s, moved back onto the top.
   MassSpringSystem system;
   system.addBody(testing::particles({Vec3(0.5, 2.499, 0)}, Vec3(0.3, -2, 0)));
-  system.addCollider(std::make_unique<Elevator>("lift", ContactParams{0.8, 0.5, 0.01}, ElevatorSchedule{}, 5, 0.25));
+  system.addCollider(std::make_unique<ElevatorCollider>("lift", ContactParams{0.8, 0.5, 0.01}, ElevatorSchedule{}, 5, 0.25));
   VecX x = system.initialPositions(), v = system.initialVelocities();
   system.resolveCollisions(1.0, x, v);
   EXPECT_NEAR(v[1], 7.0, 1e-12);
@@ -60,7 +60,7 @@ TEST(Bounce, ParticleDroppedOnRisingElevatorLeavesAtRelativeRestitution) {
   // Integrated version: drop onto the rising platform; just after the bounce, v' = u - e (v - u) within a step's drift.
   MassSpringSystem system;
   system.addBody(testing::particles({Vec3(0, 3.0, 0)}));
-  system.addCollider(std::make_unique<Elevator>("lift", ContactParams{0.8, 0, 0.01}, ElevatorSchedule{}, 5, 0.25));
+  system.addCollider(std::make_unique<ElevatorCollider>("lift", ContactParams{0.8, 0, 0.01}, ElevatorSchedule{}, 5, 0.25));
   Simulation sim(system, makeIntegrator("rk4"), 1e-5);
   double previous_v = 0, previous_t = 0;
   while (sim.time() < 1.5) {
@@ -74,7 +74,7 @@ TEST(Bounce, ParticleDroppedOnRisingElevatorLeavesAtRelativeRestitution) {
   EXPECT_NEAR(sim.v()[1], u - 0.8 * (previous_v - u), 0.01);
 }
 
-TEST(Elevator, ScheduleIsAFunctionOfTime) {
+TEST(ElevatorCollider, ScheduleIsAFunctionOfTime) {
   const ElevatorSchedule s;  // accel 3, travel 2, pause 0.001: period 4.002
   EXPECT_DOUBLE_EQ(s.period(), 4.002);
   EXPECT_DOUBLE_EQ(s.height(1.0), 1.5);
@@ -88,7 +88,7 @@ TEST(Elevator, ScheduleIsAFunctionOfTime) {
   EXPECT_NEAR(s.height(4.0015), 0.0, 1e-12);
   EXPECT_NEAR(s.height(4.002 + 1.0), 1.5, 1e-9);  // periodic
   EXPECT_NEAR(s.height(10 * 4.002 + 3.001), 4.5, 1e-9);
-  const Elevator lift("lift", {}, s, 5, 0.25);
+  const ElevatorCollider lift("lift", {}, s, 5, 0.25);
   EXPECT_NEAR(lift.topCenter(1.0).y(), 2.5, 1e-12);
 }
 
@@ -97,7 +97,7 @@ double slideAfter(double mu, double t, const std::string& method) {
   const Vec3 normal(kSin20, kCos20, 0);
   MassSpringSystem system;
   system.addBody(testing::particles({Vec3::Zero()}));
-  system.addCollider(std::make_unique<Plane>("slope", ContactParams{0.8, mu, 0.01}, Vec3::Zero(), normal));
+  system.addCollider(std::make_unique<PlaneCollider>("slope", ContactParams{0.8, mu, 0.01}, Vec3::Zero(), normal));
   Simulation sim(system, makeIntegrator(method), 1e-3);
   EXPECT_FALSE(sim.advanceTo(t));
   EXPECT_NEAR(normal.dot(sim.x().head<3>()), 0, 1e-9) << "left the surface";
@@ -123,7 +123,7 @@ TEST(Friction, JellyBlockRestingOnTheSlopeStaysOrSlides) {
     MassSpringSystem system;
     system.addBody(buildJelly("block", {.n = 3, .size = 1, .ks = 5000, .kd = 50, .center = 0.5 * normal,
                                         .rotation_axis = Vec3::UnitZ(), .rotation_deg = -20}));
-    system.addCollider(std::make_unique<Plane>("slope", ContactParams{0.8, mu, 0.01}, Vec3::Zero(), normal));
+    system.addCollider(std::make_unique<PlaneCollider>("slope", ContactParams{0.8, mu, 0.01}, Vec3::Zero(), normal));
     Simulation sim(system, makeIntegrator("rk4"), 1e-3);
     std::vector<double> slips;
     for (double t : times) {
@@ -152,7 +152,7 @@ TEST(Contact, RestingParticleIsStillUnderEveryIntegrator) {
   for (const auto& method : allIntegrators()) {
     MassSpringSystem system;
     system.addBody(testing::particles({Vec3(0, 0.005, 0)}));
-    system.addCollider(std::make_unique<Plane>("floor", ContactParams{}, Vec3::Zero(), Vec3::UnitY()));
+    system.addCollider(std::make_unique<PlaneCollider>("floor", ContactParams{}, Vec3::Zero(), Vec3::UnitY()));
     Simulation sim(system, makeIntegrator(method), 1e-3);
     ASSERT_FALSE(sim.advanceTo(1.0));
     EXPECT_NEAR(sim.x()[1], 0.005, 1e-12) << method;
@@ -165,7 +165,7 @@ TEST(Contact, BounceIsTheSameUnderEveryIntegrator) {
   for (const auto& method : allIntegrators()) {
     MassSpringSystem system;
     system.addBody(testing::particles({Vec3(0, 1, 0)}));
-    system.addCollider(std::make_unique<Plane>("floor", ContactParams{0.5, 0, 0.01}, Vec3::Zero(), Vec3::UnitY()));
+    system.addCollider(std::make_unique<PlaneCollider>("floor", ContactParams{0.5, 0, 0.01}, Vec3::Zero(), Vec3::UnitY()));
     Simulation sim(system, makeIntegrator(method), 1e-4);
     double apex = 0;
     bool bounced = false;
@@ -182,7 +182,7 @@ TEST(Contact, MovingSphereCarriesRestingCloth) {
   // A particle resting on top of a sphere moving sideways with friction is dragged along (kinetic friction).
   MassSpringSystem system;
   system.addBody(testing::particles({Vec3(0, 1.0, 0)}));
-  system.addCollider(std::make_unique<Sphere>("ball", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), 1.0, Vec3(1, 0, 0)));
+  system.addCollider(std::make_unique<SphereCollider>("ball", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), 1.0, Vec3(1, 0, 0)));
   Simulation sim(system, makeIntegrator("rk4"), 1e-3);
   ASSERT_FALSE(sim.advanceTo(0.05));
   EXPECT_GT(sim.v()[0], 0.2);  // mu g t = 0.245 m/s gained by friction

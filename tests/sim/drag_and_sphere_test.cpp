@@ -24,12 +24,12 @@ TEST(Drag, VelocityDecaysExponentially) {
   EXPECT_NEAR(sim.x()[0], 3 * (1 - factor) * 2.0 / 0.5, 1e-10);  // x = v0 m / c (1 - exp(-c t / m))
 }
 
-TEST(Sphere, HoldsTheClothAndPinnedCornersStay) {
+TEST(SphereCollider, HoldsTheClothAndPinnedCornersStay) {
   ClothParams p{.nx = 11, .ny = 11};
   p.pinned = clothPinSet("corners", p.nx, p.ny);
   MassSpringSystem system;
   system.addBody(buildCloth("cloth", p));
-  system.addCollider(std::make_unique<Sphere>("ball", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), 1.0, Vec3::Zero()));
+  system.addCollider(std::make_unique<SphereCollider>("ball", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), 1.0, Vec3::Zero()));
   Simulation sim(system, makeIntegrator("rk4"), 1e-4);
   ASSERT_FALSE(sim.advanceTo(1.0));
   double deepest = 0;

@@ -31,7 +31,7 @@ std::unique_ptr<MassSpringSystem> jellyOnFloor() {
   for (int i = 0; i < body.particleCount(); ++i) body.x[3 * i + 1] -= lowest;
   auto system = std::make_unique<MassSpringSystem>();
   system->addBody(std::move(body));
-  system->addCollider(std::make_unique<Plane>("floor", ContactParams{}, Vec3::Zero(), Vec3::UnitY()));
+  system->addCollider(std::make_unique<PlaneCollider>("floor", ContactParams{}, Vec3::Zero(), Vec3::UnitY()));
   return system;
 }
 
@@ -43,7 +43,7 @@ std::unique_ptr<MassSpringSystem> clothOnSphere() {
   p.pinned = clothPinSet("corners", p.nx, p.ny);
   auto system = std::make_unique<MassSpringSystem>();
   system->addBody(buildCloth("cloth", p));
-  system->addCollider(std::make_unique<Sphere>("sphere", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), 1.0, Vec3::Zero()));
+  system->addCollider(std::make_unique<SphereCollider>("sphere", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), 1.0, Vec3::Zero()));
   return system;
 }
 

@@ -15,7 +15,7 @@
 
 namespace wobble {
 
-struct Scene {
+struct SceneFile {
   std::filesystem::path file;
   std::string name;  // file name without extension: names outputs
 
@@ -43,7 +43,7 @@ struct Scene {
 // scene_limits.h, is refused before its bodies are built.
 // overrides: "dotted.key=value" (value in TOML syntax; a bare word is taken as a string). A first component that
 // names a body or collider may omit "bodies." / "colliders.": "jelly.ks=2800". Throws InputError.
-Scene loadScene(const std::filesystem::path& file, const std::vector<std::string>& overrides = {},
+SceneFile loadScene(const std::filesystem::path& file, const std::vector<std::string>& overrides = {},
                 std::uint64_t max_memory = 0);
 
 }  // namespace wobble

@@ -1,4 +1,4 @@
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 
 #include <cmath>
 #include <fstream>
@@ -22,7 +22,7 @@ namespace {
 
 std::vector<std::string> names(std::span<const std::string_view> list) { return {list.begin(), list.end()}; }
 
-void readSimulation(TableReader r, Scene& scene, Vec3& gravity) {
+void readSimulation(TableReader r, SceneFile& scene, Vec3& gravity) {
   scene.integrator = r.string("integrator", "rk4", names(integratorNames()));
   scene.dt = r.number("dt", 0.001, Range::positive());
   scene.duration = r.number("duration", 10, Range::positive());
@@ -31,14 +31,14 @@ void readSimulation(TableReader r, Scene& scene, Vec3& gravity) {
   const double frames = std::floor(scene.duration * scene.fps + 1e-9);
   if (frames > double(kMaxFrames))
     r.fail(r.node("duration") || !r.node("fps") ? "duration" : "fps",
-           "duration * fps = " + formatNumber(frames, 3) + " frames (duration " + formatNumber(scene.duration) +
-               " s at " + formatNumber(scene.fps) + " fps), above the cap of " +
+           "duration * fps = " + io::formatNumber(frames, 3) + " frames (duration " + io::formatNumber(scene.duration) +
+               " s at " + io::formatNumber(scene.fps) + " fps), above the cap of " +
                std::to_string(kMaxFrames) + " frames per run");
   if (1 / (scene.fps * scene.dt) > kMaxStepsPerFrame)
-    r.fail("dt", "1 / (fps dt) = " + formatNumber(1 / (scene.fps * scene.dt), 3) +
+    r.fail("dt", "1 / (fps dt) = " + io::formatNumber(1 / (scene.fps * scene.dt), 3) +
                      " steps per frame, above the cap of " + std::to_string(std::llround(kMaxStepsPerFrame)) +
-                     ": dt must be >= " + formatNumber(1 / (scene.fps * kMaxStepsPerFrame), 3) + " s at " +
-                     formatNumber(scene.fps) + " fps");
+                     ": dt must be >= " + io::formatNumber(1 / (scene.fps * kMaxStepsPerFrame), 3) + " s at " +
+                     io::formatNumber(scene.fps) + " fps");
   gravity = r.vec3("gravity", Vec3(0, -9.8, 0));
   IntegratorOptions& o = scene.integrator_options;
   o.rtol = r.number("rtol", o.rtol, Range::positive());
@@ -49,13 +49,13 @@ void readSimulation(TableReader r, Scene& scene, Vec3& gravity) {
   r.finish();
 }
 
-void readOutput(TableReader r, Scene& scene) {
+void readOutput(TableReader r, SceneFile& scene) {
   scene.write_obj = r.boolean("obj", true);
   scene.write_pc2 = r.boolean("pc2", false);
   r.finish();
 }
 
-void readBody(TableReader r, const std::string& name, Scene& scene) {
+void readBody(TableReader r, const std::string& name, SceneFile& scene) {
   const BodyKind& kind = bodyKind(r.string("type", "", bodyTypes()));
   if (const auto texture = r.optionalString("texture")) {
     const fs::path path = scene.file.parent_path() / *texture;
@@ -88,7 +88,7 @@ ContactParams readContact(TableReader& r) {
   return c;
 }
 
-void readCollider(TableReader r, const std::string& name, Scene& scene) {
+void readCollider(TableReader r, const std::string& name, SceneFile& scene) {
   const ColliderKind& kind = colliderKind(r.string("type", "", colliderTypes()));
   const ContactParams contact = readContact(r);
   ColliderLook look;
@@ -100,7 +100,7 @@ void readCollider(TableReader r, const std::string& name, Scene& scene) {
 
 // Reads each entry of a group table ("bodies", "colliders") with readOne(reader, name, scene).
 template <typename ReadOne>
-void readGroup(TableReader& root, std::string_view group, Scene& scene, ReadOne readOne) {
+void readGroup(TableReader& root, std::string_view group, SceneFile& scene, ReadOne readOne) {
   const toml::table* table = root.table(group);
   if (!table) return;
   for (const auto& [key, node] : *table) {
@@ -140,10 +140,10 @@ toml::table parseFile(const fs::path& file) {
 }  // namespace
 
 // Frames are capped at kMaxFrames when the scene is read: the int cannot overflow.
-int Scene::frameCount() const { return std::max(1, static_cast<int>(std::floor(duration * fps + 1e-9))); }
+int SceneFile::frameCount() const { return std::max(1, static_cast<int>(std::floor(duration * fps + 1e-9))); }
 
-Scene loadScene(const fs::path& file, const std::vector<std::string>& overrides, std::uint64_t max_memory) {
-  Scene scene;
+SceneFile loadScene(const fs::path& file, const std::vector<std::string>& overrides, std::uint64_t max_memory) {
+  SceneFile scene;
   scene.file = file;
   scene.name = file.stem().string();
   if (const std::string problem = identifierProblem(scene.name); !problem.empty())
