@@ -11,6 +11,7 @@ packages=(
   libeigen3-dev libtbb-dev                              # simulator numerics, threads
   libassimp-dev                                         # OBJ export/import
   libembree-dev libstb-dev libopenexr-dev libpng-dev   # renderer, images
+  libfontconfig-dev fonts-dejavu-core                   # labels of `wobble compare` (stb_truetype draws them)
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev   # scene files, command line, run.json
   libgtest-dev libgmock-dev libbenchmark-dev            # tests, benchmarks
   ffmpeg gnuplot-nox                                    # video and plots (external programs)

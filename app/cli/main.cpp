@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   wobble::addRenderCommand(app, status);
   wobble::addDiffCommand(app, status);
   wobble::addBlendCommand(app, status);
+  wobble::addCompareCommand(app, status);
   wobble::addStudyCommand(app, status);
   try {
     app.parse(argc, argv);

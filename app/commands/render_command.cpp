@@ -18,19 +18,7 @@ namespace fs = std::filesystem;
 namespace wobble {
 namespace {
 
-fs::path objPath(const fs::path& dir, const Body& body, int frame) {
-  return dir / frameFileName(body.name, frame, "obj");
-}
-
-// Every body's surface at frame k; bodies other than `only` (when >= 0) are left empty.
-std::vector<SurfaceFrame> readFrame(const fs::path& dir, const SceneFile& scene, int frame, int only = -1) {
-  const auto& bodies = scene.system->bodies();
-  std::vector<SurfaceFrame> surfaces(bodies.size());
-  for (std::size_t b = 0; b < bodies.size(); ++b)
-    if (only < 0 || int(b) == only)
-      surfaces[b] = readObjSurface(objPath(dir, bodies[b].body, frame), bodies[b].body.surface);
-  return surfaces;
-}
+fs::path objPath(const fs::path& dir, const Body& body, int frame) { return objFramePath(dir, body.name, frame); }
 
 }  // namespace
 
@@ -65,7 +53,7 @@ RenderCommandReport renderSequence(const RenderCommandOptions& options) {
         throw InputError(objPath(options.mesh_dir, slot.body, k).string() + ": file not found");
   std::vector<SurfaceFrame> first;
   try {
-    first = readFrame(options.mesh_dir, scene, report.first_frame);
+    first = readObjFrame(options.mesh_dir, scene, report.first_frame);
   } catch (const std::runtime_error& e) {
     throw InputError(e.what());
   }
@@ -82,12 +70,12 @@ RenderCommandReport renderSequence(const RenderCommandOptions& options) {
   if (const int followed = pictures.followedBody(); followed >= 0) {
     while (history > 1 && fs::exists(objPath(options.mesh_dir, bodies[followed].body, history - 1))) --history;
     for (int k = history; k < report.first_frame; ++k)
-      pictures.frame(k, readFrame(options.mesh_dir, scene, k, followed), false);
+      pictures.frame(k, readObjFrame(options.mesh_dir, scene, k, followed), false);
   }
 
   Progress progress(scene.name + " (render)", report.last_frame - report.first_frame + 1);
   for (int k = report.first_frame; k <= report.last_frame && !interrupted(); ++k) {
-    pictures.frame(k, k == report.first_frame ? first : readFrame(options.mesh_dir, scene, k), true);
+    pictures.frame(k, k == report.first_frame ? first : readObjFrame(options.mesh_dir, scene, k), true);
     progress.update(k - report.first_frame + 1);
   }
   progress.finish();

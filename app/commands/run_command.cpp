@@ -98,13 +98,20 @@ std::pair<int, int> parseFrameRange(const std::string& text, int count) {
   return {a, b};
 }
 
+SceneFile loadRunScene(const RunOptions& options, std::vector<std::string>* overrides) {
+  std::vector<std::string> all = options.sets;
+  if (options.integrator) all.push_back("simulation.integrator=\"" + *options.integrator + "\"");
+  if (options.dt) all.push_back("simulation.dt=" + roundTripNumber(*options.dt));
+  if (options.pc2) all.push_back("output.pc2=true");
+  for (const std::string& o : renderOverrides(options.render)) all.push_back(o);
+  SceneFile scene = loadScene(options.scene, all);
+  if (overrides) *overrides = std::move(all);
+  return scene;
+}
+
 RunReport runScene(const RunOptions& options) {
-  std::vector<std::string> overrides = options.sets;
-  if (options.integrator) overrides.push_back("simulation.integrator=\"" + *options.integrator + "\"");
-  if (options.dt) overrides.push_back("simulation.dt=" + roundTripNumber(*options.dt));
-  if (options.pc2) overrides.push_back("output.pc2=true");
-  for (const std::string& o : renderOverrides(options.render)) overrides.push_back(o);
-  SceneFile scene = loadScene(options.scene, overrides);
+  std::vector<std::string> overrides;
+  SceneFile scene = loadRunScene(options, &overrides);
 
   RunReport report;
   std::tie(report.first_frame, report.last_frame) =
@@ -136,14 +143,16 @@ RunReport runScene(const RunOptions& options) {
 
   std::optional<ErrorEstimator> estimator;
   if (options.estimate_error)
-    estimator.emplace(loadScene(options.scene, overrides), scene.integrator, scene.integrator_options, scene.dt);
+    estimator.emplace(loadRunScene(options), scene.integrator, scene.integrator_options, scene.dt);
 
-  Progress progress(scene.name, report.last_frame);
+  std::optional<Progress> progress;
+  if (options.progress) progress.emplace(scene.name, report.last_frame);
   for (int frame = 1; frame <= report.last_frame && !interrupted(); ++frame) {
     auto start = Clock::now();
     report.blow_up = sim.advanceTo(scene.frameTime(frame));
     report.seconds_simulate += secondsSince(start);
     if (report.blow_up) break;
+    if (options.on_frame) options.on_frame(frame, sim.x());
     if (estimator) estimator->compare(scene.frameTime(frame), sim.x());
     start = Clock::now();
     std::vector<SurfaceFrame> surfaces;  // of every body, for this frame's OBJ files and picture
@@ -167,9 +176,9 @@ RunReport runScene(const RunOptions& options) {
         pictures->frame(frame, surfaces, true);
       report.seconds_render += secondsSince(start);
     }
-    progress.update(frame);
+    if (progress) progress->update(frame);
   }
-  progress.finish();
+  if (progress) progress->finish();
   for (const auto& cache : caches) cache->finish();  // the frames written, also after a blow-up or an interrupt
   if (pictures) {
     report.frames_rendered = pictures->framesRendered();

@@ -1,11 +1,13 @@
 // `wobble run`: load a scene, simulate it, write the OBJ sequence of every body and OUT/run.json.
 #pragma once
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "app/scene/render_overrides.h"
+#include "app/scene/scene.h"
 #include "app/study/error_estimate.h"
 #include "sim/simulation.h"
 
@@ -21,6 +23,10 @@ struct RunOptions {
   RenderFlags render;                    // --render, --spp, --resolution, --video (applied after --set)
   bool estimate_error = false;           // rerun at dt/2 in lock step and report the error (error_estimate.h)
   bool pc2 = false;                      // write the PC2 point cache (overrides output.pc2)
+  bool progress = true;                  // the progress line on a terminal (`wobble compare` shows its own)
+  // Called after the simulation reaches each frame's time, from frame 1 (also before the --frames range), with every
+  // particle's position; not for the frame a blow-up stopped. `wobble compare` follows strain and camera with it.
+  std::function<void(int frame, const VecX& x)> on_frame;
 };
 
 struct RunReport {
@@ -37,6 +43,11 @@ struct RunReport {
   bool interrupted = false;  // SIGINT/SIGTERM: stopped after the last complete frame, no video (interrupt.h)
   int files_cleared = 0;     // of an earlier run in the folder (output_folder.h)
 };
+
+// The scene a run of `options` simulates: the file with --set, then the keys the flags set (--integrator, --dt,
+// --pc2, the render flags), in that order; `overrides` (when given) receives that list, as run.json records it.
+// Throws InputError.
+Scene loadRunScene(const RunOptions& options, std::vector<std::string>* overrides = nullptr);
 
 // Throws InputError for bad input before anything is written, and when another run holds OUT. Clears an earlier
 // run's files from OUT first. A blow-up or an interrupt stops the run at once: the frames written so far stay, and

@@ -6,6 +6,8 @@
 #include <assimp/Importer.hpp>
 #include <assimp/scene.h>
 
+#include "app/output/frame_name.h"
+
 namespace wobble {
 
 SurfaceFrame readObjSurface(const std::filesystem::path& obj, const SurfaceMesh& mesh) {
@@ -35,6 +37,20 @@ SurfaceFrame readObjSurface(const std::filesystem::path& obj, const SurfaceMesh&
     }
   }
   return frame;
+}
+
+std::filesystem::path objFramePath(const std::filesystem::path& mesh_dir, const std::string& body, int frame) {
+  return mesh_dir / frameFileName(body, frame, "obj");
+}
+
+std::vector<SurfaceFrame> readObjFrame(const std::filesystem::path& mesh_dir, const Scene& scene, int frame,
+                                       int only) {
+  const auto& bodies = scene.system->bodies();
+  std::vector<SurfaceFrame> surfaces(bodies.size());
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    if (only < 0 || int(b) == only)
+      surfaces[b] = readObjSurface(objFramePath(mesh_dir, bodies[b].body.name, frame), bodies[b].body.surface);
+  return surfaces;
 }
 
 }  // namespace wobble

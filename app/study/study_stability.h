@@ -20,13 +20,16 @@
 
 namespace wobble {
 
+// A body whose largest spring strain passes this has lost its shape (also `wobble compare`'s mark).
+inline constexpr double kStrainBound = 0.5;
+
 struct StabilityOptions {
   std::filesystem::path scene = "scenes/jelly_impact.toml";
   std::vector<std::string> sets;
   std::vector<std::string> integrators;  // empty: all but rk45
   std::filesystem::path out;             // empty: out/study-stability-<scene name>
   double duration = 0.5;                 // simulated seconds per cell
-  double strain_bound = 0.5;
+  double strain_bound = kStrainBound;
   double ks_min = 1e3, ks_max = 1e9, dt_min = 1e-5, dt_max = 1.0 / 30;
   int ks_points = 7, dt_points = 6;      // log spaced, ends included (--fine: 13 x 12)
   std::vector<std::array<double, 2>> cases = {{5e4, 1.2e-3}, {1e5, 1.4e-3}};  // (ks, dt): the users' reports

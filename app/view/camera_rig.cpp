@@ -68,6 +68,12 @@ void CameraRig::observe(int frame, const SurfaceFrame& followed) {
   s2_ += alpha_ * (s1_ - s2_);
 }
 
+void CameraRig::observe(int frame, const MassSpringSystem& system, const VecX& x) {
+  if (followed_ < 0) return;
+  const BodySlot& slot = system.bodies()[followed_];
+  observe(frame, evaluateSurface(slot.body.surface, x, slot.first));
+}
+
 render::CameraParams CameraRig::params() const {
   // Double smoothing: 2 s1 - s2 cancels the lag of a single exponential average at constant velocity.
   const Vec3 shift = followed_ >= 0 && last_frame_ > 0 ? Vec3(2 * s1_ - s2_ - first_) : Vec3::Zero();

@@ -26,6 +26,8 @@ class CameraRig {
   // Feed frame k's followed surface: consecutive frames, from 1 or from the first one there is (no-op when nothing is
   // followed). Throws std::logic_error on a gap.
   void observe(int frame, const SurfaceFrame& followed);
+  // The same from the simulation's flat state: the followed body's surface evaluated at x (no-op when fixed).
+  void observe(int frame, const MassSpringSystem& system, const VecX& x);
   render::CameraParams params() const;
 
  private:

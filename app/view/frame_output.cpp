@@ -6,10 +6,9 @@
 #include "app/output/interrupt.h"
 #include "app/output/obj_sequence.h"
 #include "app/output/video.h"
-#include "render/denoiser.h"
+#include "app/view/frame_picture.h"
 #include "render/image/exr_writer.h"
 #include "render/image/png_io.h"
-#include "render/renderer.h"
 
 namespace fs = std::filesystem;
 
@@ -31,11 +30,7 @@ FrameOutput::FrameOutput(const SceneFile& scene, fs::path out)
   if (scene.render.options.exr) fs::create_directories(out_ / "exr");
 }
 
-void FrameOutput::observe(int frame, const VecX& x) {
-  if (rig_.followedBody() < 0) return;
-  const BodySlot& slot = scene_.system->bodies()[rig_.followedBody()];
-  rig_.observe(frame, evaluateSurface(slot.body.surface, x, slot.first));
-}
+void FrameOutput::observe(int frame, const VecX& x) { rig_.observe(frame, *scene_.system, x); }
 
 void FrameOutput::frame(int frame, std::span<const SurfaceFrame> surfaces, bool write) {
   if (rig_.followedBody() >= 0) rig_.observe(frame, surfaces[rig_.followedBody()]);
@@ -45,19 +40,12 @@ void FrameOutput::frame(int frame, std::span<const SurfaceFrame> surfaces, bool 
 }
 
 void FrameOutput::render(int frame) {
-  const RenderOptionsConfig& o = scene_.render.options;
-  auto film = std::make_shared<render::Film>(
-      render::render(render_scene_.scene(), render::Camera(rig_.params()), renderSettings(o, frame)));
-  auto denoised = std::make_shared<std::vector<render::Color>>();
-  if (o.denoise) *denoised = render::denoise(*film);
+  const FramePicture picture = renderPicture(render_scene_.scene(), rig_.params(), scene_.render.options, frame);
   if (writing_.valid()) writing_.get();  // the previous frame's files, and any error writing them
-  writing_ = std::async(std::launch::async, [this, frame, film, denoised] {
+  writing_ = std::async(std::launch::async, [this, frame, picture] {
     const RenderOptionsConfig& options = scene_.render.options;
     if (options.png) {
-      render::ToneMap tone;
-      tone.exposure = static_cast<float>(options.exposure);
-      const std::span<const render::Color> color = options.denoise ? *denoised : film->color;
-      const render::Image8 image = render::develop(film->width, film->height, color, tone);
+      const render::Image8 image = developPicture(picture, options);
       render::writePng(pngPath(out_, scene_.name, frame), image);
       if (options.video) {
         if (!video_opened_) video_ = VideoStream::open(out_ / (scene_.name + ".mp4"), image.width, image.height, scene_.fps);
@@ -65,7 +53,7 @@ void FrameOutput::render(int frame) {
         if (video_) video_->write(image);
       }
     }
-    if (options.exr) render::writeExr(exrPath(out_, scene_.name, frame), *film, *denoised);
+    if (options.exr) render::writeExr(exrPath(out_, scene_.name, frame), *picture.film, *picture.denoised);
   });
   ++rendered_;
 }

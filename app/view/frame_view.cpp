@@ -16,10 +16,7 @@ FrameView simulateTo(const SceneFile& scene, int frame) {
     if (const auto blow_up = sim.advanceTo(scene.frameTime(k)))
       throw InputError(scene.file.string() + ": the simulation blew up before frame " + std::to_string(frame) + ": " +
                        blow_up->message(scene.dt));
-    if (rig.followedBody() >= 0) {
-      const BodySlot& slot = system.bodies()[rig.followedBody()];
-      rig.observe(k, evaluateSurface(slot.body.surface, sim.x(), slot.first));
-    }
+    rig.observe(k, system, sim.x());
   }
   std::vector<SurfaceFrame> surfaces;
   for (const BodySlot& slot : system.bodies()) surfaces.push_back(evaluateSurface(slot.body.surface, sim.x(), slot.first));

@@ -1,0 +1,64 @@
+#include "app/compare/compare_report.h"
+
+#include <algorithm>
+#include <sstream>
+
+#include "app/compare/tile_label.h"
+#include "app/study/study_stability.h"
+#include "io/text_table.h"
+
+namespace wobble {
+namespace {
+
+Outcome outcomeOf(const CompareRow& r) {
+  if (r.blow_up_time) return Outcome::BlewUp;
+  return r.lost_shape_time ? Outcome::LostShape : Outcome::Stable;
+}
+
+std::string when(const CompareRow& r) {
+  if (r.blow_up_time) return "t = " + labelSeconds(*r.blow_up_time) + " s, step " + std::to_string(r.blow_up_step);
+  if (r.lost_shape_time) return "from t = " + labelSeconds(*r.lost_shape_time) + " s";
+  return "";
+}
+
+}  // namespace
+
+std::string compareMarkdown(const CompareSummary& s) {
+  std::ostringstream md;
+  md << "# wobble compare: " << s.scene << "\n\n";
+  md << "Varied:";
+  for (const std::string& v : s.vary) md << " `" << v << "`";
+  md << "; every variant: " << (s.common.empty() ? "the scene as it is" : "`" + s.common + "`") << ".\n\n";
+  if (!s.video.empty()) md << "Video: " << s.video << (s.layout.empty() ? "" : ", " + s.layout) << ".\n\n";
+
+  double fastest = 0;
+  for (const CompareRow& r : s.rows)
+    if (r.wall_seconds > 0 && (fastest == 0 || r.wall_seconds < fastest)) fastest = r.wall_seconds;
+  std::vector<std::string> header = {"variant", "integrator", "dt (s)", "steps", "simulated (s)", "wall time (s)",
+                                     "vs fastest", "outcome", "when", "max strain"};
+  if (s.estimate_error) header.push_back("estimated error, max (m)");
+  header.push_back("folder");
+  TextTable t{header, {}};
+  for (const CompareRow& r : s.rows) {
+    std::vector<std::string> row = {r.label, r.integrator, formatNumber(r.dt), std::to_string(r.steps),
+                                    formatNumber(r.simulated_time, 4), formatNumber(r.wall_seconds, 3),
+                                    fastest > 0 ? "x " + formatNumber(r.wall_seconds / fastest, 3) : "",
+                                    toString(outcomeOf(r)), when(r), formatNumber(r.max_strain, 3)};
+    if (s.estimate_error)
+      row.push_back(r.estimated_error ? formatNumber(*r.estimated_error, 3) + (r.estimate_note.empty() ? "" : " (partial)")
+                                      : "");
+    row.push_back("`" + r.folder + "/`");
+    t.add(row);
+  }
+  md << t.markdown() << "\n";
+  md << "Outcomes as in `wobble study stability`: **blew-up** is the blow-up rule (a NaN or a particle with "
+        "|v|^2 > 1e6; the run stops there), **lost-shape** a largest spring strain |l - rest| / rest over "
+     << formatNumber(s.strain_bound) << " at some frame, **stable** neither. Wall time: each run alone, "
+     << s.jobs << " at a time.\n\n";
+  md << "Each variant is the plain run:\n\n```sh\n";
+  for (const CompareRow& r : s.rows) md << r.command << "\n";
+  md << "```\n";
+  return md.str();
+}
+
+}  // namespace wobble

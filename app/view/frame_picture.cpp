@@ -1,0 +1,23 @@
+#include "app/view/frame_picture.h"
+
+#include "render/denoiser.h"
+#include "render/renderer.h"
+
+namespace wobble {
+
+FramePicture renderPicture(const render::Scene& scene, const render::CameraParams& camera,
+                           const RenderOptionsConfig& options, int frame) {
+  auto film = std::make_shared<render::Film>(render::render(scene, render::Camera(camera), renderSettings(options, frame)));
+  auto denoised = std::make_shared<std::vector<render::Color>>();
+  if (options.denoise) *denoised = render::denoise(*film);
+  return {std::move(film), std::move(denoised)};
+}
+
+render::Image8 developPicture(const FramePicture& picture, const RenderOptionsConfig& options) {
+  render::ToneMap tone;
+  tone.exposure = static_cast<float>(options.exposure);
+  const std::span<const render::Color> color = options.denoise ? *picture.denoised : picture.film->color;
+  return render::develop(picture.film->width, picture.film->height, color, tone);
+}
+
+}  // namespace wobble

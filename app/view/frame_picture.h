@@ -1,0 +1,29 @@
+// FramePicture: one frame as the renderer makes it, before any file: the path-traced film of a render scene seen
+// through a camera, and its denoised colour when the scene asks for denoising; developed, it is the 8-bit sRGB image
+// a PNG frame holds (filmic tone curve at render.exposure). FrameOutput writes a run's frames from these, and
+// `wobble compare` tiles them, so a tile is the picture a run would write at that size.
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "app/scene/render_config.h"
+#include "render/camera.h"
+#include "render/color.h"
+#include "render/image/film.h"
+#include "render/image/image.h"
+#include "render/scene.h"
+
+namespace wobble {
+
+struct FramePicture {
+  std::shared_ptr<const render::Film> film;
+  std::shared_ptr<const std::vector<render::Color>> denoised;  // empty unless render.denoise
+};
+
+// The frame number seeds the noise (render_config.h: renderSettings).
+FramePicture renderPicture(const render::Scene& scene, const render::CameraParams& camera,
+                           const RenderOptionsConfig& options, int frame);
+// The picture's colour (denoised when it was) as 8-bit sRGB.
+render::Image8 developPicture(const FramePicture& picture, const RenderOptionsConfig& options);
+
+}  // namespace wobble

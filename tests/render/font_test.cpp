@@ -1,0 +1,77 @@
+// Text through stb_truetype (render/image/font.h) with the labels' font (font_file.h: DejaVu Sans, which setup.sh
+// installs): drawn text changes pixels where it is and nowhere else, its ink lies within the measured width and the
+// line, a longer text is wider, colour is the colour asked for, and a missing or non-font file is a clear error.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "render/image/font.h"
+#include "render/image/font_file.h"
+#include "tests/render/test_util.h"
+
+namespace wobble::render {
+namespace {
+
+Font labelFont() {
+  const auto file = findFontFile();
+  if (!file) throw std::runtime_error("DejaVu Sans not found: install fonts-dejavu-core (setup.sh)");
+  return Font::load(*file);
+}
+
+TEST(Font, FindsDejaVuSans) {
+  const auto file = findFontFile();
+  ASSERT_TRUE(file) << "install fonts-dejavu-core (setup.sh does)";
+  EXPECT_NE(file->filename().string().find("DejaVuSans"), std::string::npos) << *file;
+  EXPECT_FALSE(findFontFile("No Such Family 12345", "/nonexistent/font.ttf"));
+}
+
+TEST(Font, TextInksItsBoxOnly) {
+  const Font font = labelFont();
+  const float px = 20;
+  const std::string text = "rk4, dt = 1.2e-3";
+  const int x0 = 7, y0 = 5, width = font.width(text, px), line = font.lineHeight(px);
+  EXPECT_GT(width, int(text.size()) * 5);  // about half an em per character
+  EXPECT_LT(width, int(text.size()) * 20);
+  EXPECT_GE(line, 20);
+  EXPECT_LT(line, 30);
+  EXPECT_GT(font.width(text + " s", px), width);
+
+  Image8 image(width + 20, line + 15, 3);  // black
+  font.draw(image, x0, y0, text, px, {255, 60, 60});
+  int inked = 0, pure = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const int r = image.at(x, y, 0), g = image.at(x, y, 1), b = image.at(x, y, 2);
+      if (r == 0 && g == 0 && b == 0) continue;
+      ++inked;
+      EXPECT_TRUE(x >= x0 && x <= x0 + width && y >= y0 && y < y0 + line) << "ink outside the text at " << x << "," << y;
+      EXPECT_EQ(g, b);
+      EXPECT_GE(r, g);  // the colour blended over black: red leads
+      if (r == 255 && g == 60) ++pure;
+    }
+  EXPECT_GT(inked, 100);
+  EXPECT_GT(pure, 20) << "fully covered pixels take the colour itself";
+}
+
+TEST(Font, ClipsAtTheImageEdges) {
+  const Font font = labelFont();
+  Image8 image(12, 6, 3);
+  EXPECT_NO_THROW(font.draw(image, -5, -8, "blew up at t = 0.84 s", 14, {255, 255, 255}));
+  EXPECT_NO_THROW(font.draw(image, 10, 3, "WWW", 30, {255, 255, 255}));
+  EXPECT_THROW(font.draw(Image8(4, 4, 1), 0, 0, "x", 10, {255, 255, 255}), std::invalid_argument);
+}
+
+TEST(Font, MissingOrBrokenFileIsAClearError) {
+  test::TempDir dir;
+  try {
+    Font::load(dir / "none.ttf");
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("none.ttf: cannot read"), std::string::npos) << e.what();
+  }
+  std::ofstream(dir / "fake.ttf") << "not a font at all";
+  EXPECT_THROW(Font::load(dir / "fake.ttf"), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace wobble::render
