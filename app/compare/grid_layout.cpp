@@ -1,6 +1,7 @@
 #include "app/compare/grid_layout.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -11,16 +12,16 @@ GridLayout gridLayout(int rows, int cols, int box_width, int box_height) {
     throw std::invalid_argument("gridLayout: rows, cols and the box must be >= 1");
   GridLayout g{rows, cols};
   // With the box's aspect, the tiles fill its width when there are at least as many columns as rows, else its
-  // height. Integer arithmetic, rounded down to even sizes.
+  // height; the other side follows from the aspect, to the nearest even size that still fits.
+  const auto evenFloor = [](int n) { return n - n % 2; };
+  const auto evenNearest = [](double x) { return 2 * int(std::lround(x / 2)); };
   if (cols >= rows) {
-    g.tile_width = box_width / cols;
-    g.tile_height = int(static_cast<long long>(g.tile_width) * box_height / box_width);
+    g.tile_width = evenFloor(box_width / cols);
+    g.tile_height = std::min(evenNearest(double(g.tile_width) * box_height / box_width), evenFloor(box_height / rows));
   } else {
-    g.tile_height = box_height / rows;
-    g.tile_width = int(static_cast<long long>(g.tile_height) * box_width / box_height);
+    g.tile_height = evenFloor(box_height / rows);
+    g.tile_width = std::min(evenNearest(double(g.tile_height) * box_width / box_height), evenFloor(box_width / cols));
   }
-  g.tile_width -= g.tile_width % 2;
-  g.tile_height -= g.tile_height % 2;
   if (g.tile_width < 2 || g.tile_height < 2)
     throw std::invalid_argument("gridLayout: " + std::to_string(rows) + " x " + std::to_string(cols) +
                                 " tiles do not fit in " + std::to_string(box_width) + " x " +

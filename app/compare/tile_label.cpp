@@ -42,8 +42,15 @@ std::string shortNumber(double x) {
     exponent.erase(0, std::min(exponent.find_first_not_of('0'), exponent.size() - 1));
     return mantissa + "e" + (negative ? "-" : "") + exponent;
   }
-  std::snprintf(text, sizeof text, "%.3g", x);
-  return text;
+  // Three significant digits without an exponent, trailing zeros dropped: 1400, 1.98, 0.0333, 0.5.
+  const int decimals = x == 0 ? 0 : std::max(0, 2 - int(std::floor(std::log10(magnitude))));
+  std::snprintf(text, sizeof text, "%.*f", decimals, x);
+  std::string s = text;
+  if (s.find('.') != std::string::npos) {
+    while (s.back() == '0') s.pop_back();
+    if (s.back() == '.') s.pop_back();
+  }
+  return s;
 }
 
 std::string labelSeconds(double t) {

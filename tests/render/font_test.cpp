@@ -58,7 +58,8 @@ TEST(Font, ClipsAtTheImageEdges) {
   Image8 image(12, 6, 3);
   EXPECT_NO_THROW(font.draw(image, -5, -8, "blew up at t = 0.84 s", 14, {255, 255, 255}));
   EXPECT_NO_THROW(font.draw(image, 10, 3, "WWW", 30, {255, 255, 255}));
-  EXPECT_THROW(font.draw(Image8(4, 4, 1), 0, 0, "x", 10, {255, 255, 255}), std::invalid_argument);
+  Image8 grey(4, 4, 1);
+  EXPECT_THROW(font.draw(grey, 0, 0, "x", 10, {255, 255, 255}), std::invalid_argument);
 }
 
 TEST(Font, MissingOrBrokenFileIsAClearError) {
