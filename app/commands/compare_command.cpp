@@ -300,6 +300,7 @@ void renderGrid(std::vector<Planned>& plans, const std::vector<Tracker>& tracker
     t.last_frame = r.first_frame + r.frames_written - 1;
     if (r.blow_up) t.blow_up_time = r.blow_up->time, t.blow_up_step = r.blow_up->step;
     t.lost_shape_frame = trackers[i].lost_frame;
+    if (t.lost_shape_frame) t.lost_shape_time = plans[i].picture.frameTime(*t.lost_shape_frame);
     t.lost_shape_strain = trackers[i].lost_strain;
     t.strain_bound = strain_bound;
     tracks.push_back(t);
@@ -354,6 +355,7 @@ CompareSummary summarize(const CompareOptions& o, const std::vector<Planned>& pl
   s.strain_bound = o.strain_bound;
   s.estimate_error = o.run.estimate_error;
   s.jobs = report.jobs;
+  s.threads = int(std::max(1u, std::thread::hardware_concurrency()));
   if (report.grid) {
     const GridLayout& g = *report.grid;
     s.video = report.video ? "`compare.mp4`" : "no video (ffmpeg missing)";
@@ -373,6 +375,7 @@ CompareSummary summarize(const CompareOptions& o, const std::vector<Planned>& pl
     row.dt = p.picture.dt;
     row.steps = r.steps;
     row.simulated_time = r.simulated_time;
+    row.simulate_seconds = r.seconds_simulate;
     row.wall_seconds = v.wall_seconds;
     if (r.blow_up) row.blow_up_time = r.blow_up->time, row.blow_up_step = r.blow_up->step;
     row.max_strain = v.max_strain;

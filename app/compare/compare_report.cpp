@@ -31,30 +31,37 @@ std::string compareMarkdown(const CompareSummary& s) {
   md << "; every variant: " << (s.common.empty() ? "the scene as it is" : "`" + s.common + "`") << ".\n\n";
   if (!s.video.empty()) md << "Video: " << s.video << (s.layout.empty() ? "" : ", " + s.layout) << ".\n\n";
 
-  double fastest = 0;
+  const auto perStep = [](const CompareRow& r) { return r.steps > 0 ? r.simulate_seconds / double(r.steps) : 0.0; };
+  double cheapest = 0;
   for (const CompareRow& r : s.rows)
-    if (r.wall_seconds > 0 && (fastest == 0 || r.wall_seconds < fastest)) fastest = r.wall_seconds;
-  std::vector<std::string> header = {"variant", "integrator", "dt (s)", "steps", "simulated (s)", "wall time (s)",
-                                     "vs fastest", "outcome", "when", "max strain"};
+    if (perStep(r) > 0 && (cheapest == 0 || perStep(r) < cheapest)) cheapest = perStep(r);
+  std::vector<std::string> header = {"variant", "integrator", "dt (s)", "steps", "simulated (s)", "outcome", "when",
+                                     "max strain"};
   if (s.estimate_error) header.push_back("estimated error, max (m)");
-  header.push_back("folder");
+  for (const char* h : {"simulate (s)", "per step (us)", "per step vs cheapest", "wall (s)", "folder"}) header.push_back(h);
   TextTable t{header, {}};
   for (const CompareRow& r : s.rows) {
     std::vector<std::string> row = {r.label, r.integrator, formatNumber(r.dt), std::to_string(r.steps),
-                                    formatNumber(r.simulated_time, 4), formatNumber(r.wall_seconds, 3),
-                                    fastest > 0 ? "x " + formatNumber(r.wall_seconds / fastest, 3) : "",
-                                    toString(outcomeOf(r)), when(r), formatNumber(r.max_strain, 3)};
+                                    formatNumber(r.simulated_time, 4), toString(outcomeOf(r)), when(r),
+                                    formatNumber(r.max_strain, 3)};
     if (s.estimate_error)
       row.push_back(r.estimated_error ? formatNumber(*r.estimated_error, 3) + (r.estimate_note.empty() ? "" : " (partial)")
                                       : "");
+    row.push_back(formatNumber(r.simulate_seconds, 3));
+    row.push_back(formatNumber(1e6 * perStep(r), 3));
+    row.push_back(cheapest > 0 ? "x " + formatNumber(perStep(r) / cheapest, 3) : "");
+    row.push_back(formatNumber(r.wall_seconds, 3));
     row.push_back("`" + r.folder + "/`");
     t.add(row);
   }
   md << t.markdown() << "\n";
   md << "Outcomes as in `wobble study stability`: **blew-up** is the blow-up rule (a NaN or a particle with "
         "|v|^2 > 1e6; the run stops there), **lost-shape** a largest spring strain |l - rest| / rest over "
-     << formatNumber(s.strain_bound) << " at some frame, **stable** neither. Wall time: each run alone, "
-     << s.jobs << " at a time.\n\n";
+     << formatNumber(s.strain_bound) << " at a frame, **stable** neither; max strain is over the frames reached.\n\n";
+  md << "Times: *simulate* is each run's simulation time (its run.json), *wall* from its start to its run.json "
+        "(meshes and point cache written); "
+     << s.jobs << " run(s) at a time on " << s.threads
+     << " hardware thread(s), so runs that shared the machine are slower than alone (`--jobs 1` for timings).\n\n";
   md << "Each variant is the plain run:\n\n```sh\n";
   for (const CompareRow& r : s.rows) md << r.command << "\n";
   md << "```\n";

@@ -1,8 +1,8 @@
 // OUT/compare.md of `wobble compare`: what a report needs beside the video. A table with a row per variant
-// (integrator, dt, steps, simulated time, wall time and how it compares with the fastest, the outcome with the
-// stability study's words: stable, lost-shape, blew-up and when, the largest spring strain, and the
-// `--estimate-error` figure when asked), the video's layout, and each variant as the plain `wobble run` that gives
-// its folder.
+// (integrator, dt, steps, simulated time, the outcome in the stability study's words: stable, lost-shape, blew-up
+// and when, the largest spring strain, the `--estimate-error` figure when asked, and the run times side by side:
+// simulation time, its cost per step against the cheapest, wall time), the video's layout, and each variant as the
+// plain `wobble run` that gives its folder.
 #pragma once
 #include <optional>
 #include <string>
@@ -17,7 +17,8 @@ struct CompareRow {
   double dt = 0;
   long steps = 0;
   double simulated_time = 0;
-  double wall_seconds = 0;  // runScene, from start to run.json
+  double simulate_seconds = 0;  // the run's own simulation time (run.json)
+  double wall_seconds = 0;      // runScene, from start to run.json (export included)
   std::optional<double> blow_up_time;
   long blow_up_step = 0;
   double max_strain = 0;                   // over the frames reached
@@ -34,6 +35,7 @@ struct CompareSummary {
   double strain_bound = 0;
   bool estimate_error = false;
   int jobs = 1;                      // variants run at once
+  int threads = 1;                   // hardware threads
   // Pictures: empty when not rendered.
   std::string video;                 // "compare.mp4 (1280 x 720, 300 frames at 30 fps)" or why there is none
   std::string layout;                // "2 x 2 tiles of 640 x 360"

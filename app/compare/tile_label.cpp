@@ -12,8 +12,8 @@ TileView tileView(const VariantTrack& track, int frame, double time) {
     view.picture = frame;
     view.status = "t = " + labelSeconds(time) + " s";
     if (track.lost_shape_frame && frame >= *track.lost_shape_frame) {
-      view.status = "lost its shape (strain " + shortNumber(track.lost_shape_strain) + " > " +
-                    shortNumber(track.strain_bound) + "), " + view.status;
+      view.status += ", lost its shape at " + labelSeconds(track.lost_shape_time) + " s (strain " +
+                     shortNumber(track.lost_shape_strain) + " > " + shortNumber(track.strain_bound) + ")";
       view.color = kLostShapeColor;
     }
     return view;

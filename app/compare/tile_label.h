@@ -1,8 +1,10 @@
 // A variant's tile in `wobble compare`'s video, frame by frame: which of its pictures it shows, and its label.
 // The label, top left over a shaded box: the variant ("rk4, dt = 1.2e-3, ks = 5e4") and under it the simulated
-// time ("t = 1.23 s"), or, in colour, what went wrong:
-//   - lost its shape (orange) from the first frame whose largest spring strain passed the stability study's bound;
-//   - blew up (red) from the first frame the run did not reach; the tile then keeps the last frame it reached.
+// time ("t = 1.23 s"), and, in colour, what went wrong:
+//   - "t = 4.97 s, lost its shape at 0.43 s (strain 0.576 > 0.5)" (orange) from the first frame whose largest spring
+//     strain passed the stability study's bound;
+//   - "blew up at t = 0.84 s (step 700)" (red) from the first frame the run did not reach; the tile then keeps the
+//     last frame it reached.
 #pragma once
 #include <optional>
 #include <string>
@@ -19,7 +21,7 @@ struct VariantTrack {
   std::optional<double> blow_up_time;
   long blow_up_step = 0;
   std::optional<int> lost_shape_frame;  // first frame with the strain over the bound
-  double lost_shape_strain = 0, strain_bound = 0;
+  double lost_shape_time = 0, lost_shape_strain = 0, strain_bound = 0;  // at that frame
 };
 
 struct TileView {

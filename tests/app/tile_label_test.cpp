@@ -39,6 +39,7 @@ TEST(TileLabel, LostShapeIsMarkedFromItsFrame) {
   VariantTrack t;
   t.last_frame = 300;
   t.lost_shape_frame = 40;
+  t.lost_shape_time = 1.3;
   t.lost_shape_strain = 1.98;
   t.strain_bound = 0.5;
   EXPECT_EQ(tileView(t, 39, 1.27).color, (render::Rgb8{255, 255, 255}));
@@ -46,8 +47,9 @@ TEST(TileLabel, LostShapeIsMarkedFromItsFrame) {
   EXPECT_EQ(v.picture, 40);
   EXPECT_FALSE(v.frozen);
   EXPECT_EQ(v.color, kLostShapeColor);
-  EXPECT_EQ(v.status, "lost its shape (strain 1.98 > 0.5), t = 1.30 s");
+  EXPECT_EQ(v.status, "t = 1.30 s, lost its shape at 1.30 s (strain 1.98 > 0.5)");
   EXPECT_EQ(tileView(t, 300, 9.97).color, kLostShapeColor);
+  EXPECT_EQ(tileView(t, 300, 9.97).status, "t = 9.97 s, lost its shape at 1.30 s (strain 1.98 > 0.5)");
 }
 
 TEST(TileLabel, NumbersAsInReports) {
