@@ -397,7 +397,10 @@ CompareReport runCompare(const CompareOptions& o) {
   if (o.run.render.render && o.run.render.render->find("exr") != std::string::npos)
     throw InputError("--render " + *o.run.render.render + ": wobble compare writes PNG frames and a video: png or none");
   CompareReport report;
-  report.out = o.out.value_or(fs::path("out") / ("compare-" + o.run.scene.stem().string()));  // scene.name
+  {
+    const Scene common = loadRunScene(o.run);  // the shared flags' own errors, without a variant named
+    report.out = o.out.value_or(fs::path("out") / ("compare-" + common.name));
+  }
   std::vector<Planned> plans = planVariants(o, axes, report.out);
   const bool rendering = plans.front().picture.render.options.png;
   std::optional<render::Font> font;

@@ -129,6 +129,7 @@ TEST_F(Compare, BadVaryIsBadInputAndWritesNothing) {
       {"--vary integrator=rk4,midpoint --integrator rk4", "also set by --integrator"},
       {"--vary jelly.ks=1,2 --vary jelly.kd=1,2 --vary dt=1e-3,2e-3", "at most two"},
       {"--render none", "--vary is required"},
+      {"--vary integrator=rk4,midpoint --set jelly.nope=1", "unknown key 'bodies.jelly.nope'"},  // a shared flag
   };
   for (const auto& [flags, message] : cases) {
     EXPECT_EQ(wobble("compare " + s.string() + " --out " + out().string() + " " + flags), 2) << flags << "\n" << log();
