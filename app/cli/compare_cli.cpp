@@ -14,9 +14,10 @@ namespace wobble {
 void addCompareCommand(CLI::App& app, int& status) {
   auto options = std::make_shared<CompareOptions>();
   RunOptions& run = options->run;
-  CLI::App* cmd = app.add_subcommand(
-      "compare", "Run a scene under several settings and put them side by side: OUT/<variant>/ (each a run), "
-                 "OUT/compare.mp4 with labelled tiles, OUT/compare.md");
+  CLI::App* cmd =
+      app.add_subcommand("compare",
+                         "Run a scene under several settings and put them side by side: OUT/<variant>/ (each a run), "
+                         "OUT/compare.mp4 with labelled tiles, OUT/compare.md");
   cmd->add_option("scene", run.scene, "Scene file (TOML)")->capture_default_str();
   cmd->add_option("--vary", options->vary,
                   "KEY=V1,V2,...: one variant per value; KEY is integrator, dt or a scene key (jelly.ks). Twice: "
@@ -36,9 +37,10 @@ void addCompareCommand(CLI::App& app, int& status) {
   cmd->add_option("--strain-bound", options->strain_bound,
                   "A variant whose largest spring strain passes this has lost its shape (the stability study's)")
       ->capture_default_str();
-  cmd->footer("The picture is the size of the scene's frames (camera.resolution, --resolution, --quality); the tiles\n"
-              "share it. Example:\n  wobble compare --vary integrator=explicit-euler,pc-euler,midpoint,rk4 "
-              "--set jelly.ks=5e4 --dt 1.2e-3");
+  cmd->footer(
+      "The picture is the size of the scene's frames (camera.resolution, --resolution, --quality); the tiles\n"
+      "share it. Example:\n  wobble compare --vary integrator=explicit-euler,pc-euler,midpoint,rk4 "
+      "--set jelly.ks=5e4 --dt 1.2e-3");
   cmd->callback([options, &status] {
     installInterruptHandlers();
     const CompareReport r = runCompare(*options);
@@ -55,13 +57,12 @@ void addCompareCommand(CLI::App& app, int& status) {
     std::printf("ran %zu variant(s), %d at a time, in %.2f s\n", r.variants.size(), r.jobs, r.seconds_runs);
     if (r.grid)
       std::printf("rendered %d frame(s) of %d x %d (%d x %d tiles of %d x %d) into %s (%.2f s)%s%s\n",
-                  r.frames_rendered, r.grid->width(), r.grid->height(), r.grid->rows, r.grid->cols,
-                  r.grid->tile_width, r.grid->tile_height, (r.out / "frames").c_str(), r.seconds_render,
-                  r.video ? "; video " : "", r.video ? r.video->c_str() : "");
+                  r.frames_rendered, r.grid->width(), r.grid->height(), r.grid->rows, r.grid->cols, r.grid->tile_width,
+                  r.grid->tile_height, (r.out / "frames").c_str(), r.seconds_render, r.video ? "; video " : "",
+                  r.video ? r.video->c_str() : "");
     if (r.interrupted)
       std::fprintf(stderr, "wobble: interrupted: no compare.md; each variant's run.json says how far it got\n");
-    else
-      std::printf("wrote %s\n", (r.out / "compare.md").c_str());
+    else std::printf("wrote %s\n", (r.out / "compare.md").c_str());
     status = exitStatusAfterSignals(kExitOk);
   });
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <charconv>
 #include <chrono>
 #include <deque>
@@ -51,8 +52,9 @@ std::string shortestNumber(double x) {
 
 // Single quotes around a word the shell would split or expand.
 std::string shellWord(const std::string& word) {
-  const bool plain = !word.empty() && word.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
-                                                              "0123456789._-+=/:,@%") == std::string::npos;
+  const bool plain = !word.empty() && word.find_first_not_of(
+                                          "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                          "0123456789._-+=/:,@%") == std::string::npos;
   if (plain) return word;
   std::string quoted = "'";
   for (const char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
@@ -87,14 +89,15 @@ std::string lastComponent(const std::string& key) { return key.substr(key.rfind(
 // A value as part of a folder name: letters, digits, '.', '+', '-'; the rest becomes '-'.
 std::string folderWord(const std::string& value) {
   std::string word;
-  for (const char c : value) word += std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '+' || c == '-' ? c : '-';
+  for (const char c : value)
+    word += std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '+' || c == '-' ? c : '-';
   return word;
 }
 
 // What a variant's state looks like frame by frame while it runs (RunOptions::on_frame, on the run's thread):
 // the largest spring strain, and its camera (the scene's rig fed with its frames, as a run's would be).
 struct Tracker {
-  const Scene* scene = nullptr;
+  const SceneFile* scene = nullptr;
   std::optional<CameraRig> rig;
   std::vector<render::CameraParams> cameras;  // per frame from 1
   double max_strain = 0, lost_strain = 0;
@@ -116,12 +119,12 @@ struct Tracker {
 struct Planned {
   CompareVariant variant;
   std::vector<std::pair<std::string, std::string>> values;  // (key, value) per --vary
-  Scene picture;  // the variant's scene with the comparison's render flags: camera, looks, springs
+  SceneFile picture;  // the variant's scene with the comparison's render flags: camera, looks, springs
 };
 
 // The label's title: integrator and dt, then each varied scene key and each --set of a body or collider, by its
 // last key component ("ks = 5e4") unless two share one.
-std::string variantTitle(const Scene& scene, const std::vector<std::string>& sets,
+std::string variantTitle(const SceneFile& scene, const std::vector<std::string>& sets,
                          const std::vector<std::pair<std::string, std::string>>& values) {
   std::vector<std::pair<std::string, std::string>> shown;
   const auto isSetting = [](const std::string& key) {
@@ -137,7 +140,8 @@ std::string variantTitle(const Scene& scene, const std::vector<std::string>& set
   std::string title = scene.integrator + ", dt = " + shortNumber(scene.dt);
   for (const auto& [key, value] : shown) {
     const std::string last = lastComponent(key);
-    const bool unique = std::count_if(shown.begin(), shown.end(), [&](const auto& s) { return lastComponent(s.first) == last; }) == 1;
+    const bool unique =
+        std::count_if(shown.begin(), shown.end(), [&](const auto& s) { return lastComponent(s.first) == last; }) == 1;
     title += ", " + (unique ? last : key) + " = " + value;
   }
   return title;
@@ -157,7 +161,7 @@ std::vector<Planned> planVariants(const CompareOptions& o, const std::vector<Var
     RunOptions& run = p.variant.run;
     run = o.run;
     run.render = RenderFlags{.render = "none"};  // the variant's pictures are its tiles
-    run.progress = false;                      // several run at once: the comparison shows one line
+    run.progress = false;                        // several run at once: the comparison shows one line
     std::string folder = std::to_string(index + 1);
     folder.insert(0, std::size_t(digits) - folder.size(), '0');
     std::size_t rest = index;
@@ -180,7 +184,7 @@ std::vector<Planned> planVariants(const CompareOptions& o, const std::vector<Var
     run.out = out / folder;
     p.variant.folder = folder;
     try {
-      const Scene scene = loadRunScene(run);
+      const SceneFile scene = loadRunScene(run);
       if (run.frames) parseFrameRange(*run.frames, scene.frameCount());
       RunOptions look = run;
       look.render = o.run.render;
@@ -197,7 +201,8 @@ std::vector<Planned> planVariants(const CompareOptions& o, const std::vector<Var
 }
 
 std::vector<VaryAxis> parseAxes(const CompareOptions& o) {
-  if (o.vary.empty()) throw InputError("wobble compare needs --vary KEY=V1,V2,... (e.g. --vary integrator=midpoint,rk4)");
+  if (o.vary.empty())
+    throw InputError("wobble compare needs --vary KEY=V1,V2,... (e.g. --vary integrator=midpoint,rk4)");
   if (o.vary.size() > 2)
     throw InputError("--vary given " + std::to_string(o.vary.size()) + " times: at most two (rows x columns)");
   std::vector<VaryAxis> axes;
@@ -260,9 +265,9 @@ render::Font loadLabelFont() {
 
 // The checks only rendering needs, before anything is written.
 void checkRenderable(const std::vector<Planned>& plans) {
-  const Scene& first = plans.front().picture;
+  const SceneFile& first = plans.front().picture;
   for (const Planned& p : plans) {
-    const Scene& s = p.picture;
+    const SceneFile& s = p.picture;
     const std::string who = "variant " + p.variant.folder + ": ";
     if (s.fps != first.fps || s.frameCount() != first.frameCount())
       throw InputError(who + "the variants of one video need the same frame rate and length (fps " +
@@ -270,7 +275,8 @@ void checkRenderable(const std::vector<Planned>& plans) {
                        shortestNumber(first.fps) + ", " + std::to_string(first.frameCount()) +
                        "); compare them with --render none");
     if (!s.write_obj)
-      throw InputError(who + "output.obj is false, but the tiles are rendered from the variants' OBJ files; set "
+      throw InputError(who +
+                       "output.obj is false, but the tiles are rendered from the variants' OBJ files; set "
                        "output.obj = true or use --render none");
   }
 }
@@ -278,7 +284,7 @@ void checkRenderable(const std::vector<Planned>& plans) {
 // Renders the tiles of every frame into OUT/frames/compare_NNNN.png and OUT/compare.mp4.
 void renderGrid(std::vector<Planned>& plans, const std::vector<Tracker>& trackers, const std::vector<VaryAxis>& axes,
                 const render::Font& font, double strain_bound, CompareReport& report) {
-  const Scene& lead_scene = plans.front().picture;
+  const SceneFile& lead_scene = plans.front().picture;
   const auto& box = lead_scene.render.camera.resolution;
   const GridLayout grid = axes.size() == 2
                               ? gridLayout(int(axes[0].values.size()), int(axes[1].values.size()), box[0], box[1])
@@ -310,23 +316,24 @@ void renderGrid(std::vector<Planned>& plans, const std::vector<Tracker>& tracker
   render::fill(blank, {0, 0, blank.width, blank.height}, kEmptyCell);
 
   fs::create_directories(report.out / "frames");
-  std::unique_ptr<VideoStream> video = VideoStream::open(report.out / "compare.mp4", grid.width(), grid.height(), lead_scene.fps);
+  std::unique_ptr<VideoStream> video =
+      VideoStream::open(report.out / "compare.mp4", grid.width(), grid.height(), lead_scene.fps);
   std::future<void> writing;  // a frame's PNG and video frame are written while the next one renders
   Progress progress("compare", report.last_frame - report.first_frame + 1);
   for (int k = report.first_frame; k <= report.last_frame && !interrupted(); ++k) {
-    render::CameraParams camera = cameras.empty() ? CameraRig(lead_scene).params()
-                                                  : cameras[std::min<std::size_t>(k, cameras.size()) - 1];
+    render::CameraParams camera =
+        cameras.empty() ? CameraRig(lead_scene).params() : cameras[std::min<std::size_t>(k, cameras.size()) - 1];
     camera.width = grid.tile_width;
     camera.height = grid.tile_height;
     auto canvas = std::make_shared<render::Image8>(grid.width(), grid.height(), 3);
     render::fill(*canvas, {0, 0, canvas->width, canvas->height}, kEmptyCell);
     for (std::size_t i = 0; i < plans.size(); ++i) {
-      const Scene& scene = plans[i].picture;
+      const SceneFile& scene = plans[i].picture;
       const TileView view = tileView(tracks[i], k, scene.frameTime(k));
       if (view.picture == k) {
         scenes[i].update(scene.frameTime(k), readObjFrame(plans[i].variant.run.out.value() / "mesh", scene, k));
-        tiles[i] = developPicture(renderPicture(scenes[i].scene(), camera, scene.render.options, k),
-                                  scene.render.options);
+        tiles[i] =
+            developPicture(renderPicture(scenes[i].scene(), camera, scene.render.options, k), scene.render.options);
       }
       render::Image8 tile = view.picture ? tiles[i] : blank;
       drawLabel(tile, font, plans[i].variant.label, view);
@@ -360,8 +367,8 @@ CompareSummary summarize(const CompareOptions& o, const std::vector<Planned>& pl
     const GridLayout& g = *report.grid;
     s.video = report.video ? "`compare.mp4`" : "no video (ffmpeg missing)";
     s.video += " and `frames/compare_NNNN.png`, " + std::to_string(g.width()) + " x " + std::to_string(g.height()) +
-               ", frames " + std::to_string(report.first_frame) + " to " + std::to_string(report.last_frame) +
-               " at " + shortestNumber(plans.front().picture.fps) + " fps";
+               ", frames " + std::to_string(report.first_frame) + " to " + std::to_string(report.last_frame) + " at " +
+               shortestNumber(plans.front().picture.fps) + " fps";
     s.layout = std::to_string(g.rows) + " x " + std::to_string(g.cols) + " tiles of " + std::to_string(g.tile_width) +
                " x " + std::to_string(g.tile_height);
   }
@@ -380,7 +387,8 @@ CompareSummary summarize(const CompareOptions& o, const std::vector<Planned>& pl
     if (r.blow_up) row.blow_up_time = r.blow_up->time, row.blow_up_step = r.blow_up->step;
     row.max_strain = v.max_strain;
     if (v.lost_shape_frame) row.lost_shape_time = p.picture.frameTime(*v.lost_shape_frame);
-    if (r.error_estimate) row.estimated_error = r.error_estimate->max_error, row.estimate_note = r.error_estimate->failure;
+    if (r.error_estimate)
+      row.estimated_error = r.error_estimate->max_error, row.estimate_note = r.error_estimate->failure;
     row.command = v.command;
     s.rows.push_back(row);
   }
@@ -395,10 +403,11 @@ CompareReport runCompare(const CompareOptions& o) {
   if (o.jobs < 0) throw InputError("--jobs " + std::to_string(o.jobs) + ": must be >= 0 (0: one per hardware thread)");
   if (!(o.strain_bound > 0)) throw InputError("--strain-bound " + shortestNumber(o.strain_bound) + ": must be > 0");
   if (o.run.render.render && o.run.render.render->find("exr") != std::string::npos)
-    throw InputError("--render " + *o.run.render.render + ": wobble compare writes PNG frames and a video: png or none");
+    throw InputError("--render " + *o.run.render.render +
+                     ": wobble compare writes PNG frames and a video: png or none");
   CompareReport report;
   {
-    const Scene common = loadRunScene(o.run);  // the shared flags' own errors, without a variant named
+    const SceneFile common = loadRunScene(o.run);  // the shared flags' own errors, without a variant named
     report.out = o.out.value_or(fs::path("out") / ("compare-" + common.name));
   }
   std::vector<Planned> plans = planVariants(o, axes, report.out);
@@ -408,7 +417,7 @@ CompareReport runCompare(const CompareOptions& o) {
     checkRenderable(plans);
     font = loadLabelFont();
   }
-  const Scene& first = plans.front().picture;
+  const SceneFile& first = plans.front().picture;
   std::tie(report.first_frame, report.last_frame) =
       o.run.frames ? parseFrameRange(*o.run.frames, first.frameCount()) : std::pair{1, first.frameCount()};
 
@@ -440,7 +449,7 @@ CompareReport runCompare(const CompareOptions& o) {
     report.seconds_render = secondsSince(start);
     report.interrupted = interrupted();
   }
-  if (!report.interrupted) writeTextFile(report.out / "compare.md", compareMarkdown(summarize(o, plans, report)));
+  if (!report.interrupted) io::writeTextFile(report.out / "compare.md", compareMarkdown(summarize(o, plans, report)));
   for (Planned& p : plans) report.variants.push_back(std::move(p.variant));
   return report;
 }

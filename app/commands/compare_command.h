@@ -21,22 +21,22 @@
 namespace wobble {
 
 struct CompareOptions {
-  RunOptions run;                             // the scene and the run flags every variant gets (run.out is unused)
-  std::vector<std::string> vary;              // one or two KEY=V1,V2,...
-  std::optional<std::filesystem::path> out;   // default out/compare-<scene name>
-  int jobs = 0;                               // variants run at once; 0: one per hardware thread
-  double strain_bound = kStrainBound;         // lost its shape above this strain (the stability study's)
+  RunOptions run;                            // the scene and the run flags every variant gets (run.out is unused)
+  std::vector<std::string> vary;             // one or two KEY=V1,V2,...
+  std::optional<std::filesystem::path> out;  // default out/compare-<scene name>
+  int jobs = 0;                              // variants run at once; 0: one per hardware thread
+  double strain_bound = kStrainBound;        // lost its shape above this strain (the stability study's)
 };
 
 struct CompareVariant {
-  std::string folder;  // OUT's subfolder: "2_pc-euler"
-  std::string label;   // "pc-euler, dt = 1.2e-3, ks = 5e4"
-  std::string command; // the plain `wobble run` that gives the same folder
+  std::string folder;   // OUT's subfolder: "2_pc-euler"
+  std::string label;    // "pc-euler, dt = 1.2e-3, ks = 5e4"
+  std::string command;  // the plain `wobble run` that gives the same folder
   RunOptions run;
   RunReport report;
   double wall_seconds = 0;
-  double max_strain = 0;                  // over the frames the run reached
-  std::optional<int> lost_shape_frame;    // the first frame over the strain bound
+  double max_strain = 0;                // over the frames the run reached
+  std::optional<int> lost_shape_frame;  // the first frame over the strain bound
   double lost_shape_strain = 0;
 };
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "app/scene/render_overrides.h"
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "app/study/error_estimate.h"
 #include "sim/simulation.h"
 
@@ -47,7 +47,7 @@ struct RunReport {
 // The scene a run of `options` simulates: the file with --set, then the keys the flags set (--integrator, --dt,
 // --pc2, the render flags), in that order; `overrides` (when given) receives that list, as run.json records it.
 // Throws InputError.
-Scene loadRunScene(const RunOptions& options, std::vector<std::string>* overrides = nullptr);
+SceneFile loadRunScene(const RunOptions& options, std::vector<std::string>* overrides = nullptr);
 
 // Throws InputError for bad input before anything is written, and when another run holds OUT. Clears an earlier
 // run's files from OUT first. A blow-up or an interrupt stops the run at once: the frames written so far stay, and

@@ -35,29 +35,37 @@ std::string compareMarkdown(const CompareSummary& s) {
   double cheapest = 0;
   for (const CompareRow& r : s.rows)
     if (perStep(r) > 0 && (cheapest == 0 || perStep(r) < cheapest)) cheapest = perStep(r);
-  std::vector<std::string> header = {"variant", "integrator", "dt (s)", "steps", "simulated (s)", "outcome", "when",
-                                     "max strain"};
+  std::vector<std::string> header = {"variant",       "integrator", "dt (s)", "steps",
+                                     "simulated (s)", "outcome",    "when",   "max strain"};
   if (s.estimate_error) header.push_back("estimated error, max (m)");
-  for (const char* h : {"simulate (s)", "per step (us)", "per step vs cheapest", "wall (s)", "folder"}) header.push_back(h);
-  TextTable t{header, {}};
+  for (const char* h : {"simulate (s)", "per step (us)", "per step vs cheapest", "wall (s)", "folder"})
+    header.push_back(h);
+  io::TextTable t{header, {}};
   for (const CompareRow& r : s.rows) {
-    std::vector<std::string> row = {r.label, r.integrator, formatNumber(r.dt), std::to_string(r.steps),
-                                    formatNumber(r.simulated_time, 4), toString(outcomeOf(r)), when(r),
-                                    formatNumber(r.max_strain, 3)};
+    std::vector<std::string> row = {r.label,
+                                    r.integrator,
+                                    io::formatNumber(r.dt),
+                                    std::to_string(r.steps),
+                                    io::formatNumber(r.simulated_time, 4),
+                                    toString(outcomeOf(r)),
+                                    when(r),
+                                    io::formatNumber(r.max_strain, 3)};
     if (s.estimate_error)
-      row.push_back(r.estimated_error ? formatNumber(*r.estimated_error, 3) + (r.estimate_note.empty() ? "" : " (partial)")
-                                      : "");
-    row.push_back(formatNumber(r.simulate_seconds, 3));
-    row.push_back(formatNumber(1e6 * perStep(r), 3));
-    row.push_back(cheapest > 0 ? "x " + formatNumber(perStep(r) / cheapest, 3) : "");
-    row.push_back(formatNumber(r.wall_seconds, 3));
+      row.push_back(r.estimated_error
+                        ? io::formatNumber(*r.estimated_error, 3) + (r.estimate_note.empty() ? "" : " (partial)")
+                        : "");
+    row.push_back(io::formatNumber(r.simulate_seconds, 3));
+    row.push_back(io::formatNumber(1e6 * perStep(r), 3));
+    row.push_back(cheapest > 0 ? "x " + io::formatNumber(perStep(r) / cheapest, 3) : "");
+    row.push_back(io::formatNumber(r.wall_seconds, 3));
     row.push_back("`" + r.folder + "/`");
     t.add(row);
   }
   md << t.markdown() << "\n";
   md << "Outcomes as in `wobble study stability`: **blew-up** is the blow-up rule (a NaN or a particle with "
         "|v|^2 > 1e6; the run stops there), **lost-shape** a largest spring strain |l - rest| / rest over "
-     << formatNumber(s.strain_bound) << " at a frame, **stable** neither; max strain is over the frames reached.\n\n";
+     << io::formatNumber(s.strain_bound)
+     << " at a frame, **stable** neither; max strain is over the frames reached.\n\n";
   md << "Times: *simulate* is each run's simulation time (its run.json), *wall* from its start to its run.json "
         "(meshes and point cache written); "
      << s.jobs << " run(s) at a time on " << s.threads

@@ -11,8 +11,8 @@
 namespace wobble {
 
 struct CompareRow {
-  std::string folder;   // the variant's subfolder of OUT
-  std::string label;    // as on its tile
+  std::string folder;  // the variant's subfolder of OUT
+  std::string label;   // as on its tile
   std::string integrator;
   double dt = 0;
   long steps = 0;
@@ -21,24 +21,24 @@ struct CompareRow {
   double wall_seconds = 0;      // runScene, from start to run.json (export included)
   std::optional<double> blow_up_time;
   long blow_up_step = 0;
-  double max_strain = 0;                   // over the frames reached
-  std::optional<double> lost_shape_time;   // first frame over the bound
-  std::optional<double> estimated_error;   // --estimate-error: the largest, m
-  std::string estimate_note;               // its failure, if any
-  std::string command;                     // the plain `wobble run` of the variant
+  double max_strain = 0;                  // over the frames reached
+  std::optional<double> lost_shape_time;  // first frame over the bound
+  std::optional<double> estimated_error;  // --estimate-error: the largest, m
+  std::string estimate_note;              // its failure, if any
+  std::string command;                    // the plain `wobble run` of the variant
 };
 
 struct CompareSummary {
-  std::string scene;                 // file
-  std::vector<std::string> vary;     // the --vary flags as given
-  std::string common;                // the run flags every variant shares
+  std::string scene;              // file
+  std::vector<std::string> vary;  // the --vary flags as given
+  std::string common;             // the run flags every variant shares
   double strain_bound = 0;
   bool estimate_error = false;
-  int jobs = 1;                      // variants run at once
-  int threads = 1;                   // hardware threads
+  int jobs = 1;     // variants run at once
+  int threads = 1;  // hardware threads
   // Pictures: empty when not rendered.
-  std::string video;                 // "compare.mp4 (1280 x 720, 300 frames at 30 fps)" or why there is none
-  std::string layout;                // "2 x 2 tiles of 640 x 360"
+  std::string video;   // "compare.mp4 (1280 x 720, 300 frames at 30 fps)" or why there is none
+  std::string layout;  // "2 x 2 tiles of 640 x 360"
   std::vector<CompareRow> rows;
 };
 

@@ -20,7 +20,7 @@ struct VariantTrack {
   int last_frame = 0;   // the last frame the run reached and wrote; below first_frame: none
   std::optional<double> blow_up_time;
   long blow_up_step = 0;
-  std::optional<int> lost_shape_frame;  // first frame with the strain over the bound
+  std::optional<int> lost_shape_frame;                                  // first frame with the strain over the bound
   double lost_shape_time = 0, lost_shape_strain = 0, strain_bound = 0;  // at that frame
 };
 

@@ -71,7 +71,8 @@ VariedSetting variedSetting(const VaryAxis& axis, const std::string& value) {
     errno = 0;
     const double dt = std::strtod(value.c_str(), &end);
     if (end == value.c_str() || *end != '\0' || errno == ERANGE || !std::isfinite(dt))
-      throw InputError(varyFlag(axis) + ": dt '" + value + "' is not a number; dt takes time steps in seconds, "
+      throw InputError(varyFlag(axis) + ": dt '" + value +
+                       "' is not a number; dt takes time steps in seconds, "
                        "e.g. --vary dt=1e-3,1.2e-3");
     s.dt = dt;
   } else {

@@ -43,7 +43,7 @@ std::filesystem::path objFramePath(const std::filesystem::path& mesh_dir, const 
   return mesh_dir / frameFileName(body, frame, "obj");
 }
 
-std::vector<SurfaceFrame> readObjFrame(const std::filesystem::path& mesh_dir, const Scene& scene, int frame,
+std::vector<SurfaceFrame> readObjFrame(const std::filesystem::path& mesh_dir, const SceneFile& scene, int frame,
                                        int only) {
   const auto& bodies = scene.system->bodies();
   std::vector<SurfaceFrame> surfaces(bodies.size());

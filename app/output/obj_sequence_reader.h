@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "app/scene/scene.h"
+#include "app/scene/scene_file.h"
 #include "sim/surface.h"
 
 namespace wobble {
@@ -21,7 +21,7 @@ std::filesystem::path objFramePath(const std::filesystem::path& mesh_dir, const 
 
 // Every body's surface at frame k (scene.system->bodies() order) from mesh_dir; bodies other than `only` (when >= 0)
 // are left empty. Throws std::runtime_error as readObjSurface.
-std::vector<SurfaceFrame> readObjFrame(const std::filesystem::path& mesh_dir, const Scene& scene, int frame,
+std::vector<SurfaceFrame> readObjFrame(const std::filesystem::path& mesh_dir, const SceneFile& scene, int frame,
                                        int only = -1);
 
 }  // namespace wobble

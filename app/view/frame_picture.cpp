@@ -7,7 +7,8 @@ namespace wobble {
 
 FramePicture renderPicture(const render::Scene& scene, const render::CameraParams& camera,
                            const RenderOptionsConfig& options, int frame) {
-  auto film = std::make_shared<render::Film>(render::render(scene, render::Camera(camera), renderSettings(options, frame)));
+  auto film =
+      std::make_shared<render::Film>(render::render(scene, render::Camera(camera), renderSettings(options, frame)));
   auto denoised = std::make_shared<std::vector<render::Color>>();
   if (options.denoise) *denoised = render::denoise(*film);
   return {std::move(film), std::move(denoised)};

@@ -26,7 +26,8 @@ std::vector<int> codePoints(std::string_view text) {
     const std::size_t extra = lead >= 0xF0 ? 3 : lead >= 0xE0 ? 2 : lead >= 0xC0 ? 1 : 0;
     int cp = lead & (0x3F >> extra);
     std::size_t k = 1;
-    for (; k <= extra && i + k < text.size() && (byte(i + k) & 0xC0) == 0x80; ++k) cp = (cp << 6) | (byte(i + k) & 0x3F);
+    for (; k <= extra && i + k < text.size() && (byte(i + k) & 0xC0) == 0x80; ++k)
+      cp = (cp << 6) | (byte(i + k) & 0x3F);
     const bool whole = extra > 0 && k == extra + 1;
     points.push_back(whole ? cp : lead);
     i += whole ? extra + 1 : 1;

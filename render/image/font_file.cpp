@@ -14,14 +14,14 @@ std::optional<std::filesystem::path> matchFontconfig(const std::string& family) 
   FcConfig* config = FcInitLoadConfigAndFonts();  // a configuration of our own: nothing global is touched
   if (!config) return std::nullopt;
   std::unique_ptr<FcConfig, void (*)(FcConfig*)> config_owner(config, FcConfigDestroy);
-  std::unique_ptr<FcPattern, void (*)(FcPattern*)> pattern(
-      FcNameParse(reinterpret_cast<const FcChar8*>(family.c_str())), FcPatternDestroy);
+  std::unique_ptr<FcPattern, void (*)(FcPattern*)> pattern(FcNameParse(
+                                                               reinterpret_cast<const FcChar8*>(family.c_str())),
+                                                           FcPatternDestroy);
   if (!pattern) return std::nullopt;
   FcConfigSubstitute(config, pattern.get(), FcMatchPattern);
   FcDefaultSubstitute(pattern.get());
   FcResult result = FcResultNoMatch;
-  std::unique_ptr<FcPattern, void (*)(FcPattern*)> match(FcFontMatch(config, pattern.get(), &result),
-                                                         FcPatternDestroy);
+  std::unique_ptr<FcPattern, void (*)(FcPattern*)> match(FcFontMatch(config, pattern.get(), &result), FcPatternDestroy);
   if (!match) return std::nullopt;
   FcChar8* file = nullptr;
   FcChar8* matched_family = nullptr;
@@ -36,8 +36,7 @@ std::optional<std::filesystem::path> matchFontconfig(const std::string& family) 
 
 }  // namespace
 
-std::optional<std::filesystem::path> findFontFile(const std::string& family,
-                                                  const std::filesystem::path& known_path) {
+std::optional<std::filesystem::path> findFontFile(const std::string& family, const std::filesystem::path& known_path) {
   if (auto path = matchFontconfig(family)) return path;
   if (std::filesystem::is_regular_file(known_path)) return known_path;
   return std::nullopt;

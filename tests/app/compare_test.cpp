@@ -99,8 +99,8 @@ TEST_F(Compare, EveryVariantIsThePlainRunOfIt) {
   const std::string md = slurpFile(out() / "compare.md");
   for (int i = 0; i < 4; ++i) {
     const fs::path plain = dir() / ("plain" + std::to_string(i));
-    const std::string flags = "--integrator " + std::string(integrators[i]) + " --set jelly.kd=2 --set jelly.ks=" + ks[i] +
-                              " --render none";
+    const std::string flags =
+        "--integrator " + std::string(integrators[i]) + " --set jelly.kd=2 --set jelly.ks=" + ks[i] + " --render none";
     ASSERT_EQ(wobble("run " + s.string() + " " + flags + " --out " + plain.string()), 0) << log();
     const fs::path variant = out() / folders[i];
     ASSERT_TRUE(fs::exists(variant / "run.json")) << variant;
@@ -120,10 +120,10 @@ TEST_F(Compare, EveryVariantIsThePlainRunOfIt) {
 TEST_F(Compare, BadVaryIsBadInputAndWritesNothing) {
   const fs::path s = scene();
   const std::pair<std::string, std::string> cases[] = {
-      {"--vary jelly.nope=1,2", "nope"},                                  // unknown key: the reader's message
-      {"--vary jelly.ks=soft,1e4", "--vary jelly.ks=soft"},               // wrong type
+      {"--vary jelly.nope=1,2", "nope"},                     // unknown key: the reader's message
+      {"--vary jelly.ks=soft,1e4", "--vary jelly.ks=soft"},  // wrong type
       {"--vary dt=fast,1e-3", "dt 'fast' is not a number"},
-      {"--vary dt=1e-3,-1", "--vary dt=-1"},                              // out of range: the reader's check
+      {"--vary dt=1e-3,-1", "--vary dt=-1"},  // out of range: the reader's check
       {"--vary integrator=", "an empty list of values"},
       {"--vary integrator=rk4,nope", "--vary integrator=nope (variant 2 of 2)"},
       {"--vary integrator=rk4,midpoint --integrator rk4", "also set by --integrator"},
@@ -156,7 +156,9 @@ TEST_F(Compare, BlownUpVariantIsFrozenAndLabelledFromTheRightFrame) {
   ASSERT_LT(last, 6);
 
   const int tile_w = 128, tile_h = 72;  // 1 x 2 tiles of 16:9 in 256 x 144
-  const auto frame = [&](int k) { return render::readImage(out() / ("frames/compare_000" + std::to_string(k) + ".png")); };
+  const auto frame = [&](int k) {
+    return render::readImage(out() / ("frames/compare_000" + std::to_string(k) + ".png"));
+  };
   const render::Image8 good = frame(last);
   ASSERT_EQ(good.width, 2 * tile_w);
   ASSERT_EQ(good.height, tile_h);
@@ -179,9 +181,10 @@ TEST_F(Compare, BlownUpVariantIsFrozenAndLabelledFromTheRightFrame) {
 
   if (!findProgram("ffprobe")) GTEST_SKIP() << "ffprobe is not installed";
   const fs::path probe = dir() / "probe.txt";
-  const std::string command = "ffprobe -v error -select_streams v:0 -count_frames -show_entries "
-                              "stream=width,height,nb_read_frames -of default=nw=1 " +
-                              (out() / "compare.mp4").string() + " > " + probe.string();
+  const std::string command =
+      "ffprobe -v error -select_streams v:0 -count_frames -show_entries "
+      "stream=width,height,nb_read_frames -of default=nw=1 " +
+      (out() / "compare.mp4").string() + " > " + probe.string();
   ASSERT_EQ(std::system(command.c_str()), 0);
   const std::string info = slurpFile(probe);
   for (const char* expected : {"width=256", "height=72", "nb_read_frames=6"})

@@ -21,8 +21,8 @@ void expectGrid(const GridLayout& g, int rows, int cols, int tile_w, int tile_h)
 
 TEST(GridLayout, OneToFourVariantsAndTwoByThreeIn720p) {
   expectGrid(gridLayout(1, 1280, 720), 1, 1, 1280, 720);
-  expectGrid(gridLayout(2, 1280, 720), 1, 2, 640, 360);   // side by side: 1280 x 360
-  expectGrid(gridLayout(3, 1280, 720), 2, 2, 640, 360);   // one cell empty beats three tiles of 426 x 240
+  expectGrid(gridLayout(2, 1280, 720), 1, 2, 640, 360);  // side by side: 1280 x 360
+  expectGrid(gridLayout(3, 1280, 720), 2, 2, 640, 360);  // one cell empty beats three tiles of 426 x 240
   expectGrid(gridLayout(4, 1280, 720), 2, 2, 640, 360);
   expectGrid(gridLayout(2, 3, 1280, 720), 2, 3, 426, 240);  // 1280 / 3 = 426.7, 426 * 9 / 16 = 239.6 -> 240 even
   expectGrid(gridLayout(3, 2, 1280, 720), 3, 2, 426, 240);  // 720 / 3 = 240 rows, 240 * 16 / 9 = 426.7

@@ -97,7 +97,7 @@ TEST(TileLabel, LabelIsDrawnInItsBoxInItsColours) {
       changed += moved;
       const int r = tile.at(x, y, 0), g = tile.at(x, y, 1);
       if (r > 200 && g > 200 && y < box_h / 2 + 2) ++white;  // the title, on the first line
-      if (r > 180 && g < 100 && y > line / 2) ++red;          // the status, on the second
+      if (r > 180 && g < 100 && y > line / 2) ++red;         // the status, on the second
     }
   EXPECT_EQ(changed, box_w * box_h) << "the box is shaded all over";
   EXPECT_GT(white, 30);

@@ -23,7 +23,8 @@ TEST(Vary, SplitsValuesAtTopLevelCommas) {
   EXPECT_EQ(a.values, (std::vector<std::string>{"explicit-euler", "pc-euler", "midpoint", "rk4"}));
   const VaryAxis b = parseVary("camera.position=[0,5,9],[0, 9, 5]");
   EXPECT_EQ(b.values, (std::vector<std::string>{"[0,5,9]", "[0, 9, 5]"}));
-  EXPECT_EQ(parseVary("jelly.texture=\"a,b.png\",'c.png'").values, (std::vector<std::string>{"\"a,b.png\"", "'c.png'"}));
+  EXPECT_EQ(parseVary("jelly.texture=\"a,b.png\",'c.png'").values,
+            (std::vector<std::string>{"\"a,b.png\"", "'c.png'"}));
   EXPECT_EQ(parseVary("jelly.ks=5e4").values.size(), 1u);
   EXPECT_EQ(varyFlag(b), "--vary camera.position=[0,5,9],[0, 9, 5]");
 }
@@ -42,7 +43,8 @@ TEST(Vary, WhatEachValueSets) {
   try {
     variedSetting(parseVary("dt=fast,1e-3"), "fast");
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("--vary dt=fast,1e-3: dt 'fast' is not a number"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--vary dt=fast,1e-3: dt 'fast' is not a number"), std::string::npos)
+        << e.what();
   }
 }
 

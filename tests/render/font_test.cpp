@@ -44,7 +44,8 @@ TEST(Font, TextInksItsBoxOnly) {
       const int r = image.at(x, y, 0), g = image.at(x, y, 1), b = image.at(x, y, 2);
       if (r == 0 && g == 0 && b == 0) continue;
       ++inked;
-      EXPECT_TRUE(x >= x0 && x <= x0 + width && y >= y0 && y < y0 + line) << "ink outside the text at " << x << "," << y;
+      EXPECT_TRUE(x >= x0 && x <= x0 + width && y >= y0 && y < y0 + line)
+          << "ink outside the text at " << x << "," << y;
       EXPECT_EQ(g, b);
       EXPECT_GE(r, g);  // the colour blended over black: red leads
       if (r == 255 && g == 60) ++pure;
