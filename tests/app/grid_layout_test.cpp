@@ -37,7 +37,7 @@ TEST(GridLayout, OneToFourVariantsAndTwoByThreeIn720p) {
 }
 
 TEST(GridLayout, EvenSizesThatFitAndKeepTheAspect) {
-  for (const auto [w, h] : {std::pair{1001, 563}, {640, 360}, {333, 187}, {1920, 1080}, {129, 73}, {64, 36}})
+  for (const auto& [w, h] : {std::pair{1001, 563}, {640, 360}, {333, 187}, {1920, 1080}, {129, 73}, {64, 36}})
     for (int rows = 1; rows <= 4; ++rows)
       for (int cols = 1; cols <= 4; ++cols) {
         const GridLayout g = gridLayout(rows, cols, w, h);
