@@ -1,8 +1,11 @@
-// A fresh temporary folder per test, removed afterwards, and helpers to write scene files into it.
+// A fresh temporary folder per test, removed afterwards, and helpers to write scene files into it. The folder
+// name holds the process id, so two checkouts running the same test at once do not share (and delete) it.
 #pragma once
 #include <filesystem>
 #include <fstream>
 #include <string>
+
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -14,7 +17,8 @@ class ScratchDir : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = std::filesystem::temp_directory_path() / ("wobble_" + std::string(info->test_suite_name()) + "_" + info->name());
+    dir_ = std::filesystem::temp_directory_path() / ("wobble_" + std::string(info->test_suite_name()) + "_" +
+                                                     info->name() + "_" + std::to_string(getpid()));
     std::filesystem::remove_all(dir_);
     std::filesystem::create_directories(dir_);
   }

@@ -3,6 +3,8 @@
 #include <filesystem>
 #include <string>
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include "render/scene.h"
@@ -15,7 +17,8 @@ class TempDir {
   TempDir() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     path_ = std::filesystem::temp_directory_path() /
-            ("wobble_render_" + std::string(info->test_suite_name()) + "_" + info->name());
+            ("wobble_render_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" +
+             std::to_string(getpid()));  // the process id: two checkouts may run the same test at once
     std::filesystem::remove_all(path_);
     std::filesystem::create_directories(path_);
   }
