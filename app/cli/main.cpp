@@ -23,6 +23,8 @@ int main(int argc, char** argv) {
   wobble::addDiffCommand(app, status);
   wobble::addBlendCommand(app, status);
   wobble::addCompareCommand(app, status);
+  wobble::addVideoCommand(app, status);
+  wobble::addFramesCommand(app, status);
   wobble::addStudyCommand(app, status);
   try {
     app.parse(argc, argv);

@@ -22,14 +22,20 @@ void addRenderCommand(CLI::App& app, int& status) {
   cmd->add_option("--set", options->sets, "Override a scene key, KEY=VALUE in TOML syntax (repeatable)");
   addMaxMemoryOption(*cmd);
   addRenderFlags(*cmd, options->render);
-  cmd->footer("Example:\n  wobble render out/jelly_slope/mesh --scene scenes/jelly_slope.toml --frames 1:30 --spp 32");
+  addSkipExistingFlag(*cmd, options->skip_existing);
+  cmd->footer("Example:\n  wobble render out/jelly_slope/mesh --scene scenes/jelly_slope.toml --frames 1:30 --spp 32\n"
+              "Pieces (several at once into one OUT): wobble frames OUT --chunks N, one --frames A:B each, with "
+              "--skip-existing; then wobble video OUT.");
   cmd->callback([options, &status] {
     installInterruptHandlers();
     const RenderCommandReport r = renderSequence(*options);
     std::printf("rendered %d frame(s) %d..%d into %s (%.2f s)%s%s\n", r.frames_rendered, r.first_frame, r.last_frame,
                 r.out.c_str(), r.seconds, r.video ? "; video " : "", r.video ? r.video->c_str() : "");
+    if (options->skip_existing)
+      std::printf("skipped %d frame(s) already rendered with the same settings\n", r.frames_skipped);
     if (interrupted())
-      std::fprintf(stderr, "wobble: interrupted: stopped after frame %d\n", r.first_frame + r.frames_rendered - 1);
+      std::fprintf(stderr, "wobble: interrupted: stopped after frame %d\n",
+                   r.first_frame + r.frames_rendered + r.frames_skipped - 1);
     status = exitStatusAfterSignals(kExitOk);
   });
 }

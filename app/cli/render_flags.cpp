@@ -20,4 +20,10 @@ void addRenderFlags(CLI::App& cmd, RenderFlags& flags) {
   cmd.add_flag("--video", flags.video, "Encode OUT/<scene>.mp4 from the PNG frames with ffmpeg (render.video)");
 }
 
+void addSkipExistingFlag(CLI::App& cmd, bool& skip) {
+  cmd.add_flag("--skip-existing", skip,
+               "Do not render again a frame whose files are there from the same scene, overrides, settings, meshes "
+               "and wobble build (the key in each PNG/EXR); resumes a stopped or re-queued piece");
+}
+
 }  // namespace wobble

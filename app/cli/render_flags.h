@@ -1,5 +1,5 @@
 // The rendering flags on a command line (CLI11): --render, --quality, --spp, --denoise, --resolution, --video, read
-// into RenderFlags, which become scene overrides (app/scene/render_overrides.h).
+// into RenderFlags, which become scene overrides (app/scene/render_overrides.h); and --skip-existing.
 #pragma once
 #include <CLI/CLI.hpp>
 
@@ -8,5 +8,7 @@
 namespace wobble {
 
 void addRenderFlags(CLI::App& cmd, RenderFlags& flags);
+// --skip-existing, for the commands that write frames (`run`, `render`).
+void addSkipExistingFlag(CLI::App& cmd, bool& skip);
 
 }  // namespace wobble

@@ -14,6 +14,7 @@
 #include "app/output/output_folder.h"
 #include "app/output/pc2.h"
 #include "app/output/pc2_writer.h"
+#include "app/output/run_record.h"
 #include "app/scene/collider_kinds.h"
 #include "app/scene/input_error.h"
 #include "app/scene/scene_file.h"
@@ -26,31 +27,6 @@ using nlohmann::json;
 
 namespace wobble {
 namespace {
-
-struct RunRecord {
-  fs::path scene;
-  std::vector<std::string> overrides;
-  int first_frame = 0, last_frame = 0;
-};
-
-RunRecord readRunJson(const fs::path& out) {
-  const fs::path file = out / "run.json";
-  if (!fs::is_regular_file(file))
-    throw InputError(out.string() + ": no run.json: not the folder of a wobble run (wobble run SCENE --pc2 --out " +
-                     out.string() + ")");
-  RunRecord run;
-  try {
-    const json j = json::parse(std::ifstream(file));
-    run.scene = j.at("scene").get<std::string>();
-    if (j.contains("overrides")) run.overrides = j.at("overrides").get<std::vector<std::string>>();
-    run.first_frame = j.at("frames").at("first").get<int>();
-    run.last_frame = run.first_frame + j.at("frames").at("written").get<int>() - 1;
-  } catch (const json::exception& e) {
-    throw InputError(file.string() + ": not a wobble run.json (" + e.what() + ")");
-  }
-  if (run.last_frame < run.first_frame) throw InputError(file.string() + ": the run wrote no frame");
-  return run;
-}
 
 json vec(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 json vec(const Eigen::Vector3f& v) { return {v.x(), v.y(), v.z()}; }
@@ -130,7 +106,7 @@ std::string tail(const fs::path& log, std::size_t chars) {
 BlendReport makeBlend(const BlendOptions& options) {
   const fs::path out = options.out;
   const RunRecord run = [&] {
-    RunRecord r = readRunJson(out);
+    RunRecord r = readRunRecord(out, " (wobble run SCENE --pc2 --out " + out.string() + ")");
     if (options.scene) r.scene = *options.scene;
     return r;
   }();

@@ -61,9 +61,10 @@ RenderCommandReport renderSequence(const RenderCommandOptions& options) {
   fs::path mesh_dir = options.mesh_dir.lexically_normal();
   if (mesh_dir.filename().empty()) mesh_dir = mesh_dir.parent_path();  // "out/x/mesh/" -> "out/x/mesh"
   report.out = options.out.value_or(mesh_dir.has_parent_path() ? mesh_dir.parent_path() : fs::path("."));
-  const OutputFolder folder(report.out);  // only the frames of the range are overwritten: split rendering
+  // Only the frames of the range are written: pieces of a split render share the folder.
+  const OutputFolder folder(report.out, OutputFolder::Access::shared);
   const auto start = std::chrono::steady_clock::now();
-  FrameOutput pictures(scene, report.out);
+  FrameOutput pictures(scene, report.out, options.skip_existing);
 
   // The follow camera's smoothing runs over the frames before the range too, as in the run (camera_rig.h).
   int history = report.first_frame;
@@ -80,6 +81,7 @@ RenderCommandReport renderSequence(const RenderCommandOptions& options) {
   }
   progress.finish();
   report.frames_rendered = pictures.framesRendered();
+  report.frames_skipped = pictures.framesSkipped();
   report.video = pictures.finish();
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;

@@ -1,7 +1,8 @@
 // `wobble render MESH_DIR --scene SCENE`: renders an existing OBJ sequence (a run's OUT/mesh) without simulating
 // again, so frames can be re-rendered with other settings or rendered in pieces (--frames A:B). Bodies come from the
 // OBJ files (obj_sequence_reader.h); colliders from the scene at each frame's time; output as `wobble run`'s
-// (frame_output.h), into the folder that holds MESH_DIR unless --out says otherwise.
+// (frame_output.h), into the folder that holds MESH_DIR unless --out says otherwise. Pieces of one sequence may render
+// into one folder at the same time (output_folder.h: a shared hold), each its own --frames.
 #pragma once
 #include <filesystem>
 #include <optional>
@@ -19,11 +20,13 @@ struct RenderCommandOptions {
   std::optional<std::filesystem::path> out;   // default: MESH_DIR's parent
   std::vector<std::string> sets;              // KEY=VALUE scene overrides, as for `wobble run`
   RenderFlags render;
+  bool skip_existing = false;                 // keep frames already rendered with the same settings (frame_output.h)
 };
 
 struct RenderCommandReport {
   std::filesystem::path out;
   int first_frame = 0, last_frame = 0, frames_rendered = 0;
+  int frames_skipped = 0;  // --skip-existing: already there with the same picture key
   double seconds = 0;
   std::optional<std::filesystem::path> video;
 };

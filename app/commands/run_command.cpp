@@ -46,6 +46,7 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
   j["wall_time_seconds"] = {
       {"simulate", r.seconds_simulate}, {"export", r.seconds_export}, {"render", r.seconds_render}};
   j["frames_rendered"] = r.frames_rendered;
+  j["frames_skipped"] = r.frames_skipped;  // --skip-existing: already rendered with the same settings
   j["energy"] = {{"start", r.energy_start}, {"end", r.energy_end}};
   j["max_speed"] = r.max_speed;
   j["particles"] = sim.system().particleCount();
@@ -80,9 +81,13 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
 }  // namespace
 
 std::pair<int, int> parseFrameRange(const std::string& text, int count) {
+  return parseFrameRange(text, 1, count, "the scene has " + std::to_string(count) + " frames");
+}
+
+std::pair<int, int> parseFrameRange(const std::string& text, int first, int last, const std::string& why) {
   const auto bad = [&] {
-    return InputError("--frames " + text + ": must be A:B or A with 1 <= A <= B <= " + std::to_string(count) +
-                      " (the scene has " + std::to_string(count) + " frames)");
+    return InputError("--frames " + text + ": must be A:B or A with " + std::to_string(first) + " <= A <= B <= " +
+                      std::to_string(last) + " (" + why + ")");
   };
   int a = 0, b = 0;
   std::istringstream in(text);
@@ -94,7 +99,7 @@ std::pair<int, int> parseFrameRange(const std::string& text, int count) {
     b = a;
   }
   if (!in.eof() && in.peek() != EOF) throw bad();
-  if (a < 1 || b < a || b > count) throw bad();
+  if (a < first || b < a || b > last) throw bad();
   return {a, b};
 }
 
@@ -123,7 +128,9 @@ RunReport runScene(const RunOptions& options) {
   report.energy_start = system.energy(sim.x(), sim.v());
 
   const OutputFolder folder(report.out);
-  report.files_cleared = folder.clearEarlierRun(scene.name);
+  // With --skip-existing the pictures of this run's frames stay until the frame loop decides (frame_output.h).
+  report.files_cleared = folder.clearEarlierRun(
+      scene.name, options.skip_existing ? std::pair{report.first_frame, report.last_frame} : std::pair{1, 0});
   std::vector<ObjSequenceWriter> writers;  // the sequence, and the point cache's base mesh
   std::vector<std::unique_ptr<Pc2Writer>> caches;
   writers.reserve(system.bodies().size());  // the caches keep references to the writers' vertex orders
@@ -139,7 +146,7 @@ RunReport runScene(const RunOptions& options) {
     }
 
   std::optional<FrameOutput> pictures;  // renders while simulating: no second simulation
-  if (FrameOutput::wanted(scene)) pictures.emplace(scene, report.out);
+  if (FrameOutput::wanted(scene)) pictures.emplace(scene, report.out, options.skip_existing);
 
   std::optional<ErrorEstimator> estimator;
   if (options.estimate_error)
@@ -182,6 +189,7 @@ RunReport runScene(const RunOptions& options) {
   for (const auto& cache : caches) cache->finish();  // the frames written, also after a blow-up or an interrupt
   if (pictures) {
     report.frames_rendered = pictures->framesRendered();
+    report.frames_skipped = pictures->framesSkipped();
     const auto start = Clock::now();
     report.video = pictures->finish();
     report.seconds_render += secondsSince(start);

@@ -27,6 +27,7 @@ struct RunOptions {
   // Called after the simulation reaches each frame's time, from frame 1 (also before the --frames range), with every
   // particle's position; not for the frame a blow-up stopped. `wobble compare` follows strain and camera with it.
   std::function<void(int frame, const VecX& x)> on_frame;
+  bool skip_existing = false;            // keep frames already rendered with the same settings (frame_output.h)
 };
 
 struct RunReport {
@@ -36,6 +37,7 @@ struct RunReport {
   double simulated_time = 0, energy_start = 0, energy_end = 0, max_speed = 0;
   double seconds_simulate = 0, seconds_export = 0, seconds_render = 0;
   int frames_rendered = 0;
+  int frames_skipped = 0;  // --skip-existing: already there with the same picture key
   std::optional<std::filesystem::path> video;  // OUT/<scene>.mp4 when encoded
   std::optional<BlowUp> blow_up;
   std::string blow_up_message;
@@ -56,5 +58,7 @@ RunReport runScene(const RunOptions& options);
 
 // The 1-based inclusive frame range of "A:B" or "A" within [1, count]; throws InputError naming what is allowed.
 std::pair<int, int> parseFrameRange(const std::string& text, int count);
+// The same within [first, last], which `why` explains in the message ("the run wrote frames 5:40").
+std::pair<int, int> parseFrameRange(const std::string& text, int first, int last, const std::string& why);
 
 }  // namespace wobble

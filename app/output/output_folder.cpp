@@ -5,7 +5,9 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
+#include <functional>
 #include <regex>
 #include <set>
 #include <system_error>
@@ -21,40 +23,49 @@ namespace {
 // The subfolders wobble writes into, and the folder itself.
 std::vector<fs::path> outputDirs(const fs::path& out) { return {out, out / "mesh", out / "frames", out / "exr"}; }
 
-// Removes the regular files of dir whose names match `name`; returns how many, and collects match[1] into stems.
-int removeMatching(const fs::path& dir, const std::regex& name, std::set<std::string>* stems = nullptr) {
+// Removes the regular files of dir whose names match `name` and that `keep` (given the match) does not keep; returns
+// how many, and collects match[1] into stems.
+int removeMatching(const fs::path& dir, const std::regex& name, std::set<std::string>* stems = nullptr,
+                   const std::function<bool(const std::smatch&)>& keep = {}) {
   std::error_code ec;
   int removed = 0;
   for (const fs::directory_entry& entry : fs::directory_iterator(dir, ec)) {
     std::smatch match;
     const std::string file = entry.path().filename().string();
     if (!entry.is_regular_file(ec) || !std::regex_match(file, match, name)) continue;
-    if (fs::remove(entry.path(), ec)) ++removed;
     if (stems && match.size() > 1) stems->insert(match[1].str());
+    if (keep && keep(match)) continue;
+    if (fs::remove(entry.path(), ec)) ++removed;
   }
   return removed;
 }
 
 }  // namespace
 
-OutputFolder::OutputFolder(fs::path out) : out_(std::move(out)) {
+OutputFolder::OutputFolder(fs::path out, Access access) : out_(std::move(out)) {
   fs::create_directories(out_);
   const fs::path lock = out_ / kLockName;
   fd_ = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (fd_ < 0) throw std::runtime_error(lock.string() + ": cannot open: " + std::strerror(errno));
-  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+  const bool exclusive = access == Access::exclusive;
+  if (::flock(fd_, (exclusive ? LOCK_EX : LOCK_SH) | LOCK_NB) != 0) {
     const int error = errno;
     char holder[32] = {};
     const ssize_t n = ::pread(fd_, holder, sizeof holder - 1, 0);
     ::close(fd_);
     if (error != EWOULDBLOCK) throw std::runtime_error(lock.string() + ": cannot lock: " + std::strerror(error));
-    throw InputError(out_.string() + ": another wobble (pid " + (n > 0 ? std::string(holder) : "unknown") +
-                     ") is writing into this folder (it holds " + lock.string() +
-                     "); wait for it to finish or choose another --out");
+    std::string pid = n > 0 ? std::string(holder) : "unknown";
+    pid.erase(pid.find_last_not_of(' ') + 1);
+    throw InputError(out_.string() + ": another wobble (pid " + pid + ") is writing into this folder (it holds " +
+                     lock.string() + "); wait for it to finish or choose another --out");
   }
-  const std::string pid = std::to_string(::getpid());
-  if (::ftruncate(fd_, 0) != 0 || ::pwrite(fd_, pid.data(), pid.size(), 0) != ssize_t(pid.size()))
+  // The holder's pid for that message, padded to a fixed width: shared holders overwrite it without truncating, so
+  // the file always holds one whole pid.
+  char pid[16];
+  std::snprintf(pid, sizeof pid, "%-12d", int(::getpid()));
+  if ((exclusive && ::ftruncate(fd_, 0) != 0) || ::pwrite(fd_, pid, 12, 0) != 12)
     throw std::runtime_error(lock.string() + ": cannot write: " + std::strerror(errno));
+  if (!exclusive) return;
   // Temporary names are ".<name>.tmp<pid>-<n>" and ".<name>.partial<pid>-<n>" (io/atomic_file.h); older
   // versions left an empty mesh/.partial/.
   static const std::regex temporary(R"(\..+\.(tmp|partial)[0-9]+-[0-9]+)");
@@ -67,13 +78,18 @@ OutputFolder::~OutputFolder() {
   if (fd_ >= 0) ::close(fd_);  // releases the lock
 }
 
-int OutputFolder::clearEarlierRun(const std::string& scene) const {
+int OutputFolder::clearEarlierRun(const std::string& scene, std::pair<int, int> keep) const {
   std::set<std::string> scenes = {scene};
   // The sequence, and the point caches with their base meshes (names are identifiers: scene_limits.h).
   int removed = removeMatching(out_ / "mesh", std::regex(R"(.+_[0-9]{4,}\.(obj|mtl))"));
   removed += removeMatching(out_ / "mesh", std::regex(R"([A-Za-z0-9_-]+\.(obj|mtl|pc2))"));
-  removed += removeMatching(out_ / "frames", std::regex(R"((.+)_[0-9]{4,}\.png)"), &scenes);
-  removed += removeMatching(out_ / "exr", std::regex(R"((.+)_[0-9]{4,}\.exr)"), &scenes);
+  const auto kept = [&](const std::smatch& m) {
+    if (m[1].str() != scene || m[2].length() > 9) return false;
+    const int frame = std::stoi(m[2].str());
+    return frame >= keep.first && frame <= keep.second;
+  };
+  removed += removeMatching(out_ / "frames", std::regex(R"((.+)_([0-9]{4,})\.png)"), &scenes, kept);
+  removed += removeMatching(out_ / "exr", std::regex(R"((.+)_([0-9]{4,})\.exr)"), &scenes, kept);
   std::error_code ignored;
   for (const std::string& s : scenes)
     for (const char* extension : {".mp4", ".blend"}) removed += fs::remove(out_ / (s + extension), ignored) ? 1 : 0;

@@ -26,7 +26,8 @@ std::optional<fs::path> findFfmpeg(const fs::path& frames_dir) {
   const auto ffmpeg = findProgram("ffmpeg");
   if (!ffmpeg)
     std::fprintf(stderr, "wobble: ffmpeg not found on PATH: no video; the frames are in %s (install ffmpeg, "
-                         "e.g. ./setup.sh, and rerun with `wobble render`)\n", frames_dir.c_str());
+                         "e.g. ./setup.sh, then `wobble video %s`)\n", frames_dir.c_str(),
+                 frames_dir.parent_path().c_str());
   return ffmpeg;
 }
 

@@ -137,6 +137,17 @@ toml::table parseFile(const fs::path& file) {
   }
 }
 
+// SceneFile::picture_text: the table without the keys that only choose outputs.
+std::string pictureText(toml::table table) {
+  if (toml::table* render = table["render"].as_table())
+    for (const char* key : {"png", "exr", "video"}) render->erase(key);
+  if (toml::table* simulation = table["simulation"].as_table()) simulation->erase("duration");
+  table.erase("output");
+  std::ostringstream text;
+  text << table;
+  return text.str();
+}
+
 }  // namespace
 
 // Frames are capped at kMaxFrames when the scene is read: the int cannot overflow.
@@ -158,6 +169,7 @@ SceneFile loadScene(const fs::path& file, const std::vector<std::string>& overri
   std::ostringstream text;
   text << table;
   scene.text = text.str();
+  scene.picture_text = pictureText(table);
 
   TableReader root(table, file, "");
   Vec3 gravity;

@@ -30,6 +30,9 @@ struct SceneFile {
   std::unique_ptr<MassSpringSystem> system;
   std::map<std::string, std::filesystem::path> textures;  // body name -> texture file, only for bodies naming one
   std::string text;  // the file after overrides, as TOML (keys sorted): what a cache of results may be keyed by
+  // The same without the keys that choose which files are written, not what a frame shows (render.png, .exr, .video,
+  // output.*, simulation.duration): what a frame's picture key hashes (app/view/picture_key.h).
+  std::string picture_text;
   RenderConfig render;  // camera, render settings and the look of bodies and colliders (render_config.h)
   std::uint64_t memory_budget = 0;  // bytes the scene's estimate may reach (scene_limits.h)
   SceneEstimate estimate;           // summed as bodies and textures are read, before each is built or loaded

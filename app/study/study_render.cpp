@@ -15,6 +15,7 @@
 #include "app/study/study_report.h"
 #include "app/view/frame_view.h"
 #include "app/view/render_scene.h"
+#include "io/content_hash.h"
 #include "io/text_file.h"
 #include "io/text_table.h"
 #include "render/denoiser.h"
@@ -36,13 +37,6 @@ constexpr int kRendererVersion = 5;
 // The second half of the reference uses this seed offset: far from any frame number.
 constexpr std::uint32_t kSecondHalfSeed = 0x80000000u;
 
-
-// FNV-1a, 64 bits: a stable key for the reference cache (std::hash may differ between builds).
-std::uint64_t fnv1a(const std::string& text) {
-  std::uint64_t h = 14695981039346656037ull;
-  for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
-  return h;
-}
 
 render::RenderSettings settingsFor(const RenderVariant& v, int spp, double threshold, int bounces, int frame) {
   render::RenderSettings s;
@@ -160,10 +154,9 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
   std::ostringstream key;
   key << scene.text << "\nframe " << frame << " bounces " << result.bounces << " spp " << o.reference_spp
       << " version " << kRendererVersion;
-  char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fnv1a(key.str())));
-  result.reference_file = out / ("reference-" + std::string(hex) + ".pfm");
-  const fs::path second_half = out / ("reference-" + std::string(hex) + "-b.pfm");
+  const std::string hex = io::hashOf(key.str());  // stable across builds, unlike std::hash
+  result.reference_file = out / ("reference-" + hex + ".pfm");
+  const fs::path second_half = out / ("reference-" + hex + "-b.pfm");
   std::vector<render::Color> reference, half_b;
   if (fs::exists(result.reference_file) && fs::exists(second_half)) {
     render::FloatImage a = render::readPfm(result.reference_file), b = render::readPfm(second_half);

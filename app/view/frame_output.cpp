@@ -24,8 +24,9 @@ fs::path FrameOutput::exrPath(const fs::path& out, const std::string& scene, int
   return out / "exr" / frameFileName(scene, frame, "exr");
 }
 
-FrameOutput::FrameOutput(const SceneFile& scene, fs::path out)
-    : scene_(scene), out_(std::move(out)), render_scene_(scene), rig_(scene) {
+FrameOutput::FrameOutput(const SceneFile& scene, fs::path out, bool skip_existing)
+    : scene_(scene), out_(std::move(out)), render_scene_(scene), rig_(scene), key_(scene),
+      skip_existing_(skip_existing) {
   if (scene.render.options.png) fs::create_directories(out_ / "frames");
   if (scene.render.options.exr) fs::create_directories(out_ / "exr");
 }
@@ -35,25 +36,46 @@ void FrameOutput::observe(int frame, const VecX& x) { rig_.observe(frame, *scene
 void FrameOutput::frame(int frame, std::span<const SurfaceFrame> surfaces, bool write) {
   if (rig_.followedBody() >= 0) rig_.observe(frame, surfaces[rig_.followedBody()]);
   if (!write) return;
+  const std::string key = key_.frame(frame, rig_.params(), surfaces);
+  if (skip_existing_ && existing(frame, key)) return keep(frame);
   render_scene_.update(scene_.frameTime(frame), surfaces);
-  render(frame);
+  render(frame, key);
 }
 
-void FrameOutput::render(int frame) {
+bool FrameOutput::existing(int frame, const std::string& key) const {
+  const RenderOptionsConfig& o = scene_.render.options;
+  const auto has = [&](const std::map<std::string, std::string>& text) {
+    const auto found = text.find(PictureKey::kFrameName);
+    return found != text.end() && found->second == key;
+  };
+  return (!o.png || has(render::readPngText(pngPath(out_, scene_.name, frame)))) &&
+         (!o.exr || has(render::readExrText(exrPath(out_, scene_.name, frame))));
+}
+
+void FrameOutput::keep(int frame) {
+  ++skipped_;
+  if (!scene_.render.options.png || !scene_.render.options.video) return;
+  if (writing_.valid()) writing_.get();  // the video takes the frames in order
+  writing_ = std::async(std::launch::async, [this, frame] { toVideo(render::readImage(pngPath(out_, scene_.name, frame))); });
+}
+
+void FrameOutput::toVideo(const render::Image8& image) {
+  if (!video_opened_) video_ = VideoStream::open(out_ / (scene_.name + ".mp4"), image.width, image.height, scene_.fps);
+  video_opened_ = true;
+  if (video_) video_->write(image);
+}
+
+void FrameOutput::render(int frame, const std::string& key) {
   const FramePicture picture = renderPicture(render_scene_.scene(), rig_.params(), scene_.render.options, frame);
   if (writing_.valid()) writing_.get();  // the previous frame's files, and any error writing them
-  writing_ = std::async(std::launch::async, [this, frame, picture] {
+  writing_ = std::async(std::launch::async, [this, frame, picture, text = key_.text(key)] {
     const RenderOptionsConfig& options = scene_.render.options;
     if (options.png) {
       const render::Image8 image = developPicture(picture, options);
-      render::writePng(pngPath(out_, scene_.name, frame), image);
-      if (options.video) {
-        if (!video_opened_) video_ = VideoStream::open(out_ / (scene_.name + ".mp4"), image.width, image.height, scene_.fps);
-        video_opened_ = true;
-        if (video_) video_->write(image);
-      }
+      render::writePng(pngPath(out_, scene_.name, frame), image, text);
+      if (options.video) toVideo(image);
     }
-    if (options.exr) render::writeExr(exrPath(out_, scene_.name, frame), *picture.film, *picture.denoised);
+    if (options.exr) render::writeExr(exrPath(out_, scene_.name, frame), *picture.film, *picture.denoised, text);
   });
   ++rendered_;
 }

@@ -3,6 +3,9 @@
 // temporary name and renamed into place. Render settings come from the scene's [render] and [camera] tables.
 // Determinism: the renderer's noise is seeded by the frame number, so a frame is the same bytes whoever renders it
 // (a run, or `wobble render` of its OBJ sequence) and whatever the thread count.
+// Every file records its picture key (picture_key.h). With skip_existing, a frame whose files are all there with
+// the key this frame would get is not rendered again (a resumed or re-queued piece carries on where it stopped);
+// the video still gets it, decoded from its PNG.
 #pragma once
 #include <filesystem>
 #include <future>
@@ -14,6 +17,7 @@
 #include "app/output/video.h"
 #include "app/scene/scene_file.h"
 #include "app/view/camera_rig.h"
+#include "app/view/picture_key.h"
 #include "app/view/render_scene.h"
 
 namespace wobble {
@@ -23,7 +27,7 @@ class FrameOutput {
   // True when the scene asks for images (render.png or render.exr).
   static bool wanted(const SceneFile& scene);
   // Creates OUT/frames and/or OUT/exr; loads the textures.
-  FrameOutput(const SceneFile& scene, std::filesystem::path out);
+  FrameOutput(const SceneFile& scene, std::filesystem::path out, bool skip_existing = false);
 
   // Call for every frame from 1 in order (the follow camera needs each one), with every body's surface (scene body
   // order); renders and writes only when `write` (a frame not written needs only the followed body's surface).
@@ -39,17 +43,23 @@ class FrameOutput {
   // Index of the body the camera follows in scene.system->bodies(), or -1 for a fixed camera.
   int followedBody() const { return rig_.followedBody(); }
   int framesRendered() const { return rendered_; }
+  int framesSkipped() const { return skipped_; }  // kept: there already, with this frame's picture key
   static std::filesystem::path pngPath(const std::filesystem::path& out, const std::string& scene, int frame);
   static std::filesystem::path exrPath(const std::filesystem::path& out, const std::string& scene, int frame);
 
  private:
-  void render(int frame);
+  void render(int frame, const std::string& key);
+  bool existing(int frame, const std::string& key) const;  // every file the scene asks for, with this key
+  void keep(int frame);                                     // an existing frame: only the video needs it
+  void toVideo(const render::Image8& image);                // on the writer thread, frames in order
 
   const SceneFile& scene_;
   std::filesystem::path out_;
   RenderScene render_scene_;
   CameraRig rig_;
-  int rendered_ = 0;
+  PictureKey key_;
+  bool skip_existing_;
+  int rendered_ = 0, skipped_ = 0;
   // A frame's files (tone mapping, PNG and EXR encoding: single-threaded) are written while the next frame is
   // simulated and rendered; at most one frame waits. get() rethrows a write error.
   std::future<void> writing_;

@@ -10,14 +10,17 @@
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfStdIO.h>
+#include <OpenEXR/ImfStringAttribute.h>
 
 #include "io/atomic_file.h"
 
 namespace wobble::render {
 
-void writeExr(const std::filesystem::path& file, const Film& film, std::span<const Color> denoised) {
+void writeExr(const std::filesystem::path& file, const Film& film, std::span<const Color> denoised,
+              const std::map<std::string, std::string>& text) {
   const std::size_t n = std::size_t(film.width) * film.height;
   if (film.width <= 0 || film.height <= 0 || film.color.size() != n || film.albedo.size() != n ||
       film.normal.size() != n || film.depth.size() != n || (!denoised.empty() && denoised.size() != n))
@@ -25,6 +28,7 @@ void writeExr(const std::filesystem::path& file, const Film& film, std::span<con
 
   Imf::Header header(film.width, film.height);
   header.compression() = Imf::ZIP_COMPRESSION;
+  for (const auto& [name, value] : text) header.insert(name, Imf::StringAttribute(value));
   Imf::FrameBuffer frame;
   // OpenEXR converts pixel types when reading but not when writing: half channels need half buffers.
   std::vector<std::vector<half>> halves;
@@ -62,6 +66,18 @@ void writeExr(const std::filesystem::path& file, const Film& film, std::span<con
     throw std::runtime_error(file.string() + ": cannot encode EXR: " + e.what());
   }
   io::writeFileAtomically(file, bytes.str());
+}
+
+std::map<std::string, std::string> readExrText(const std::filesystem::path& file) {
+  std::map<std::string, std::string> text;
+  try {
+    const Imf::InputFile in(file.c_str());  // reads the header only
+    for (auto a = in.header().begin(); a != in.header().end(); ++a)
+      if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&a.attribute())) text[a.name()] = s->value();
+  } catch (const std::exception&) {
+    return {};  // missing, or not an EXR: no text
+  }
+  return text;
 }
 
 }  // namespace wobble::render

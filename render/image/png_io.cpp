@@ -1,7 +1,9 @@
-// PNG reading and atomic writing through stb (see png_io.h).
+// PNG reading through stb, atomic writing and text chunks through libpng (see png_io.h).
 #include "render/image/png_io.h"
 
+#include <map>
 #include <memory>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -44,7 +46,7 @@ void appendBytes(png_structp png, png_bytep data, png_size_t length) {
 
 // The whole PNG in memory. libpng reports errors by longjmp: nothing with a destructor lives between setjmp and the
 // calls that may jump. Returns false on a libpng error.
-bool encodePng(const Image8& image, std::vector<unsigned char>& out) {
+bool encodePng(const Image8& image, std::span<const png_text> text, std::vector<unsigned char>& out) {
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
   if (!png) return false;
   png_infop info = png_create_info_struct(png);
@@ -59,6 +61,7 @@ bool encodePng(const Image8& image, std::vector<unsigned char>& out) {
                                         PNG_COLOR_TYPE_RGB_ALPHA};
   png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), 8, kColorTypes[image.channels - 1],
                PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  if (!text.empty()) png_set_text(png, info, text.data(), int(text.size()));  // before the image data
   png_write_info(png, info);
   for (int y = 0; y < image.height; ++y)
     png_write_row(png, image.pixels.data() + std::size_t(y) * image.width * image.channels);
@@ -67,16 +70,55 @@ bool encodePng(const Image8& image, std::vector<unsigned char>& out) {
   return true;
 }
 
+// The text chunks of an open PNG file into out; false on a libpng error (not a PNG, truncated). As encodePng, nothing
+// with a destructor is made between setjmp and the calls that may jump.
+bool readTextChunks(std::FILE* file, std::map<std::string, std::string>& out) {
+  // Quiet: a file that is not a PNG (or an older frame's) only means "no text" to the caller.
+  const auto jump = [](png_structp p, png_const_charp) { png_longjmp(p, 1); };
+  const auto ignore = [](png_structp, png_const_charp) {};
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, jump, ignore);
+  if (!png) return false;
+  png_infop info = png_create_info_struct(png);
+  if (!info || setjmp(png_jmpbuf(png))) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    return false;
+  }
+  png_init_io(png, file);
+  png_read_info(png, info);  // every chunk up to the first IDAT
+  png_textp text = nullptr;
+  const int count = png_get_text(png, info, &text, nullptr);
+  for (int i = 0; i < count; ++i) out[text[i].key] = std::string(text[i].text, text[i].text_length);
+  png_destroy_read_struct(&png, &info, nullptr);
+  return true;
+}
+
 }  // namespace
 
-void writePng(const std::filesystem::path& file, const Image8& image) {
+void writePng(const std::filesystem::path& file, const Image8& image, const std::map<std::string, std::string>& text) {
   if (image.width <= 0 || image.height <= 0 || image.channels < 1 || image.channels > 4 ||
       image.pixels.size() != std::size_t(image.width) * image.height * image.channels)
     throw std::invalid_argument(file.string() + ": cannot write PNG of an empty or inconsistent image");
+  std::vector<png_text> chunks;
+  for (const auto& [keyword, value] : text) {
+    if (keyword.empty() || keyword.size() > 79)
+      throw std::invalid_argument(file.string() + ": a PNG text keyword has 1 to 79 characters");
+    png_text& chunk = chunks.emplace_back();
+    chunk.compression = PNG_TEXT_COMPRESSION_NONE;
+    chunk.key = const_cast<char*>(keyword.c_str());  // libpng only reads them
+    chunk.text = const_cast<char*>(value.c_str());
+    chunk.text_length = value.size();
+  }
   std::vector<unsigned char> bytes;
   bytes.reserve(image.pixels.size() / 2);
-  if (!encodePng(image, bytes)) throw std::runtime_error(file.string() + ": cannot encode PNG (libpng error)");
+  if (!encodePng(image, chunks, bytes)) throw std::runtime_error(file.string() + ": cannot encode PNG (libpng error)");
   io::writeFileAtomically(file, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+}
+
+std::map<std::string, std::string> readPngText(const std::filesystem::path& file) {
+  std::map<std::string, std::string> text;
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> in(std::fopen(file.c_str(), "rb"), std::fclose);
+  if (!in || !readTextChunks(in.get(), text)) return {};
+  return text;
 }
 
 }  // namespace wobble::render

@@ -2,6 +2,7 @@
 #include "render/image/exr_writer.h"
 
 #include <cmath>
+#include <fstream>
 #include <limits>
 
 #include <Imath/half.h>
@@ -9,6 +10,7 @@
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
 #include <gtest/gtest.h>
 
 #include "tests/render/test_util.h"
@@ -99,6 +101,20 @@ TEST(Exr, DenoisedColourGoesToRgbAndTheNoisyOneIsKept) {
       for (std::size_t i = 0; i < values->size(); ++i) EXPECT_EQ(got[i], asHalf((*values)[i][k])) << name << " " << i;
     }
   EXPECT_THROW(writeExr(dir / "bad.exr", film, std::vector<Color>(3)), std::invalid_argument);
+}
+
+// String attributes in the header, as OpenEXR itself reads them, and back through readExrText.
+TEST(Exr, TextAttributesRoundTrip) {
+  test::TempDir dir;
+  writeExr(dir / "frame.exr", madeUpFilm(), {}, {{"wobble-frame", "0123abcd"}});
+  const Imf::InputFile file((dir / "frame.exr").c_str());
+  const auto* attribute = file.header().findTypedAttribute<Imf::StringAttribute>("wobble-frame");
+  ASSERT_NE(attribute, nullptr);
+  EXPECT_EQ(attribute->value(), "0123abcd");
+  EXPECT_EQ(readExrText(dir / "frame.exr").at("wobble-frame"), "0123abcd");
+  EXPECT_TRUE(readExrText(dir / "missing.exr").empty());
+  std::ofstream(dir / "broken.exr") << "EXR? no";
+  EXPECT_TRUE(readExrText(dir / "broken.exr").empty());
 }
 
 TEST(Exr, OverwritesAtomicallyAndReportsBadPaths) {

@@ -1,7 +1,9 @@
-// PNG files: round trip, atomic replacement, and errors that name the file.
+// PNG files: round trip, text chunks, atomic replacement, and errors that name the file.
 #include "render/image/png_io.h"
 
 #include <fstream>
+#include <iterator>
+#include <map>
 
 #include <gtest/gtest.h>
 
@@ -25,6 +27,30 @@ TEST(Png, RoundTripKeepsEveryByteAndLeavesNoTemporaryFile) {
   writePng(dir / "3channels.png", Image8(2, 2, 3));  // replaces the existing file
   EXPECT_EQ(readImage(dir / "3channels.png").width, 2);
   EXPECT_EQ(dir.entries(), 4);
+}
+
+// Text chunks: tEXt as the PNG specification lays it out (keyword, a zero byte, the text), before the image data, and
+// read back without the pixels; the pixels are the same as without them.
+TEST(Png, TextChunksRoundTripBeforeTheImageData) {
+  test::TempDir dir;
+  Image8 image(5, 3, 3);
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = std::uint8_t(i * 11);
+  const std::map<std::string, std::string> text = {{"wobble-frame", "0123abcd"}, {"Comment", "two words"}};
+  writePng(dir / "text.png", image, text);
+  writePng(dir / "plain.png", image);
+  EXPECT_EQ(readPngText(dir / "text.png"), text);
+  EXPECT_TRUE(readPngText(dir / "plain.png").empty());
+  EXPECT_EQ(readImage(dir / "text.png").pixels, image.pixels);
+  std::ifstream in(dir / "text.png", std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto chunk = bytes.find(std::string("tEXtwobble-frame\0" "0123abcd", 25));
+  ASSERT_NE(chunk, std::string::npos);
+  EXPECT_LT(chunk, bytes.find("IDAT"));
+  // Not a PNG, or no file: no text (and no message from libpng).
+  std::ofstream(dir / "broken.png") << "PNG? no";
+  EXPECT_TRUE(readPngText(dir / "broken.png").empty());
+  EXPECT_TRUE(readPngText(dir / "missing.png").empty());
+  EXPECT_THROW(writePng(dir / "bad.png", image, {{"", "empty keyword"}}), std::invalid_argument);
 }
 
 TEST(Png, ErrorsNameTheFile) {

@@ -1,0 +1,37 @@
+#include "app/output/run_record.h"
+
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "app/scene/input_error.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace wobble {
+
+std::string RunRecord::framesText() const {
+  return "the run wrote frames " + std::to_string(first_frame) + ":" + std::to_string(last_frame);
+}
+
+RunRecord readRunRecord(const fs::path& out, const std::string& missing) {
+  const fs::path file = out / "run.json";
+  if (!fs::is_regular_file(file))
+    throw InputError(out.string() + ": no run.json: not the folder of a wobble run" + missing);
+  RunRecord run;
+  try {
+    const json j = json::parse(std::ifstream(file));
+    run.scene = j.at("scene").get<std::string>();
+    if (j.contains("overrides")) run.overrides = j.at("overrides").get<std::vector<std::string>>();
+    run.first_frame = j.at("frames").at("first").get<int>();
+    run.last_frame = run.first_frame + j.at("frames").at("written").get<int>() - 1;
+    run.fps = j.at("fps").get<double>();
+  } catch (const json::exception& e) {
+    throw InputError(file.string() + ": not a wobble run.json (" + e.what() + ")");
+  }
+  if (run.last_frame < run.first_frame) throw InputError(file.string() + ": the run wrote no frame");
+  return run;
+}
+
+}  // namespace wobble
