@@ -31,6 +31,8 @@ void addRenderCommand(CLI::App& app, int& status) {
     const RenderCommandReport r = renderSequence(*options);
     std::printf("rendered %d frame(s) %d..%d into %s (%.2f s)%s%s\n", r.frames_rendered, r.first_frame, r.last_frame,
                 r.out.c_str(), r.seconds, r.video ? "; video " : "", r.video ? r.video->c_str() : "");
+    if (r.piece_without_video)
+      std::printf("no video for a piece (--frames); when every piece is done: wobble video %s\n", r.out.c_str());
     if (options->skip_existing)
       std::printf("skipped %d frame(s) already rendered with the same settings\n", r.frames_skipped);
     if (interrupted())

@@ -25,7 +25,12 @@ fs::path objPath(const fs::path& dir, const Body& body, int frame) { return objF
 RenderCommandReport renderSequence(const RenderCommandOptions& options) {
   std::vector<std::string> overrides = options.sets;
   for (const std::string& o : renderOverrides(options.render)) overrides.push_back(o);
-  const SceneFile scene = loadScene(options.scene, overrides);
+  SceneFile scene = loadScene(options.scene, overrides);
+  RenderCommandReport report;
+  // A piece (--frames) makes no video of its own unless --video asks: the pieces of a split render would each write
+  // OUT/<scene>.mp4 of their frames; `wobble video OUT` joins them all at the end.
+  report.piece_without_video = options.frames && scene.render.options.video && !options.render.video;
+  if (report.piece_without_video) scene.render.options.video = false;
   if (!FrameOutput::wanted(scene))
     throw InputError("nothing to render: render.png and render.exr are both false (--render png, exr or png,exr)");
   if (!fs::is_directory(options.mesh_dir))
@@ -33,7 +38,6 @@ RenderCommandReport renderSequence(const RenderCommandOptions& options) {
 
   const auto& bodies = scene.system->bodies();
   const Body& lead = bodies.front().body;
-  RenderCommandReport report;
   if (options.frames) {
     std::tie(report.first_frame, report.last_frame) = parseFrameRange(*options.frames, scene.frameCount());
   } else {  // every frame the folder holds: the first one there up to the last of an unbroken run

@@ -2,7 +2,8 @@
 // again, so frames can be re-rendered with other settings or rendered in pieces (--frames A:B). Bodies come from the
 // OBJ files (obj_sequence_reader.h); colliders from the scene at each frame's time; output as `wobble run`'s
 // (frame_output.h), into the folder that holds MESH_DIR unless --out says otherwise. Pieces of one sequence may render
-// into one folder at the same time (output_folder.h: a shared hold), each its own --frames.
+// into one folder at the same time (output_folder.h: a shared hold), each its own --frames; a piece makes no video
+// unless --video asks (`wobble video` joins the pieces).
 #pragma once
 #include <filesystem>
 #include <optional>
@@ -29,6 +30,7 @@ struct RenderCommandReport {
   int frames_skipped = 0;  // --skip-existing: already there with the same picture key
   double seconds = 0;
   std::optional<std::filesystem::path> video;
+  bool piece_without_video = false;  // the scene asks for a video, but --frames renders a piece (and no --video)
 };
 
 // Throws InputError (bad input, nothing written): a bad scene or flag, a missing MESH_DIR or frame file, an OBJ that
