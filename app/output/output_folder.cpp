@@ -2,14 +2,18 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <functional>
 #include <regex>
 #include <set>
+#include <sstream>
 #include <system_error>
 #include <vector>
 
@@ -40,6 +44,24 @@ int removeMatching(const fs::path& dir, const std::regex& name, std::set<std::st
   return removed;
 }
 
+// The pids holding a flock on the file open as fd, from /proc/locks (Linux; a holder on another NFS client is not
+// there). Several when pieces of a split render share the folder.
+std::vector<std::string> lockHolders(int fd) {
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) return {};
+  char id[64];
+  std::snprintf(id, sizeof id, "%02x:%02x:%lu", major(st.st_dev), minor(st.st_dev), static_cast<unsigned long>(st.st_ino));
+  std::vector<std::string> pids;
+  std::ifstream locks("/proc/locks");
+  for (std::string line; std::getline(locks, line);) {  // "1: FLOCK  ADVISORY  READ 6000 fe:00:10953816 0 EOF"
+    std::istringstream in(line);
+    std::string number, type, advisory, mode, pid, where;
+    if (in >> number >> type >> advisory >> mode >> pid >> where && type == "FLOCK" && where == id)
+      pids.push_back(pid);
+  }
+  return pids;
+}
+
 }  // namespace
 
 OutputFolder::OutputFolder(fs::path out, Access access) : out_(std::move(out)) {
@@ -52,12 +74,22 @@ OutputFolder::OutputFolder(fs::path out, Access access) : out_(std::move(out)) {
     const int error = errno;
     char holder[32] = {};
     const ssize_t n = ::pread(fd_, holder, sizeof holder - 1, 0);
+    if (error != EWOULDBLOCK) {
+      ::close(fd_);
+      throw std::runtime_error(lock.string() + ": cannot lock: " + std::strerror(error));
+    }
+    std::vector<std::string> pids = lockHolders(fd_);
     ::close(fd_);
-    if (error != EWOULDBLOCK) throw std::runtime_error(lock.string() + ": cannot lock: " + std::strerror(error));
-    std::string pid = n > 0 ? std::string(holder) : "unknown";
-    pid.erase(pid.find_last_not_of(' ') + 1);
-    throw InputError(out_.string() + ": another wobble (pid " + pid + ") is writing into this folder (it holds " +
-                     lock.string() + "); wait for it to finish or choose another --out");
+    if (pids.empty()) {  // the last holder's own word (lock file)
+      pids.push_back(n > 0 ? std::string(holder) : "unknown");
+      pids.back().erase(pids.back().find_last_not_of(' ') + 1);
+    }
+    std::string list;
+    for (const std::string& pid : pids) list += (list.empty() ? "" : ", ") + pid;
+    throw InputError(out_.string() + (pids.size() == 1 ? ": another wobble (pid " : ": other wobbles (pids ") + list +
+                     ") " + (pids.size() == 1 ? "is" : "are") + " writing into this folder (holding " +
+                     lock.string() + "); wait for " + (pids.size() == 1 ? "it" : "them") +
+                     " to finish or choose another --out");
   }
   // The holder's pid for that message, padded to a fixed width: shared holders overwrite it without truncating, so
   // the file always holds one whole pid.

@@ -2,7 +2,8 @@
 //
 // The lock is OUT/.wobble.lock held with flock(2): the kernel releases it when the process ends however it ends, so a
 // killed run leaves no stale lock; the file itself stays (removing it would race with the next run opening it).
-// A second run on a held folder is refused at once (InputError: exit 2) naming the folder and the holder's pid.
+// A second run on a held folder is refused at once (InputError: exit 2) naming the folder and the holders' pids
+// (/proc/locks; else the pid the last holder wrote into the lock file).
 // Holding the lock, temporary files that an earlier, killed run left behind are removed: no live writer owns them.
 // Split rendering: `wobble render` pieces (each writing its own frames) hold the lock shared, so several render into
 // one folder at once, while a run or `wobble video` (exclusive) is refused as long as one of them is there, and the

@@ -3,6 +3,7 @@
 // video` joins them into the video one render makes, and refuses missing frames (listed), frames of two sizes or two
 // settings; --skip-existing renders exactly the frames whose files lack the key this frame would get (checked by the
 // report's counts and by the files' inodes: a rendered frame is a new file, renamed into place).
+#include <signal.h>
 #include <sys/stat.h>
 
 #include <gtest/gtest.h>
@@ -209,6 +210,23 @@ TEST_F(SplitRender, VideoOfARunsFramesIsItsVideo) {
   fs::rename(out() / "split.mp4", dir() / "all_cpus.mp4");
   ASSERT_EQ(wobble("video " + out().string(), "taskset -c 0"), 0) << said();
   EXPECT_TRUE(slurpFile(out() / "split.mp4") == slurpFile(dir() / "all_cpus.mp4"));
+}
+
+// Pieces share the folder (a shared lock): another piece starts while one renders, a run or `wobble video` waits.
+TEST_F(SplitRender, PiecesShareTheFolderWhileRunAndVideoWait) {
+  const fs::path s = scene();
+  ASSERT_EQ(wobble("run " + s.string() + " --render none --set simulation.duration=20 --out " + out().string()), 0)
+      << said();  // 400 frames: far more than the first piece renders before the test stops it
+  const fs::path first_log = dir() / "first.txt";
+  const pid_t first = testing::startWobble(render(s, "--frames 1:399 --set simulation.duration=20"), first_log);
+  ASSERT_TRUE(testing::waitUntil(first, [&] { return fs::exists(frame(out(), 1)); })) << slurpFile(first_log);
+  EXPECT_EQ(wobble(render(s, "--frames 400 --set simulation.duration=20")), 0) << said();
+  EXPECT_TRUE(fs::exists(out() / "frames" / "split_0400.png"));
+  EXPECT_EQ(wobble("video " + out().string()), 2) << said();
+  EXPECT_NE(said().find("another wobble (pid " + std::to_string(first) + ")"), std::string::npos) << said();
+  EXPECT_EQ(wobble("run " + s.string() + " --render none --out " + out().string()), 2) << said();
+  ::kill(first, SIGTERM);
+  EXPECT_EQ(testing::waitExit(first), 143) << slurpFile(first_log);
 }
 
 TEST_F(SplitRender, VideoRefusesMissingOrMixedFrames) {
