@@ -22,14 +22,15 @@ class ContentHash {
   void add(std::span<const std::byte> bytes);
   // Text is added with its length first, so ("ab", "c") and ("a", "bc") differ.
   void add(std::string_view text);
-  // A number or a plain struct of numbers, as its bytes (no padding: the caller adds fields one by one).
+  // A number, as its bytes (a struct's fields are added one by one: its padding is not data).
   template <class T>
     requires std::is_arithmetic_v<T>
   void add(T value) {
     add(std::as_bytes(std::span<const T>(&value, 1)));
   }
+  // An array of numbers, with its length first.
   template <class T>
-    requires std::is_trivially_copyable_v<T>
+    requires std::is_arithmetic_v<T>
   void addArray(std::span<const T> values) {
     add(std::uint64_t(values.size()));
     add(std::as_bytes(values));

@@ -50,7 +50,8 @@ std::vector<std::string> lockHolders(int fd) {
   struct stat st {};
   if (::fstat(fd, &st) != 0) return {};
   char id[64];
-  std::snprintf(id, sizeof id, "%02x:%02x:%lu", major(st.st_dev), minor(st.st_dev), static_cast<unsigned long>(st.st_ino));
+  std::snprintf(id, sizeof id, "%02x:%02x:%lu", major(st.st_dev), minor(st.st_dev),
+                static_cast<unsigned long>(st.st_ino));
   std::vector<std::string> pids;
   std::ifstream locks("/proc/locks");
   for (std::string line; std::getline(locks, line);) {  // "1: FLOCK  ADVISORY  READ 6000 fe:00:10953816 0 EOF"

@@ -56,7 +56,8 @@ void FrameOutput::keep(int frame) {
   ++skipped_;
   if (!scene_.render.options.png || !scene_.render.options.video) return;
   if (writing_.valid()) writing_.get();  // the video takes the frames in order
-  writing_ = std::async(std::launch::async, [this, frame] { toVideo(render::readImage(pngPath(out_, scene_.name, frame))); });
+  writing_ = std::async(std::launch::async,
+                        [this, frame] { toVideo(render::readImage(pngPath(out_, scene_.name, frame))); });
 }
 
 void FrameOutput::toVideo(const render::Image8& image) {

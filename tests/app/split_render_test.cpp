@@ -171,7 +171,8 @@ TEST_F(SplitRender, ParallelPiecesAreOneRenderAndItsVideo) {
   ASSERT_EQ(wobble(render(s, "--out " + whole.string() + " --video")), 0) << said();
   // (The scene asks for a video: a piece makes none of its own.)
   const std::string pieces = std::string(WOBBLE_BINARY) + " frames " + out().string() + " --chunks 3 | parallel " +
-                             "--will-cite -j 3 " + WOBBLE_BINARY + " " + render(s, "--frames {} --set render.video=true");
+                             "--will-cite -j 3 " + WOBBLE_BINARY + " " +
+                             render(s, "--frames {} --set render.video=true");
   ASSERT_EQ(std::system((pieces + " > " + log().string() + " 2>&1").c_str()), 0) << pieces << "\n" << said();
   EXPECT_EQ(std::regex_search(said(), std::regex("rendered [0-9]+ frame")), true) << said();
   EXPECT_FALSE(fs::exists(out() / "split.mp4"));
