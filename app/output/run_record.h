@@ -14,7 +14,7 @@ struct RunRecord {
   int first_frame = 0, last_frame = 0;  // the frames written (a run that blew up stops early)
   double fps = 0;
 
-  std::string sceneName() const { return scene.stem().string(); }  // as Scene::name: names the frames and video
+  std::string sceneName() const { return scene.stem().string(); }  // as SceneFile::name: names the frames and video
   std::string framesText() const;  // "the run wrote frames A:B", for messages
 };
 
