@@ -24,13 +24,11 @@ class ContentHash {
   void add(std::string_view text);
   // A number, as its bytes (a struct's fields are added one by one: its padding is not data).
   template <class T>
-    requires std::is_arithmetic_v<T>
-  void add(T value) {
-    add(std::as_bytes(std::span<const T>(&value, 1)));
-  }
+  requires std::is_arithmetic_v<T>
+  void add(T value) { add(std::as_bytes(std::span<const T>(&value, 1))); }
   // An array of numbers, with its length first.
   template <class T>
-    requires std::is_arithmetic_v<T>
+  requires std::is_arithmetic_v<T>
   void addArray(std::span<const T> values) {
     add(std::uint64_t(values.size()));
     add(std::as_bytes(values));

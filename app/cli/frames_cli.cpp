@@ -18,9 +18,10 @@ void addFramesCommand(CLI::App& app, int& status) {
   cmd->add_option("--chunk", options->chunk, "Print only piece I, 1-based (e.g. $SLURM_ARRAY_TASK_ID)");
   cmd->add_option("--frames", options->frames, "Split only frames A:B");
   cmd->add_option("--set", options->sets, "Override a key of the scene file, KEY=VALUE (repeatable)");
-  cmd->footer("Example:\n  wobble frames out/jelly_slope --chunks 4 | parallel wobble render out/jelly_slope/mesh "
-              "--scene scenes/jelly_slope.toml --frames {} --skip-existing\n"
-              "  wobble render ... --frames \"$(wobble frames OUT --chunks 8 --chunk $SLURM_ARRAY_TASK_ID)\"");
+  cmd->footer(
+      "Example:\n  wobble frames out/jelly_slope --chunks 4 | parallel wobble render out/jelly_slope/mesh "
+      "--scene scenes/jelly_slope.toml --frames {} --skip-existing\n"
+      "  wobble render ... --frames \"$(wobble frames OUT --chunks 8 --chunk $SLURM_ARRAY_TASK_ID)\"");
   cmd->callback([options, &status] {
     for (const auto& [a, b] : framePieces(*options)) std::printf("%d:%d\n", a, b);
     status = kExitOk;

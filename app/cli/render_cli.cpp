@@ -23,9 +23,10 @@ void addRenderCommand(CLI::App& app, int& status) {
   addMaxMemoryOption(*cmd);
   addRenderFlags(*cmd, options->render);
   addSkipExistingFlag(*cmd, options->skip_existing);
-  cmd->footer("Example:\n  wobble render out/jelly_slope/mesh --scene scenes/jelly_slope.toml --frames 1:30 --spp 32\n"
-              "Pieces (several at once into one OUT): wobble frames OUT --chunks N, one --frames A:B each, with "
-              "--skip-existing; then wobble video OUT.");
+  cmd->footer(
+      "Example:\n  wobble render out/jelly_slope/mesh --scene scenes/jelly_slope.toml --frames 1:30 --spp 32\n"
+      "Pieces (several at once into one OUT): wobble frames OUT --chunks N, one --frames A:B each, with "
+      "--skip-existing; then wobble video OUT.");
   cmd->callback([options, &status] {
     installInterruptHandlers();
     const RenderCommandReport r = renderSequence(*options);

@@ -13,11 +13,11 @@
 namespace wobble {
 
 struct FramesOptions {
-  std::filesystem::path source;        // a run's folder (with run.json) or a scene file
+  std::filesystem::path source;  // a run's folder (with run.json) or a scene file
   int chunks = 1;
-  std::optional<int> chunk;            // 1-based: only that piece's range
-  std::optional<std::string> frames;   // "A:B": split only these
-  std::vector<std::string> sets;       // overrides of a scene file (duration, fps)
+  std::optional<int> chunk;           // 1-based: only that piece's range
+  std::optional<std::string> frames;  // "A:B": split only these
+  std::vector<std::string> sets;      // overrides of a scene file (duration, fps)
 };
 
 // first..last in `chunks` contiguous ranges. Throws InputError when there are more chunks than frames.

@@ -86,8 +86,8 @@ std::pair<int, int> parseFrameRange(const std::string& text, int count) {
 
 std::pair<int, int> parseFrameRange(const std::string& text, int first, int last, const std::string& why) {
   const auto bad = [&] {
-    return InputError("--frames " + text + ": must be A:B or A with " + std::to_string(first) + " <= A <= B <= " +
-                      std::to_string(last) + " (" + why + ")");
+    return InputError("--frames " + text + ": must be A:B or A with " + std::to_string(first) +
+                      " <= A <= B <= " + std::to_string(last) + " (" + why + ")");
   };
   int a = 0, b = 0;
   std::istringstream in(text);
@@ -129,8 +129,9 @@ RunReport runScene(const RunOptions& options) {
 
   const OutputFolder folder(report.out);
   // With --skip-existing the pictures of this run's frames stay until the frame loop decides (frame_output.h).
-  report.files_cleared = folder.clearEarlierRun(
-      scene.name, options.skip_existing ? std::pair{report.first_frame, report.last_frame} : std::pair{1, 0});
+  report.files_cleared =
+      folder.clearEarlierRun(scene.name, options.skip_existing ? std::pair{report.first_frame, report.last_frame}
+                                                               : std::pair{1, 0});
   std::vector<ObjSequenceWriter> writers;  // the sequence, and the point cache's base mesh
   std::vector<std::unique_ptr<Pc2Writer>> caches;
   writers.reserve(system.bodies().size());  // the caches keep references to the writers' vertex orders

@@ -37,7 +37,7 @@ struct RunReport {
   double simulated_time = 0, energy_start = 0, energy_end = 0, max_speed = 0;
   double seconds_simulate = 0, seconds_export = 0, seconds_render = 0;
   int frames_rendered = 0;
-  int frames_skipped = 0;  // --skip-existing: already there with the same picture key
+  int frames_skipped = 0;                      // --skip-existing: already there with the same picture key
   std::optional<std::filesystem::path> video;  // OUT/<scene>.mp4 when encoded
   std::optional<BlowUp> blow_up;
   std::string blow_up_message;

@@ -86,23 +86,27 @@ VideoReport encodeFrames(const VideoOptions& options) {
   const int count = report.last_frame - report.first_frame + 1;
   if (!missing.empty())
     throw InputError(frames_dir.string() + ": " + std::to_string(missing.size()) + " of " + std::to_string(count) +
-                     " frame(s) of " + name + " missing or unreadable (" + name + "_NNNN.png), as --frames: " +
-                     rangesText(missing) + "; render them (wobble render OUT/mesh --scene SCENE --frames A:B "
+                     " frame(s) of " + name + " missing or unreadable (" + name +
+                     "_NNNN.png), as --frames: " + rangesText(missing) +
+                     "; render them (wobble render OUT/mesh --scene SCENE --frames A:B "
                      "--skip-existing), then run wobble video again");
   if (sizes.size() > 1)
-    throw InputError(frames_dir.string() + ": the frames of " + name + " differ in size (rendered with another "
-                     "--resolution or --quality?); a video needs one size:" + groupsText(sizes));
+    throw InputError(frames_dir.string() + ": the frames of " + name +
+                     " differ in size (rendered with another "
+                     "--resolution or --quality?); a video needs one size:" +
+                     groupsText(sizes));
   if (settings.size() > 1 && !options.allow_mixed)
-    throw InputError(frames_dir.string() + ": the frames of " + name + " were rendered with different settings "
-                     "(scene, --set, render flags, textures or wobble build):" + groupsText(settings) +
+    throw InputError(frames_dir.string() + ": the frames of " + name +
+                     " were rendered with different settings "
+                     "(scene, --set, render flags, textures or wobble build):" +
+                     groupsText(settings) +
                      "\nrender them again with one setting (--skip-existing keeps the right ones), or join them "
                      "anyway with --allow-mixed");
 
   if (!findProgram("ffmpeg"))
     throw std::runtime_error("ffmpeg not found on PATH: wobble video needs it (install ffmpeg, e.g. ./setup.sh)");
   const auto start = std::chrono::steady_clock::now();
-  report.mp4 = encodeVideo(frames_dir, name, report.first_frame, report.last_frame, report.fps,
-                           out / (name + ".mp4"));
+  report.mp4 = encodeVideo(frames_dir, name, report.first_frame, report.last_frame, report.fps, out / (name + ".mp4"));
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
 }

@@ -57,8 +57,7 @@ std::vector<std::string> lockHolders(int fd) {
   for (std::string line; std::getline(locks, line);) {  // "1: FLOCK  ADVISORY  READ 6000 fe:00:10953816 0 EOF"
     std::istringstream in(line);
     std::string number, type, advisory, mode, pid, where;
-    if (in >> number >> type >> advisory >> mode >> pid >> where && type == "FLOCK" && where == id)
-      pids.push_back(pid);
+    if (in >> number >> type >> advisory >> mode >> pid >> where && type == "FLOCK" && where == id) pids.push_back(pid);
   }
   return pids;
 }
@@ -88,9 +87,8 @@ OutputFolder::OutputFolder(fs::path out, Access access) : out_(std::move(out)) {
     std::string list;
     for (const std::string& pid : pids) list += (list.empty() ? "" : ", ") + pid;
     throw InputError(out_.string() + (pids.size() == 1 ? ": another wobble (pid " : ": other wobbles (pids ") + list +
-                     ") " + (pids.size() == 1 ? "is" : "are") + " writing into this folder (holding " +
-                     lock.string() + "); wait for " + (pids.size() == 1 ? "it" : "them") +
-                     " to finish or choose another --out");
+                     ") " + (pids.size() == 1 ? "is" : "are") + " writing into this folder (holding " + lock.string() +
+                     "); wait for " + (pids.size() == 1 ? "it" : "them") + " to finish or choose another --out");
   }
   // The holder's pid for that message, padded to a fixed width: shared holders overwrite it without truncating, so
   // the file always holds one whole pid.

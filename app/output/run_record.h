@@ -15,7 +15,7 @@ struct RunRecord {
   double fps = 0;
 
   std::string sceneName() const { return scene.stem().string(); }  // as SceneFile::name: names the frames and video
-  std::string framesText() const;  // "the run wrote frames A:B", for messages
+  std::string framesText() const;                                  // "the run wrote frames A:B", for messages
 };
 
 // Throws InputError naming the file when OUT has no run.json (the message ends with `missing`, e.g. how to make

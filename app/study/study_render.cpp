@@ -7,9 +7,9 @@
 #include <limits>
 #include <sstream>
 
-#include "app/scene/render_overrides.h"
 #include "app/output/progress.h"
 #include "app/scene/input_error.h"
+#include "app/scene/render_overrides.h"
 #include "app/scene/scene_file.h"
 #include "app/study/order_fit.h"
 #include "app/study/study_report.h"
@@ -36,7 +36,6 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr int kRendererVersion = 5;
 // The second half of the reference uses this seed offset: far from any frame number.
 constexpr std::uint32_t kSecondHalfSeed = 0x80000000u;
-
 
 render::RenderSettings settingsFor(const RenderVariant& v, int spp, double threshold, int bounces, int frame) {
   render::RenderSettings s;

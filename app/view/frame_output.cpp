@@ -25,7 +25,11 @@ fs::path FrameOutput::exrPath(const fs::path& out, const std::string& scene, int
 }
 
 FrameOutput::FrameOutput(const SceneFile& scene, fs::path out, bool skip_existing)
-    : scene_(scene), out_(std::move(out)), render_scene_(scene), rig_(scene), key_(scene),
+    : scene_(scene),
+      out_(std::move(out)),
+      render_scene_(scene),
+      rig_(scene),
+      key_(scene),
       skip_existing_(skip_existing) {
   if (scene.render.options.png) fs::create_directories(out_ / "frames");
   if (scene.render.options.exr) fs::create_directories(out_ / "exr");
@@ -56,8 +60,8 @@ void FrameOutput::keep(int frame) {
   ++skipped_;
   if (!scene_.render.options.png || !scene_.render.options.video) return;
   if (writing_.valid()) writing_.get();  // the video takes the frames in order
-  writing_ = std::async(std::launch::async,
-                        [this, frame] { toVideo(render::readImage(pngPath(out_, scene_.name, frame))); });
+  writing_ =
+      std::async(std::launch::async, [this, frame] { toVideo(render::readImage(pngPath(out_, scene_.name, frame))); });
 }
 
 void FrameOutput::toVideo(const render::Image8& image) {

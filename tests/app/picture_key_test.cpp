@@ -42,14 +42,16 @@ TEST_F(PictureKeyTest, SettingsChangeWithWhatChangesThePicture) {
   const std::string base = settings();
   EXPECT_EQ(base.size(), 32u);
   EXPECT_EQ(settings(), base);
-  for (const std::vector<std::string>& same :
-       {std::vector<std::string>{"render.video=true"}, {"render.exr=true"}, {"output.pc2=true"}, {"output.obj=false"},
-        {"simulation.duration=2"}})
+  for (const std::vector<std::string>& same : {std::vector<std::string>{"render.video=true"},
+                                               {"render.exr=true"},
+                                               {"output.pc2=true"},
+                                               {"output.obj=false"},
+                                               {"simulation.duration=2"}})
     EXPECT_EQ(settings(same), base) << same[0];
   std::vector<std::string> keys = {base};
-  for (const char* other : {"render.samples=4", "camera.resolution=[64, 36]", "render.quality=\"preview\"",
-                            "camera.fov=50", "jelly.color=[1, 0, 0]", "floor.texture=\"wood\"", "simulation.fps=25",
-                            "jelly.ks=3000"}) {
+  for (const char* other :
+       {"render.samples=4", "camera.resolution=[64, 36]", "render.quality=\"preview\"", "camera.fov=50",
+        "jelly.color=[1, 0, 0]", "floor.texture=\"wood\"", "simulation.fps=25", "jelly.ks=3000"}) {
     keys.push_back(settings({other}));
     for (std::size_t i = 0; i + 1 < keys.size(); ++i) EXPECT_NE(keys[i], keys.back()) << other;
   }

@@ -50,7 +50,8 @@ texture = "checker"
 [camera]
 position = [1.5, 1.5, 4]
 look_at = [0, 0.6, 0]
-)") + (follow ? "follow = \"jelly\"\n" : "") + R"(
+)") + (follow ? "follow = \"jelly\"\n" : "") +
+                                   R"(
 [render]
 samples = 1
 )");
@@ -101,8 +102,10 @@ samples = 1
     return slurpFile(file);
   }
   int videoFrames(const fs::path& mp4) {
-    return std::stoi(output("ffprobe -v error -select_streams v:0 -count_frames -show_entries stream=nb_read_frames "
-                            "-of default=nw=1:nk=1 " + mp4.string()));
+    return std::stoi(
+        output("ffprobe -v error -select_streams v:0 -count_frames -show_entries stream=nb_read_frames "
+               "-of default=nw=1:nk=1 " +
+               mp4.string()));
   }
   // Frame n (0-based) of a video, decoded.
   render::Image8 decoded(const fs::path& mp4, int n) {
@@ -259,7 +262,8 @@ TEST_F(SplitRender, VideoRefusesMissingOrMixedFrames) {
 
   // Another size; a folder without run.json needs --scene; no ffmpeg is exit 1.
   ASSERT_EQ(wobble("render " + (out() / "mesh").string() + " --scene " + s.string() + " --frames 8 --resolution 16x8"),
-            0) << said();
+            0)
+      << said();
   EXPECT_EQ(wobble("video " + out().string() + " --allow-mixed"), 2) << said();
   EXPECT_NE(said().find("differ in size"), std::string::npos) << said();
   EXPECT_NE(said().find("frames 8: 16 x 8"), std::string::npos) << said();

@@ -43,7 +43,10 @@ TEST(Png, TextChunksRoundTripBeforeTheImageData) {
   EXPECT_EQ(readImage(dir / "text.png").pixels, image.pixels);
   std::ifstream in(dir / "text.png", std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const auto chunk = bytes.find(std::string("tEXtwobble-frame\0" "0123abcd", 25));
+  const auto chunk =
+      bytes.find(std::string("tEXtwobble-frame\0"
+                             "0123abcd",
+                             25));
   ASSERT_NE(chunk, std::string::npos);
   EXPECT_LT(chunk, bytes.find("IDAT"));
   // Not a PNG, or no file: no text (and no message from libpng).
