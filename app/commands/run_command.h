@@ -27,7 +27,7 @@ struct RunOptions {
   // Called after the simulation reaches each frame's time, from frame 1 (also before the --frames range), with every
   // particle's position; not for the frame a blow-up stopped. `wobble compare` follows strain and camera with it.
   std::function<void(int frame, const VecX& x)> on_frame;
-  bool skip_existing = false;            // keep frames already rendered with the same settings (frame_output.h)
+  bool skip_existing = false;  // keep frames already rendered with the same settings (frame_output.h)
 };
 
 struct RunReport {
