@@ -28,7 +28,8 @@ Body courseCloth() {
 void wobbleStep(benchmark::State& state) {
   MassSpringSystem system;
   system.addBody(courseCloth());
-  system.addCollider(std::make_unique<SphereCollider>("sphere", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), 1.0, Vec3::Zero()));
+  system.addCollider(
+      std::make_unique<SphereCollider>("sphere", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), 1.0, Vec3::Zero()));
   system.setStepSize(kDt);
   auto integrator = makeIntegrator("explicit-euler");
   VecX x = system.initialPositions(), v = system.initialVelocities();

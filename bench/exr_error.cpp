@@ -166,13 +166,15 @@ int main(int argc, char** argv) {
     for (std::size_t k = 0; k < 2; ++k)
       for (const Color& c : (k == 0 ? image : reference).pixels)
         if (!c.allFinite()) {
-          std::cerr << "exr_error: warning: " << files[k] << " has non-finite pixels (they count as 0 in display values)\n";
+          std::cerr << "exr_error: warning: " << files[k]
+                    << " has non-finite pixels (they count as 0 in display values)\n";
           break;
         }
     if (files.size() == 3) {
       const ExrImage half_b = readExr(files[2]);
       sameSize(half_b, files[2]);
-      print("half_", wobble::render::imageError(image.width, image.height, reference.pixels, half_b.pixels, tone, tile));
+      print("half_",
+            wobble::render::imageError(image.width, image.height, reference.pixels, half_b.pixels, tone, tile));
       for (std::size_t i = 0; i < reference.pixels.size(); ++i)
         reference.pixels[i] = 0.5f * (reference.pixels[i] + half_b.pixels[i]);
     }

@@ -76,7 +76,10 @@ BENCHMARK_CAPTURE(stiffCloth, backward_euler_dt_1_60, "backward-euler")
     ->Iterations(1)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(stiffCloth, rk4_largest_stable_dt, "rk4")->Iterations(1)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(stiffCloth, rk4_largest_stable_dt, "rk4")
+    ->Iterations(1)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace wobble

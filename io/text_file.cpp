@@ -4,8 +4,6 @@
 
 namespace wobble::io {
 
-void writeTextFile(const std::filesystem::path& path, const std::string& text) {
-  io::writeFileAtomically(path, text);
-}
+void writeTextFile(const std::filesystem::path& path, const std::string& text) { io::writeFileAtomically(path, text); }
 
 }  // namespace wobble::io

@@ -16,9 +16,7 @@ float ggxD(float cos_h, float a2) {
   return a2 / (kPi * d * d);
 }
 
-float smithG1(float cos_v, float a2) {
-  return 2.0f * cos_v / (cos_v + std::sqrt(a2 + (1.0f - a2) * cos_v * cos_v));
-}
+float smithG1(float cos_v, float a2) { return 2.0f * cos_v / (cos_v + std::sqrt(a2 + (1.0f - a2) * cos_v * cos_v)); }
 
 }  // namespace
 
@@ -48,7 +46,8 @@ BsdfLobes Bsdf::evalLocal(const Eigen::Vector3f& wi) const {
   if (coat_ > 0) {
     const Eigen::Vector3f h = (wo_ + wi).normalized();
     const float a2 = alpha_ * alpha_;
-    f.specular = coat_fresnel_ * ggxD(h.z(), a2) * smithG1(wo_.z(), a2) * smithG1(wi.z(), a2) / (4.0f * wo_.z() * wi.z());
+    f.specular =
+        coat_fresnel_ * ggxD(h.z(), a2) * smithG1(wo_.z(), a2) * smithG1(wi.z(), a2) / (4.0f * wo_.z() * wi.z());
   }
   return f;
 }

@@ -24,10 +24,10 @@ struct BsdfLobes {
 };
 
 struct BsdfSample {
-  Eigen::Vector3f wi;      // world space, unit
-  Color weight;            // f(wo, wi) |n.wi| / pdf(wi)
-  BsdfLobes lobes;         // the same weight by lobe: weight = lobes.diffuse * base + lobes.specular
-  float pdf = 0;           // pdf(wi), for multiple importance sampling
+  Eigen::Vector3f wi;  // world space, unit
+  Color weight;        // f(wo, wi) |n.wi| / pdf(wi)
+  BsdfLobes lobes;     // the same weight by lobe: weight = lobes.diffuse * base + lobes.specular
+  float pdf = 0;       // pdf(wi), for multiple importance sampling
 };
 
 class Bsdf {
@@ -37,7 +37,7 @@ class Bsdf {
 
   Color eval(const Eigen::Vector3f& wi) const;  // f, without the cosine
   BsdfLobes evalLobes(const Eigen::Vector3f& wi) const;
-  float pdf(const Eigen::Vector3f& wi) const;   // solid-angle density of sample()
+  float pdf(const Eigen::Vector3f& wi) const;  // solid-angle density of sample()
   std::optional<BsdfSample> sample(float u_lobe, float u1, float u2) const;
   const Color& base() const { return base_; }
 

@@ -7,9 +7,7 @@
 
 namespace wobble::render {
 
-float srgbToLinear(float v) {
-  return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
-}
+float srgbToLinear(float v) { return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f); }
 
 float srgb8ToLinear(std::uint8_t code) {
   static const std::array<float, 256> table = [] {
@@ -20,9 +18,7 @@ float srgb8ToLinear(std::uint8_t code) {
   return table[code];
 }
 
-float linearToSrgb(float v) {
-  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-}
+float linearToSrgb(float v) { return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f; }
 
 namespace {
 
@@ -58,9 +54,14 @@ std::uint8_t linearToSrgb8(float linear) {
 float ToneMap::curveOf(float x) const {
   float y = x;
   switch (curve) {
-    case Curve::Aces: y = x * (2.51f * x + 0.03f) / (x * (2.43f * x + 0.59f) + 0.14f); break;
-    case Curve::Reinhard: y = x / (1.0f + x); break;
-    case Curve::Clamp: break;
+    case Curve::Aces:
+      y = x * (2.51f * x + 0.03f) / (x * (2.43f * x + 0.59f) + 0.14f);
+      break;
+    case Curve::Reinhard:
+      y = x / (1.0f + x);
+      break;
+    case Curve::Clamp:
+      break;
   }
   return std::clamp(y, 0.0f, 1.0f);
 }

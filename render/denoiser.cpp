@@ -26,9 +26,9 @@ constexpr float kAlbedoFloor = 1e-3f;  // demodulation divides by max(albedo, th
 // exp(x) for x <= 0 to about 1e-4 relative: 2^(integer part) from the exponent bits, 2^(fraction) by a polynomial.
 // Plain float and int operations only, so the loops that call it vectorise.
 inline float fastExp(float x) {
-  const float t = std::max(x, -80.0f) * 1.44269504f;  // log2(e)
+  const float t = std::max(x, -80.0f) * 1.44269504f;     // log2(e)
   const int whole = static_cast<int>(t + 128.0f) - 128;  // floor(t): t + 128 > 0 truncates downwards
-  const float f = t - static_cast<float>(whole);       // [0, 1)
+  const float f = t - static_cast<float>(whole);         // [0, 1)
   const float p = 1.0f + f * (0.69314718f + f * (0.24022650f + f * (0.05550411f + f * 0.00961813f)));
   return p * std::bit_cast<float>((whole + 127) << 23);
 }
@@ -80,7 +80,7 @@ inline float lum(float r, float g, float b) { return 0.2126f * r + 0.7152f * g +
 struct TapInput {
   const float *cls, *z, *gx, *gy, *nx, *ny, *nz;  // guides
   const float *r, *g, *b, *var;                   // the signal
-  const float* inv;  // 1 / (sigma_l sqrt(blurred variance) + eps) at the output pixel
+  const float* inv;                               // 1 / (sigma_l sqrt(blurred variance) + eps) at the output pixel
 };
 struct TapSums {
   float *r, *g, *b, *var;
@@ -98,16 +98,16 @@ struct Taps {
 // summed in registers and written once (the taps in the inner loop, so each pixel's own guides are loaded once).
 // kTaps is the tap count, a constant so that the inner loop unrolls and the outer one vectorises.
 template <int kTaps>
-__attribute__((target_clones("avx512f", "avx2", "default"))) void filterSpan(const TapInput in, const TapSums out, int n,
-                                                                    const Taps taps, float centre, float sigma_n,
-                                                                    float sigma_z) {
+__attribute__((target_clones("avx512f", "avx2", "default"))) void filterSpan(const TapInput in, const TapSums out,
+                                                                             int n, const Taps taps, float centre,
+                                                                             float sigma_n, float sigma_z) {
   // The planes never overlap; GCC ignores restrict on locals, so `ivdep` says it (too many planes for run-time alias
   // checks otherwise, and the loop would stay scalar).
-  const float *__restrict cls = in.cls, *__restrict z = in.z, *__restrict gx = in.gx, *__restrict gy = in.gy;
-  const float *__restrict nx = in.nx, *__restrict ny = in.ny, *__restrict nz = in.nz;
-  const float *__restrict ir = in.r, *__restrict ig = in.g, *__restrict ib = in.b, *__restrict iv = in.var;
-  const float *__restrict inv = in.inv;
-  float *__restrict sr = out.r, *__restrict sg = out.g, *__restrict sb = out.b, *__restrict sv = out.var;
+  const float* __restrict cls = in.cls, * __restrict z = in.z, * __restrict gx = in.gx, * __restrict gy = in.gy;
+  const float* __restrict nx = in.nx, * __restrict ny = in.ny, * __restrict nz = in.nz;
+  const float* __restrict ir = in.r, * __restrict ig = in.g, * __restrict ib = in.b, * __restrict iv = in.var;
+  const float* __restrict inv = in.inv;
+  float* __restrict sr = out.r, * __restrict sg = out.g, * __restrict sb = out.b, * __restrict sv = out.var;
 #pragma GCC ivdep
   for (int x = 0; x < n; ++x) {
     const float lp = lum(ir[x], ig[x], ib[x]);
@@ -117,8 +117,8 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void filterSpan(con
       const std::ptrdiff_t q = x + taps.offset[t];
       const float expected = std::abs(gx[x] * taps.dx[t] + gy[x] * taps.dy[t]);
       const float normal = nx[x] * nx[q] + ny[x] * ny[q] + nz[x] * nz[q];
-      const float geometry = std::abs(z[x] - z[q]) / (sigma_z * expected + 0.01f * z[x] + 1e-6f) +
-                             sigma_n * std::max(0.0f, 1.0f - normal);
+      const float geometry =
+          std::abs(z[x] - z[q]) / (sigma_z * expected + 0.01f * z[x] + 1e-6f) + sigma_n * std::max(0.0f, 1.0f - normal);
       const float same = cls[x] == cls[q] ? taps.k[t] : 0.0f;
       const float l = std::abs(lp - lum(ir[q], ig[q], ib[q]));
       const float w = same * fastExp(-geometry - l * inv[x]);
@@ -186,7 +186,8 @@ void inverseDeviation(const Plane& var, Plane& out, float sigma, int stride, int
     float* o = out.row(y, stride);
     for (int x = x0; x < x1; ++x) {
       const float blurred = (up[x - 1] + 2 * up[x] + up[x + 1] + 2 * (mid[x - 1] + 2 * mid[x] + mid[x + 1]) +
-                             down[x - 1] + 2 * down[x] + down[x + 1]) / 16.0f;
+                             down[x - 1] + 2 * down[x] + down[x + 1]) /
+                            16.0f;
       o[x] = 1.0f / (sigma * std::sqrt(blurred) + 1e-4f);
     }
   });
@@ -203,8 +204,9 @@ std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
     throw std::invalid_argument("denoise: empty or inconsistent film");
   if (settings.iterations < 0 || settings.iterations > 10 || settings.radius < 1 || settings.radius > 2 ||
       !(settings.sigma_luminance > 0) || !(settings.sigma_normal >= 0) || !(settings.sigma_depth > 0))
-    throw std::invalid_argument("denoise: need iterations in [0, 10], radius 1 or 2, sigma_luminance > 0, "
-                                "sigma_normal >= 0, sigma_depth > 0");
+    throw std::invalid_argument(
+        "denoise: need iterations in [0, 10], radius 1 or 2, sigma_luminance > 0, "
+        "sigma_normal >= 0, sigma_depth > 0");
 
   const int pad = std::max(1, settings.iterations > 0 ? settings.radius << (settings.iterations - 1) : 0);
   const int stride = w + 2 * pad, rows = h + 2 * pad;
@@ -238,7 +240,8 @@ std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
         row_surfaces[y].add(x, y);
         if (!o.isZero()) row_coated[y].add(x, y);
       }
-      diffuse.r.v[p] = d.x(), diffuse.g.v[p] = d.y(), diffuse.b.v[p] = d.z(), diffuse.var.v[p] = film.variance_diffuse[i];
+      diffuse.r.v[p] = d.x(), diffuse.g.v[p] = d.y(), diffuse.b.v[p] = d.z(),
+      diffuse.var.v[p] = film.variance_diffuse[i];
       other.r.v[p] = o.x(), other.g.v[p] = o.y(), other.b.v[p] = o.z(), other.var.v[p] = film.variance_other[i];
     }
   });
@@ -288,17 +291,15 @@ std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
     forRows(window.y0, window.y1, [&](int y) {
       const std::size_t first = at(window.x0, y);
       const int span = window.x1 - window.x0;
-      const TapInput tap_in{guide.cls.v.data() + first, guide.z.v.data() + first, guide.gx.v.data() + first,
+      const TapInput tap_in{guide.cls.v.data() + first, guide.z.v.data() + first,  guide.gx.v.data() + first,
                             guide.gy.v.data() + first,  guide.nx.v.data() + first, guide.ny.v.data() + first,
                             guide.nz.v.data() + first,  in.r.v.data() + first,     in.g.v.data() + first,
                             in.b.v.data() + first,      in.var.v.data() + first,   inv.v.data() + first};
       const TapSums sums{out.r.v.data() + first, out.g.v.data() + first, out.b.v.data() + first,
                          out.var.v.data() + first};
       const float centre = kernel[r] * kernel[r];
-      if (r == 1)
-        filterSpan<8>(tap_in, sums, span, taps, centre, settings.sigma_normal, settings.sigma_depth);
-      else
-        filterSpan<24>(tap_in, sums, span, taps, centre, settings.sigma_normal, settings.sigma_depth);
+      if (r == 1) filterSpan<8>(tap_in, sums, span, taps, centre, settings.sigma_normal, settings.sigma_depth);
+      else filterSpan<24>(tap_in, sums, span, taps, centre, settings.sigma_normal, settings.sigma_depth);
     });
   };
   for (const auto& [signal, window] : {std::pair{&diffuse, surfaces}, std::pair{&other, coated}}) {
@@ -314,8 +315,9 @@ std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
   forRows(0, h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       const std::size_t i = film.index(x, y), p = at(x, y);
-      out[i] = Color(diffuse.r.v[p], diffuse.g.v[p], diffuse.b.v[p]).cwiseProduct(film.albedo[i].cwiseMax(kAlbedoFloor)) +
-               Color(other.r.v[p], other.g.v[p], other.b.v[p]);
+      out[i] =
+          Color(diffuse.r.v[p], diffuse.g.v[p], diffuse.b.v[p]).cwiseProduct(film.albedo[i].cwiseMax(kAlbedoFloor)) +
+          Color(other.r.v[p], other.g.v[p], other.b.v[p]);
     }
   });
   return out;

@@ -75,8 +75,7 @@ inline LightSample sampleSun(const SunLight& sun, const Eigen::Vector3f& p, cons
                              float u2) {
   return sampleSun(SunCone(sun), p, ng, u1, u2);
 }
-LightSample sampleRect(const RectLight& light, const Eigen::Vector3f& p, const Eigen::Vector3f& ng, float u1,
-                       float u2);
+LightSample sampleRect(const RectLight& light, const Eigen::Vector3f& p, const Eigen::Vector3f& ng, float u1, float u2);
 
 // What a ray leaving a surface in direction d finds of a light (no visibility test: the caller traces the ray).
 // radiance is zero, and pdf (the light-sampling density of d, solid angle) 0, when it misses the light.
@@ -104,7 +103,7 @@ class SkyDistribution {
  private:
   Eigen::Vector3f up_, a_, b_;  // orthonormal, up_ along the sky's up
   float total_ = 0;
-  float weight_[kBins];         // luminance per bin
+  float weight_[kBins];  // luminance per bin
   float cdf_[kBins + 1];
 };
 

@@ -17,9 +17,7 @@ void checkFinite(std::string_view mesh_name, std::string_view what, std::span<co
 }
 
 void checkMesh(const TriangleMesh& m) {
-  const auto fail = [&](const std::string& what) {
-    throw std::invalid_argument("mesh '" + m.name + "': " + what);
-  };
+  const auto fail = [&](const std::string& what) { throw std::invalid_argument("mesh '" + m.name + "': " + what); };
   const std::size_t n = m.positions.size();
   if (n == 0 || m.triangles.empty()) fail("has no vertices or no triangles");
   if (!m.normals.empty() && m.normals.size() != n)

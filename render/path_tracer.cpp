@@ -68,7 +68,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
   Color diffuse = Color::Zero(), other = Color::Zero();
   Color t_diffuse = Color::Zero(), t_other = Color::Ones();
   Color first_base = Color::Zero();
-  float previous_pdf = 0;  // density of the BSDF sample that made this ray; 0 for the camera ray
+  float previous_pdf = 0;                        // density of the BSDF sample that made this ray; 0 for the camera ray
   const auto arrive = [&](const Color& light) {  // light arriving along the path's current ray
     diffuse += t_diffuse.cwiseProduct(light);
     other += t_other.cwiseProduct(light);

@@ -65,8 +65,8 @@ struct PathContext {
 
 struct PathResult {
   Color radiance = Color::Zero();
-  Color diffuse = Color::Zero();         // the part reflected by the first surface's diffuse lobe
-  float diffuse_demodulated = 0;         // luminance of diffuse / base colour (for the denoiser's variance)
+  Color diffuse = Color::Zero();  // the part reflected by the first surface's diffuse lobe
+  float diffuse_demodulated = 0;  // luminance of diffuse / base colour (for the denoiser's variance)
   // First-hit values for the EXR layers; albedo and normal stay zero and t infinite when the ray escapes.
   Color albedo = Color::Zero();
   Eigen::Vector3f normal = Eigen::Vector3f::Zero();  // shading normal, turned towards the camera

@@ -7,10 +7,10 @@
 #include <stdexcept>
 #include <vector>
 
+#include <pmmintrin.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <xmmintrin.h>
-#include <pmmintrin.h>
 
 #include "render/path_tracer.h"
 #include "render/scene.h"
@@ -88,14 +88,15 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
   if (!scene.committed()) throw std::logic_error("render: the scene changed since its last commit(); call commit()");
   if (settings.samples_per_pixel < 1 || settings.max_bounces < 0 || settings.tile_size < 1 ||
       settings.min_samples < 0 || !(settings.noise_threshold >= 0))
-    throw std::invalid_argument("render: need samples_per_pixel >= 1, min_samples >= 0, noise_threshold >= 0, "
-                                "max_bounces >= 0, tile_size >= 1");
+    throw std::invalid_argument(
+        "render: need samples_per_pixel >= 1, min_samples >= 0, noise_threshold >= 0, "
+        "max_bounces >= 0, tile_size >= 1");
   checkLights(scene.lights);  // lights are a plain member: they may have changed since commit()
   const int spp = settings.samples_per_pixel;
   const bool adaptive = settings.noise_threshold > 0;
   int target = adaptive ? std::min(spp, settings.min_samples > 0 ? settings.min_samples : 4) : spp;
   const PathContext context(scene,
-                           PathSettings{settings.max_bounces, settings.sample_sky, settings.mis, settings.roulette});
+                            PathSettings{settings.max_bounces, settings.sample_sky, settings.mis, settings.roulette});
   const int w = camera.width(), h = camera.height(), ts = settings.tile_size;
   const int tiles_x = (w + ts - 1) / ts, tiles_y = (h + ts - 1) / ts;
   Film film(w, h);
@@ -166,7 +167,8 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
         const std::size_t i = film.index(x, y);
         if (!state[i].active) continue;
         const std::uint32_t n = film.samples[i];
-        const float error = n < 2 ? neighbourhoodError(light, w, h, x, y) : adaptiveError(film.color[i], state[i].half, n);
+        const float error =
+            n < 2 ? neighbourhoodError(light, w, h, x, y) : adaptiveError(film.color[i], state[i].half, n);
         unconverged[i] = error >= settings.noise_threshold;
       }
     });

@@ -124,8 +124,8 @@ PixelSampler::SlotSeeds PixelSampler::hashSeeds(int slot) const {
 
 // Independent samples: one full-avalanche mix of a counter made of (pixel seed, slot, sample, coordinate).
 float PixelSampler::independent(std::uint32_t sample, int slot, std::uint32_t coordinate) const {
-  return sobol::toUnitFloat(sobol::hash(seed_ + static_cast<std::uint32_t>(slot) * 0x9E3779B9u,
-                                        2 * sample + coordinate));
+  return sobol::toUnitFloat(
+      sobol::hash(seed_ + static_cast<std::uint32_t>(slot) * 0x9E3779B9u, 2 * sample + coordinate));
 }
 
 // Sobol points of a slot: the sample order shuffled (an Owen scramble of the index keeps power-of-two prefixes aligned

@@ -61,7 +61,7 @@ class PixelSampler {
 
   SamplerKind kind_;
   std::uint32_t seed_;
-  mutable std::uint32_t cached_ = 0;  // bit k: slot k's seeds are in cache_
+  mutable std::uint32_t cached_ = 0;                           // bit k: slot k's seeds are in cache_
   mutable std::uint32_t last_sample_ = 0, last_reversed_ = 0;  // the bit reversal of the sample drawn last
   mutable SlotSeeds cache_[kCachedSlots];
 };

@@ -22,8 +22,8 @@ struct Scene::Shape {
   enum class Kind { Mesh, Quad, Box, Sphere } kind;
   std::string name;
   MaterialId material;
-  TriangleMesh mesh;                          // CPU copy for interpolation (Mesh, Quad, Box)
-  Sphere sphere;                              // Sphere
+  TriangleMesh mesh;  // CPU copy for interpolation (Mesh, Quad, Box)
+  Sphere sphere;      // Sphere
   std::unique_ptr<EmbreeTriangleMesh> rtc_mesh;
   std::unique_ptr<EmbreeSphere> rtc_sphere;
 };

@@ -33,25 +33,31 @@ void exportScene(const Scene& scene, const Camera& camera, const std::filesystem
   nlohmann::ordered_json j;
   const CameraParams& c = camera.params();
   j["camera"] = {{"position", vec(c.position)}, {"look_at", vec(c.look_at)}, {"up", vec(c.up)},
-                 {"vfov_deg", c.vfov_deg}, {"width", c.width}, {"height", c.height}};
+                 {"vfov_deg", c.vfov_deg},      {"width", c.width},          {"height", c.height}};
   j["suns"] = nlohmann::json::array();
   for (const SunLight& s : scene.lights.suns)
-    j["suns"].push_back({{"direction", vec(s.direction.normalized())}, {"irradiance", vec(s.irradiance)},
+    j["suns"].push_back({{"direction", vec(s.direction.normalized())},
+                         {"irradiance", vec(s.irradiance)},
                          {"angular_radius_deg", s.angular_radius_deg}});
   j["area_lights"] = nlohmann::json::array();
   for (const RectLight& r : scene.lights.rects)
-    j["area_lights"].push_back({{"corner", vec(r.corner)}, {"edge_u", vec(r.edge_u)}, {"edge_v", vec(r.edge_v)},
+    j["area_lights"].push_back({{"corner", vec(r.corner)},
+                                {"edge_u", vec(r.edge_u)},
+                                {"edge_v", vec(r.edge_v)},
                                 {"radiance", vec(r.radiance)}});
   const Sky& sky = scene.lights.sky;
-  j["sky"] = {{"zenith", vec(sky.zenith)}, {"horizon", vec(sky.horizon)}, {"ground", vec(sky.ground)},
+  j["sky"] = {{"zenith", vec(sky.zenith)},
+              {"horizon", vec(sky.horizon)},
+              {"ground", vec(sky.ground)},
               {"up", vec(sky.up.normalized())},
-              {"model", "elevation e = d.up: horizon + sqrt(e) (zenith - horizon) for e >= 0, "
-                        "horizon + sqrt(min(1, -4 e)) (ground - horizon) below"}};
+              {"model",
+               "elevation e = d.up: horizon + sqrt(e) (zenith - horizon) for e >= 0, "
+               "horizon + sqrt(min(1, -4 e)) (ground - horizon) below"}};
   j["materials"] = nlohmann::json::array();
   for (std::size_t m = 0; m < scene.materialCount(); ++m) {
     const Material& mat = scene.material(MaterialId(m));
-    nlohmann::ordered_json entry = {{"name", mat.name}, {"color", vec(mat.color)}, {"coat", mat.coat},
-                                    {"ior", mat.ior}, {"roughness", mat.roughness}, {"texture", nullptr}};
+    nlohmann::ordered_json entry = {{"name", mat.name}, {"color", vec(mat.color)},    {"coat", mat.coat},
+                                    {"ior", mat.ior},   {"roughness", mat.roughness}, {"texture", nullptr}};
     if (mat.texture) {
       const std::string file = "texture_" + std::to_string(m) + ".png";
       bakeTexture(*mat.texture, dir / file);

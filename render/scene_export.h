@@ -3,8 +3,8 @@
 //   DIR/scene.obj    every triangle mesh (simulator meshes, quads, boxes) as an object named after its shape, with
 //                    normals and UVs where it has them; world space, Y up, metres
 //   DIR/scene.json   camera (position, look_at, up, vertical fov, resolution), suns (direction, irradiance, angular
-//                    radius), area lights, sky (zenith, horizon, ground colours, up), analytic spheres (centre, radius),
-//                    and per shape its material (colour, coat, ior, roughness, texture image)
+//                    radius), area lights, sky (zenith, horizon, ground colours, up), analytic spheres (centre,
+//                    radius), and per shape its material (colour, coat, ior, roughness, texture image)
 //   DIR/texture_<material>.png   each material's texture baked over UV [0, 1]^2 (sRGB, 1024 x 1024)
 // Throws std::runtime_error naming the file when a file cannot be written.
 #pragma once

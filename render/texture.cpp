@@ -1,8 +1,8 @@
 // Procedural textures: checker and plank-floor wood (see texture.h).
 #include "render/texture.h"
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <numbers>
 

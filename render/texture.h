@@ -14,8 +14,8 @@
 //
 // Filtering: evalFootprint averages the texture over a pixel's footprint in UV space (the parallelogram spanned by
 // the UV derivatives duv/dx and duv/dy, from ray differentials, path_tracer.h) with a kx x ky grid of lookups, k
-// each edge's length over the texture's finest feature (featureSize(), in UV units), at most kMaxLookups. So a far-away wooden
-// floor is not a field of speckles at one sample per pixel: its joints and grain average out as they would over
+// each edge's length over the texture's finest feature (featureSize(), in UV units), at most kMaxLookups. So a far-away
+// wooden floor is not a field of speckles at one sample per pixel: its joints and grain average out as they would over
 // the pixel. The grid is offset by `jitter` (in [0, 1)^2, the sample's pixel jitter), which keeps it unbiased.
 #pragma once
 #include <limits>
@@ -66,8 +66,8 @@ class CheckerTexture final : public Texture {
 
 class WoodTexture final : public Texture {
  public:
-  WoodTexture(const Color& light = {0.60f, 0.38f, 0.20f}, const Color& dark = {0.28f, 0.14f, 0.06f},
-              float rings = 8, float planks = 4)
+  WoodTexture(const Color& light = {0.60f, 0.38f, 0.20f}, const Color& dark = {0.28f, 0.14f, 0.06f}, float rings = 8,
+              float planks = 4)
       : light_(light), dark_(dark), rings_(rings), planks_(planks) {}
   Color eval(const Eigen::Vector2f& uv) const override { return shade(uv, 0, 0); }
   float featureSize() const override;  // the fibre's period across a board

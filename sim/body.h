@@ -13,11 +13,11 @@ namespace wobble {
 
 struct Body {
   std::string name;
-  std::string kind;  // "jelly", "cloth"
-  VecX x, v;         // initial positions and velocities, 3 per particle
-  VecX mass;         // per particle
+  std::string kind;          // "jelly", "cloth"
+  VecX x, v;                 // initial positions and velocities, 3 per particle
+  VecX mass;                 // per particle
   std::vector<bool> pinned;  // a pinned particle has inverse mass 0 and never moves
-  double drag = 0;   // viscous air drag coefficient: f = -drag v on each particle
+  double drag = 0;           // viscous air drag coefficient: f = -drag v on each particle
   Springs springs;
   SurfaceMesh surface;
 

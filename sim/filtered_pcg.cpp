@@ -12,8 +12,12 @@ void FilteredPcg::setUpPreconditioner(const PairBlockMatrix& a, const ParticleFi
   forEachChunk(static_cast<int>(diagonal_.size()), parallel, [&](int begin, int end) {
     for (int p = begin; p < end; ++p) {
       switch (s.kind(p)) {
-        case ParticleFilter::Free: inverse_[p] = Sym3::fromDense(diagonal_[p].dense().inverse()); break;
-        case ParticleFilter::Held: inverse_[p] = Sym3{}; break;
+        case ParticleFilter::Free:
+          inverse_[p] = Sym3::fromDense(diagonal_[p].dense().inverse());
+          break;
+        case ParticleFilter::Held:
+          inverse_[p] = Sym3{};
+          break;
         case ParticleFilter::Normal: {
           // The filtered block S D S + n n^T, inverted; S applied after it keeps only its tangential part.
           const Eigen::Matrix3d proj = Eigen::Matrix3d::Identity() - Sym3::outer(s.normal(p)).dense();

@@ -25,8 +25,10 @@ class ParticleFilter {
 
   Vec3 apply(int p, const Vec3& y) const {
     switch (kind_[p]) {
-      case Free: return y;
-      case Held: return Vec3::Zero();
+      case Free:
+        return y;
+      case Held:
+        return Vec3::Zero();
       default: {
         const Vec3 n = particle(normal_, p);
         return y - n.dot(y) * n;

@@ -1,5 +1,6 @@
 // Steps a MassSpringSystem with an integrator: fixed steps of dt, the last one before a requested time shortened
-// to land on it exactly (never an extra sliver step for round-off: a 3 s run at dt 1e-4 is 30000 steps); contact resolution at every step end; blow-up detection after every step.
+// to land on it exactly (never an extra sliver step for round-off: a 3 s run at dt 1e-4 is 30000 steps); contact
+// resolution at every step end; blow-up detection after every step.
 #pragma once
 #include <memory>
 #include <optional>
@@ -15,9 +16,9 @@ inline constexpr double kBlowUpSpeedSquared = 1e6;
 
 struct BlowUp {
   std::string integrator;
-  long step;      // 1-based index of the step that blew up
-  double time;    // simulated time at its end
-  int particle;   // first offending particle
+  long step;             // 1-based index of the step that blew up
+  double time;           // simulated time at its end
+  int particle;          // first offending particle
   double speed_squared;  // NaN when a value was NaN
   // One paragraph for the user: what happened, where, and what to try.
   std::string message(double dt) const;

@@ -7,9 +7,12 @@ namespace wobble {
 
 std::string_view toString(SpringType type) {
   switch (type) {
-    case SpringType::Structural: return "structural";
-    case SpringType::Shear: return "shear";
-    case SpringType::Bending: return "bending";
+    case SpringType::Structural:
+      return "structural";
+    case SpringType::Shear:
+      return "shear";
+    case SpringType::Bending:
+      return "bending";
   }
   return "?";
 }
@@ -24,7 +27,8 @@ void Springs::add(int pa, int pb, double rest_length, double stiffness, double d
 }
 
 void Springs::append(const Springs& o, int offset) {
-  for (std::size_t i = 0; i < o.size(); ++i) add(o.a[i] + offset, o.b[i] + offset, o.rest[i], o.ks[i], o.kd[i], o.type[i]);
+  for (std::size_t i = 0; i < o.size(); ++i)
+    add(o.a[i] + offset, o.b[i] + offset, o.rest[i], o.ks[i], o.kd[i], o.type[i]);
 }
 
 Springs Springs::permuted(const std::vector<int>& order) const {

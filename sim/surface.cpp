@@ -1,6 +1,5 @@
 #include "sim/surface.h"
 
-
 namespace wobble {
 
 SurfaceFrame evaluateSurface(const SurfaceMesh& mesh, const VecX& x, int first_particle) {

@@ -11,8 +11,8 @@
 namespace wobble {
 
 struct SurfaceMesh {
-  std::vector<int> particle;              // vertex -> particle index within its body
-  std::vector<Eigen::Vector2f> uv;        // per vertex, v up (OBJ convention)
+  std::vector<int> particle;                  // vertex -> particle index within its body
+  std::vector<Eigen::Vector2f> uv;            // per vertex, v up (OBJ convention)
   std::vector<std::array<int, 3>> triangles;  // counter-clockwise seen from outside
 
   std::size_t vertexCount() const { return particle.size(); }

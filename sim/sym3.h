@@ -12,9 +12,7 @@ struct Sym3 {
   static Sym3 outer(const Vec3& d) {  // d d^T
     return {d.x() * d.x(), d.y() * d.y(), d.z() * d.z(), d.x() * d.y(), d.x() * d.z(), d.y() * d.z()};
   }
-  static Sym3 fromDense(const Eigen::Matrix3d& m) {
-    return {m(0, 0), m(1, 1), m(2, 2), m(0, 1), m(0, 2), m(1, 2)};
-  }
+  static Sym3 fromDense(const Eigen::Matrix3d& m) { return {m(0, 0), m(1, 1), m(2, 2), m(0, 1), m(0, 2), m(1, 2)}; }
   Eigen::Matrix3d dense() const {
     Eigen::Matrix3d m;
     m << xx, xy, xz, xy, yy, yz, xz, yz, zz;

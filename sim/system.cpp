@@ -69,9 +69,8 @@ void MassSpringSystem::fillJacobian(double, const VecX& x, const VecX&, double c
   forEachChunk(n, threads, [&](int begin, int end) {
     for (int i = begin; i < end; ++i) a.self()[i] = Sym3::identity(cv * drag_[i]);
   });
-  schedule_.run(threads, [&](int begin, int end) {
-    fillSpringBlocks(springs_, begin, end, x, cx, cv, a.pair().data(), w, kw);
-  });
+  schedule_.run(threads,
+                [&](int begin, int end) { fillSpringBlocks(springs_, begin, end, x, cx, cv, a.pair().data(), w, kw); });
 }
 
 void MassSpringSystem::contactConstraints(double t, const VecX& x, const VecX& v,

@@ -13,8 +13,8 @@
 namespace wobble {
 
 struct BodySlot {
-  Body body;        // as built (initial state, surface), body-local indices
-  int first = 0;    // index of its first particle in the system
+  Body body;      // as built (initial state, surface), body-local indices
+  int first = 0;  // index of its first particle in the system
 };
 
 class MassSpringSystem final : public Dynamics, public ForceJacobian {
@@ -35,8 +35,8 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   void smoothForce(double t, const VecX& x, const VecX& v, VecX& f) const override;
   // Spring, damper and drag Jacobians (force_jacobian.h); gravity is constant, contact is left out.
   const PairSchedule& jacobianPattern() const override { return schedule_; }
-  void fillJacobian(double t, const VecX& x, const VecX& v, double cx, double cv, PairBlockMatrix& a,
-                    const VecX* w, VecX* kw) const override;
+  void fillJacobian(double t, const VecX& x, const VecX& v, double cx, double cv, PairBlockMatrix& a, const VecX* w,
+                    VecX* kw) const override;
   bool parallel() const override { return runsInParallel(particleCount()); }
   // The same Jacobians as triplets of dF/dx and dF/dv (duplicates summed): for analysis and tests.
   void addForceJacobians(double t, const VecX& x, const VecX& v, Triplets& dfdx, Triplets& dfdv) const;

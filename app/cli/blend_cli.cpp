@@ -11,14 +11,16 @@ namespace wobble {
 void addBlendCommand(CLI::App& app, int& status) {
   auto options = std::make_shared<BlendOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "blend", "Build OUT/<scene>.blend from a run's point caches with Blender (bodies with a Mesh Cache modifier, "
-               "colliders, camera, sun)");
+      "blend",
+      "Build OUT/<scene>.blend from a run's point caches with Blender (bodies with a Mesh Cache modifier, "
+      "colliders, camera, sun)");
   cmd->add_option("out", options->out, "A run's output folder (wobble run --pc2)")->required();
   cmd->add_option("--scene", options->scene, "Scene file (default: the one in OUT/run.json)");
-  cmd->footer("Example:\n  wobble run scenes/jelly_slope.toml --render none && wobble blend out/jelly_slope && "
-              "blender out/jelly_slope/jelly_slope.blend\n"
-              "Exit status: 0 done, 1 Blender missing or failed, 2 bad input (no run or no point cache in OUT), "
-              "130/143 interrupted.");
+  cmd->footer(
+      "Example:\n  wobble run scenes/jelly_slope.toml --render none && wobble blend out/jelly_slope && "
+      "blender out/jelly_slope/jelly_slope.blend\n"
+      "Exit status: 0 done, 1 Blender missing or failed, 2 bad input (no run or no point cache in OUT), "
+      "130/143 interrupted.");
   cmd->callback([options, &status] {
     installInterruptHandlers();
     const BlendReport r = makeBlend(*options);

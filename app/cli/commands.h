@@ -8,12 +8,12 @@
 namespace wobble {
 
 void addRunCommand(CLI::App& app, int& status);
-void addRenderCommand(CLI::App& app, int& status);  // render_cli.cpp
-void addDiffCommand(CLI::App& app, int& status);    // diff_cli.cpp: sets status to idiff's exit code
-void addBlendCommand(CLI::App& app, int& status);   // blend_cli.cpp
-void addCompareCommand(CLI::App& app, int& status); // compare_cli.cpp
-void addVideoCommand(CLI::App& app, int& status);   // video_cli.cpp
-void addFramesCommand(CLI::App& app, int& status);  // frames_cli.cpp
+void addRenderCommand(CLI::App& app, int& status);   // render_cli.cpp
+void addDiffCommand(CLI::App& app, int& status);     // diff_cli.cpp: sets status to idiff's exit code
+void addBlendCommand(CLI::App& app, int& status);    // blend_cli.cpp
+void addCompareCommand(CLI::App& app, int& status);  // compare_cli.cpp
+void addVideoCommand(CLI::App& app, int& status);    // video_cli.cpp
+void addFramesCommand(CLI::App& app, int& status);   // frames_cli.cpp
 // `study accuracy` and `study stability` (app/study_cli.cpp).
 void addStudyCommand(CLI::App& app, int& status);
 

@@ -14,9 +14,10 @@ int main(int argc, char** argv) {
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
   CLI::App app{"wobble: simulate mass-spring jellies and cloths from a scene file, export OBJ sequences, render them."};
   app.require_subcommand(1);
-  app.footer("Example:\n  wobble run scenes/jelly_slope.toml --integrator midpoint --set jelly.ks=2800\n"
-             "Exit status: 0 done, 1 error, 2 bad input (nothing written) or OUT held by another run, 3 the simulation "
-             "blew up, 130/143 interrupted (SIGINT/SIGTERM) after a complete frame.");
+  app.footer(
+      "Example:\n  wobble run scenes/jelly_slope.toml --integrator midpoint --set jelly.ks=2800\n"
+      "Exit status: 0 done, 1 error, 2 bad input (nothing written) or OUT held by another run, 3 the simulation "
+      "blew up, 130/143 interrupted (SIGINT/SIGTERM) after a complete frame.");
   int status = wobble::kExitOk;
   wobble::addRunCommand(app, status);
   wobble::addRenderCommand(app, status);

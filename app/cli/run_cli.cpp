@@ -20,17 +20,18 @@ std::string integratorList() {
 
 void printReport(const RunReport& r) {
   std::printf("wrote %d frame(s) %d..%d to %s (%ld steps, %.3f s simulated; simulate %.2f s, export %.2f s)\n",
-              r.frames_written, r.first_frame, r.first_frame + std::max(0, r.frames_written - 1), r.out.c_str(), r.steps,
-              r.simulated_time, r.seconds_simulate, r.seconds_export);
+              r.frames_written, r.first_frame, r.first_frame + std::max(0, r.frames_written - 1), r.out.c_str(),
+              r.steps, r.simulated_time, r.seconds_simulate, r.seconds_export);
   if (r.frames_rendered > 0 || r.frames_skipped > 0)
     std::printf("rendered %d frame(s) into %s (%.2f s)%s%s\n", r.frames_rendered, (r.out / "frames").c_str(),
                 r.seconds_render, r.video ? "; video " : "", r.video ? r.video->c_str() : "");
   if (r.frames_skipped > 0)
     std::printf("skipped %d frame(s) already rendered with the same settings\n", r.frames_skipped);
   if (const auto& e = r.error_estimate) {
-    std::printf("estimated error: max %.3g m, RMS %.3g m, at the last frame %.3g m over %d frame(s) (dt/2 rerun, "
-                "Richardson order %d; %.2f s)\n",
-                e->max_error, e->rms_error, e->final_max_error, e->frames, e->order, e->seconds);
+    std::printf(
+        "estimated error: max %.3g m, RMS %.3g m, at the last frame %.3g m over %d frame(s) (dt/2 rerun, "
+        "Richardson order %d; %.2f s)\n",
+        e->max_error, e->rms_error, e->final_max_error, e->frames, e->order, e->seconds);
     if (!e->failure.empty()) std::printf("  (partial: %s)\n", e->failure.c_str());
   }
 }

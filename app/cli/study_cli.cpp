@@ -25,7 +25,8 @@ void addAccuracy(CLI::App& study, int& status) {
                                        "Error against run time per integrator: OUT/accuracy.csv, .md (fitted orders) "
                                        "and .png (work-precision diagram, via gnuplot)");
   cmd->add_option("scene", o->scene, "Scene file (TOML)")->capture_default_str();
-  cmd->add_option("--integrators", o->integrators, "Integrators to study (default: all), e.g. --integrators rk4 midpoint")
+  cmd->add_option("--integrators", o->integrators,
+                  "Integrators to study (default: all), e.g. --integrators rk4 midpoint")
       ->delimiter(',');
   cmd->add_option("--out", o->out, "Output folder (default out/study-accuracy-<scene name>)");
   cmd->add_option("--duration", o->duration, "Simulated time T in seconds")->capture_default_str();
@@ -53,8 +54,8 @@ void addAccuracy(CLI::App& study, int& status) {
     if (r.has_colliders) std::printf("note: the scene has colliders, so the fitted orders are not meaningful\n");
     std::printf("%-17s %6s %14s %14s %6s\n", "integrator", "theory", "order (final)", "order (RMS)", "points");
     for (const AccuracyFit& f : r.fits)
-      std::printf("%-17s %6d %14s %14s %6d\n", f.integrator.c_str(), f.expected, io::formatNumber(f.order_final, 3).c_str(),
-                  io::formatNumber(f.order_rms, 3).c_str(), f.points);
+      std::printf("%-17s %6d %14s %14s %6d\n", f.integrator.c_str(), f.expected,
+                  io::formatNumber(f.order_final, 3).c_str(), io::formatNumber(f.order_rms, 3).c_str(), f.points);
     int left_out = 0;
     for (const AccuracyPoint& p : r.points) left_out += p.diverged;
     if (left_out) std::printf("%d point(s) diverged and were left out (listed in accuracy.md)\n", left_out);
@@ -76,8 +77,10 @@ void addStability(CLI::App& study, int& status) {
   cmd->add_option("--integrators", o->integrators, "Integrators to map (default: all but rk45)")->delimiter(',');
   cmd->add_option("--out", o->out, "Output folder (default out/study-stability-<scene name>)");
   cmd->add_option("--duration", o->duration, "Simulated seconds per cell")->capture_default_str();
-  cmd->add_option("--strain-bound", o->strain_bound, "Largest spring strain |l - rest|/rest of a body that kept "
-                                                     "its shape")->capture_default_str();
+  cmd->add_option("--strain-bound", o->strain_bound,
+                  "Largest spring strain |l - rest|/rest of a body that kept "
+                  "its shape")
+      ->capture_default_str();
   cmd->add_option("--ks-min", o->ks_min, "Smallest ks")->capture_default_str();
   cmd->add_option("--ks-max", o->ks_max, "Largest ks")->capture_default_str();
   cmd->add_option("--dt-min", o->dt_min, "Smallest dt")->capture_default_str();
@@ -91,8 +94,9 @@ void addStability(CLI::App& study, int& status) {
   cmd->add_option("--set", o->sets, "Override a scene key, KEY=VALUE (repeatable), as for `wobble run`");
   addMaxMemoryOption(*cmd);
   cmd->add_option("--gnuplot", o->gnuplot, "The gnuplot program (name on PATH or a path)")->capture_default_str();
-  cmd->footer("The users' cases (ks 5e4 at dt 1.2e-3, ks 1e5 at dt 1.4e-3) are always run in full.\nExample:\n"
-              "  wobble study stability --integrators explicit-euler,rk4 --duration 0.3");
+  cmd->footer(
+      "The users' cases (ks 5e4 at dt 1.2e-3, ks 1e5 at dt 1.4e-3) are always run in full.\nExample:\n"
+      "  wobble study stability --integrators explicit-euler,rk4 --duration 0.3");
   cmd->callback([o, fine, no_infer, &status] {
     if (*fine) {
       o->ks_points = 13;
@@ -122,12 +126,15 @@ void addRender(CLI::App& study, int& status) {
                                        "Image error against render time per renderer setting on one frame: "
                                        "OUT/render.csv, .md and .png (gnuplot), and every image in OUT/images");
   cmd->add_option("scene", o->scene, "Scene file (TOML)")->capture_default_str();
-  cmd->add_option("--frame", o->frame, "Frame to render (default: the scene's middle frame)")->check(CLI::PositiveNumber);
+  cmd->add_option("--frame", o->frame, "Frame to render (default: the scene's middle frame)")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--resolution", o->resolution, "Image size WxH")->capture_default_str();
   cmd->add_option("--reference-spp", o->reference_spp, "Samples per pixel of the reference (cached in OUT)")
       ->capture_default_str();
-  cmd->add_option("--max-spp", o->max_spp, "Largest sample count of the sweep (1, 2, 4, ... this); the adaptive "
-                                           "variants' cap")->capture_default_str();
+  cmd->add_option("--max-spp", o->max_spp,
+                  "Largest sample count of the sweep (1, 2, 4, ... this); the adaptive "
+                  "variants' cap")
+      ->capture_default_str();
   cmd->add_option("--variants", o->variants, "Variants to sweep (default: all), e.g. --variants sobol,sobol+denoise")
       ->delimiter(',');
   cmd->add_option("--thresholds", o->thresholds, "Noise thresholds of the adaptive variants")->delimiter(',');
@@ -150,9 +157,11 @@ void addRender(CLI::App& study, int& status) {
       std::printf("%-20s %-16s %9s %9s %9s\n", p.variant.c_str(),
                   p.threshold > 0 ? ("threshold " + io::formatNumber(p.threshold, 3)).c_str()
                                   : (std::to_string(p.spp) + " spp").c_str(),
-                  io::formatNumber(p.mean_spp, 4).c_str(), io::formatNumber(p.rmse, 3).c_str(), io::formatNumber(p.seconds, 3).c_str());
+                  io::formatNumber(p.mean_spp, 4).c_str(), io::formatNumber(p.rmse, 3).c_str(),
+                  io::formatNumber(p.seconds, 3).c_str());
     for (const RenderVariantFit& f : r.fits)
-      std::printf("slope of log RMSE against log spp, %-20s %s\n", f.variant.c_str(), io::formatNumber(f.slope, 3).c_str());
+      std::printf("slope of log RMSE against log spp, %-20s %s\n", f.variant.c_str(),
+                  io::formatNumber(f.slope, 3).c_str());
     std::printf("wrote %s/render.csv and render.md\n", out.c_str());
     if (!plot.ok) std::fprintf(stderr, "wobble: %s\n", plot.message.c_str());
     else std::printf("%s\n", plot.message.c_str());

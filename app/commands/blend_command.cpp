@@ -68,9 +68,13 @@ json colliders(const SceneFile& scene, const RunRecord& run) {
         [&](const auto& drawn) {
           using Drawn = std::decay_t<decltype(drawn)>;
           if constexpr (std::is_same_v<Drawn, DrawnQuad>)
-            entry.update({{"type", "plane"}, {"point", vec(drawn.center)}, {"normal", vec(drawn.normal)},
-                          {"size", drawn.size}, {"texture_scale", drawn.tile}});
-          if constexpr (std::is_same_v<Drawn, DrawnSphere>) entry.update({{"type", "sphere"}, {"radius", drawn.radius}});
+            entry.update({{"type", "plane"},
+                          {"point", vec(drawn.center)},
+                          {"normal", vec(drawn.normal)},
+                          {"size", drawn.size},
+                          {"texture_scale", drawn.tile}});
+          if constexpr (std::is_same_v<Drawn, DrawnSphere>)
+            entry.update({{"type", "sphere"}, {"radius", drawn.radius}});
           if constexpr (std::is_same_v<Drawn, DrawnBox>)
             entry.update({{"type", "box"}, {"size", {drawn.size.x(), drawn.size.y(), drawn.size.z()}}});
         },
@@ -78,7 +82,8 @@ json colliders(const SceneFile& scene, const RunRecord& run) {
     if (kind.moves) {
       json centers = json::array();
       for (int k = run.first_frame; k <= run.last_frame; ++k)
-        centers.push_back(vec(std::visit([](const auto& d) { return d.center; }, kind.drawn(*c, look, scene.frameTime(k)))));
+        centers.push_back(
+            vec(std::visit([](const auto& d) { return d.center; }, kind.drawn(*c, look, scene.frameTime(k)))));
       if (!centers.empty()) entry["centers"] = centers;
     }
     list.push_back(entry);
@@ -140,14 +145,14 @@ BlendReport makeBlend(const BlendOptions& options) {
                        " surface particles (has " + run.scene.string() + " changed since?)");
     const BodyLook& look = scene.render.bodies.at(name);
     const auto texture = scene.textures.find(name);
-    bodies.push_back({{"name", name},
-                      {"obj", fs::relative(obj, out).string()},
-                      {"pc2", fs::relative(pc2, out).string()},
-                      {"color", vec(look.color)},
-                      {"material", look.material},
-                      {"texture", texture == scene.textures.end()
-                                      ? ""
-                                      : fs::relative(mesh / texture->second.filename(), out).string()}});
+    bodies.push_back(
+        {{"name", name},
+         {"obj", fs::relative(obj, out).string()},
+         {"pc2", fs::relative(pc2, out).string()},
+         {"color", vec(look.color)},
+         {"material", look.material},
+         {"texture",
+          texture == scene.textures.end() ? "" : fs::relative(mesh / texture->second.filename(), out).string()}});
   }
 
   const auto blender = findProgram("blender");
@@ -159,17 +164,16 @@ BlendReport makeBlend(const BlendOptions& options) {
   const OutputFolder folder(out);  // not while a run writes there
   const json camera = {{"fov_deg", scene.render.camera.fov_deg}, {"views", cameraViews(scene, run, caches, orders)}};
   const RenderOptionsConfig& o = scene.render.options;
-  const json manifest = {
-      {"scene", scene.name},
-      {"out_dir", fs::absolute(out).lexically_normal().string()},
-      {"fps", scene.fps},
-      {"frame_start", run.first_frame},
-      {"frame_end", run.last_frame},
-      {"resolution", {scene.render.camera.resolution[0], scene.render.camera.resolution[1]}},
-      {"bodies", bodies},
-      {"colliders", colliders(scene, run)},
-      {"camera", camera},
-      {"sun", {{"direction", vec(o.sun_direction)}, {"angle_deg", 2 * o.sun_radius_deg}}}};
+  const json manifest = {{"scene", scene.name},
+                         {"out_dir", fs::absolute(out).lexically_normal().string()},
+                         {"fps", scene.fps},
+                         {"frame_start", run.first_frame},
+                         {"frame_end", run.last_frame},
+                         {"resolution", {scene.render.camera.resolution[0], scene.render.camera.resolution[1]}},
+                         {"bodies", bodies},
+                         {"colliders", colliders(scene, run)},
+                         {"camera", camera},
+                         {"sun", {{"direction", vec(o.sun_direction)}, {"angle_deg", 2 * o.sun_radius_deg}}}};
 
   BlendReport report;
   report.blend = out / (scene.name + ".blend");

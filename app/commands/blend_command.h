@@ -13,15 +13,15 @@
 namespace wobble {
 
 struct BlendOptions {
-  std::filesystem::path out;                     // a run's folder
-  std::optional<std::filesystem::path> scene;    // default: run.json's "scene"
+  std::filesystem::path out;                   // a run's folder
+  std::optional<std::filesystem::path> scene;  // default: run.json's "scene"
 };
 
 struct BlendReport {
   std::filesystem::path blend;
   int first_frame = 0, last_frame = 0;
   int bodies = 0, colliders = 0;
-  int camera_keys = 0;  // keyframes of a follow camera (0: a fixed camera)
+  int camera_keys = 0;       // keyframes of a follow camera (0: a fixed camera)
   bool interrupted = false;  // SIGINT/SIGTERM: Blender was ended, no .blend (interrupt.h)
 };
 

@@ -44,8 +44,8 @@ RenderCommandReport renderSequence(const RenderCommandOptions& options) {
     int k = 1;
     while (k <= scene.frameCount() && !fs::exists(objPath(options.mesh_dir, lead, k))) ++k;
     if (k > scene.frameCount())
-      throw InputError(options.mesh_dir.string() + ": no " + frameFileName(lead.name, 1, "obj") +
-                       " ... for scene " + scene.name + "'s body '" + lead.name + "'");
+      throw InputError(options.mesh_dir.string() + ": no " + frameFileName(lead.name, 1, "obj") + " ... for scene " +
+                       scene.name + "'s body '" + lead.name + "'");
     report.first_frame = k;
     while (k + 1 <= scene.frameCount() && fs::exists(objPath(options.mesh_dir, lead, k + 1))) ++k;
     report.last_frame = k;

@@ -17,11 +17,11 @@ namespace wobble {
 struct RenderCommandOptions {
   std::filesystem::path mesh_dir;
   std::filesystem::path scene;
-  std::optional<std::string> frames;          // "A:B" or "A"; default: every frame MESH_DIR holds
-  std::optional<std::filesystem::path> out;   // default: MESH_DIR's parent
-  std::vector<std::string> sets;              // KEY=VALUE scene overrides, as for `wobble run`
+  std::optional<std::string> frames;         // "A:B" or "A"; default: every frame MESH_DIR holds
+  std::optional<std::filesystem::path> out;  // default: MESH_DIR's parent
+  std::vector<std::string> sets;             // KEY=VALUE scene overrides, as for `wobble run`
   RenderFlags render;
-  bool skip_existing = false;                 // keep frames already rendered with the same settings (frame_output.h)
+  bool skip_existing = false;  // keep frames already rendered with the same settings (frame_output.h)
 };
 
 struct RenderCommandReport {

@@ -43,8 +43,9 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
   j["frames"] = {{"first", r.first_frame}, {"last", r.last_frame}, {"written", r.frames_written}};
   j["steps"] = r.steps;
   j["simulated_time"] = r.simulated_time;
-  j["wall_time_seconds"] = {
-      {"simulate", r.seconds_simulate}, {"export", r.seconds_export}, {"render", r.seconds_render}};
+  j["wall_time_seconds"] = {{"simulate", r.seconds_simulate},
+                            {"export", r.seconds_export},
+                            {"render", r.seconds_render}};
   j["frames_rendered"] = r.frames_rendered;
   j["frames_skipped"] = r.frames_skipped;  // --skip-existing: already rendered with the same settings
   j["energy"] = {{"start", r.energy_start}, {"end", r.energy_end}};
@@ -52,21 +53,25 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
   j["particles"] = sim.system().particleCount();
   j["springs"] = sim.system().springs().size();
   if (const IntegratorStats& s = sim.integrator().stats(); s.jacobians > 0)  // backward-euler's linear solves
-    j["linear_solver"] = {
-        {"method", "filtered PCG (Baraff-Witkin), 3x3 block-Jacobi; stops at |S(b - A dv)| <= cg_tolerance |S(b - A z)|"},
-        {"cg_tolerance", scene.integrator_options.cg_tolerance},
-        {"cg_max_iterations", scene.integrator_options.cg_max_iterations},
-        {"cg_iterations", s.cg_iterations},
-        {"cg_iterations_per_step", s.steps ? double(s.cg_iterations) / double(s.steps) : 0.0},
-        {"max_relative_residual", s.max_cg_residual}};
+    j["linear_solver"] =
+        {{"method",
+          "filtered PCG (Baraff-Witkin), 3x3 block-Jacobi; stops at |S(b - A dv)| <= cg_tolerance |S(b - A z)|"},
+         {"cg_tolerance", scene.integrator_options.cg_tolerance},
+         {"cg_max_iterations", scene.integrator_options.cg_max_iterations},
+         {"cg_iterations", s.cg_iterations},
+         {"cg_iterations_per_step", s.steps ? double(s.cg_iterations) / double(s.steps) : 0.0},
+         {"max_relative_residual", s.max_cg_residual}};
   j["interrupted"] = r.interrupted;
   j["blew_up"] = r.blow_up.has_value();
   if (r.blow_up)
-    j["blow_up"] = {{"step", r.blow_up->step}, {"time", r.blow_up->time}, {"particle", r.blow_up->particle},
+    j["blow_up"] = {{"step", r.blow_up->step},
+                    {"time", r.blow_up->time},
+                    {"particle", r.blow_up->particle},
                     {"message", r.blow_up_message}};
   if (const auto& e = r.error_estimate) {
-    j["error_estimate"] = {{"method", "step halving: the same run at dt/2 (rk45: rtol, atol / 32), position "
-                                      "difference at each frame times 2^p/(2^p - 1) (Richardson)"},
+    j["error_estimate"] = {{"method",
+                            "step halving: the same run at dt/2 (rk45: rtol, atol / 32), position "
+                            "difference at each frame times 2^p/(2^p - 1) (Richardson)"},
                            {"order", e->order},
                            {"max_m", e->max_error},
                            {"rms_m", e->rms_error},
@@ -178,10 +183,8 @@ RunReport runScene(const RunOptions& options) {
     report.seconds_export += secondsSince(start);
     if (pictures) {
       start = Clock::now();
-      if (surfaces.empty())
-        pictures->observe(frame, sim.x());
-      else
-        pictures->frame(frame, surfaces, true);
+      if (surfaces.empty()) pictures->observe(frame, sim.x());
+      else pictures->frame(frame, surfaces, true);
       report.seconds_render += secondsSince(start);
     }
     if (progress) progress->update(frame);

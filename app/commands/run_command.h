@@ -17,13 +17,13 @@ struct RunOptions {
   std::filesystem::path scene = "scenes/jelly_slope.toml";
   std::optional<std::string> integrator;
   std::optional<double> dt;
-  std::optional<std::string> frames;     // "A:B", 1-based and inclusive, or "A"
+  std::optional<std::string> frames;         // "A:B", 1-based and inclusive, or "A"
   std::optional<std::filesystem::path> out;  // default out/<scene name>
-  std::vector<std::string> sets;         // KEY=VALUE overrides
-  RenderFlags render;                    // --render, --spp, --resolution, --video (applied after --set)
-  bool estimate_error = false;           // rerun at dt/2 in lock step and report the error (error_estimate.h)
-  bool pc2 = false;                      // write the PC2 point cache (overrides output.pc2)
-  bool progress = true;                  // the progress line on a terminal (`wobble compare` shows its own)
+  std::vector<std::string> sets;             // KEY=VALUE overrides
+  RenderFlags render;                        // --render, --spp, --resolution, --video (applied after --set)
+  bool estimate_error = false;               // rerun at dt/2 in lock step and report the error (error_estimate.h)
+  bool pc2 = false;                          // write the PC2 point cache (overrides output.pc2)
+  bool progress = true;                      // the progress line on a terminal (`wobble compare` shows its own)
   // Called after the simulation reaches each frame's time, from frame 1 (also before the --frames range), with every
   // particle's position; not for the frame a blow-up stopped. `wobble compare` follows strain and camera with it.
   std::function<void(int frame, const VecX& x)> on_frame;

@@ -27,7 +27,8 @@ std::optional<fs::path> findProgram(const std::string& program) {
     return fs::is_regular_file(p, ec) && ::access(p.c_str(), X_OK) == 0;
   };
   if (program.empty()) return std::nullopt;
-  if (program.find('/') != std::string::npos) return runnable(program) ? std::optional(fs::path(program)) : std::nullopt;
+  if (program.find('/') != std::string::npos)
+    return runnable(program) ? std::optional(fs::path(program)) : std::nullopt;
   const char* path = std::getenv("PATH");
   std::stringstream dirs(path ? path : "");
   for (std::string dir; std::getline(dirs, dir, ':');)
@@ -59,8 +60,7 @@ int runProgram(const std::vector<std::string>& args, const std::optional<fs::pat
   pid_t pid = 0;
   const int error = posix_spawn(&pid, argv.pointers[0], &actions, nullptr, argv.pointers.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
-  if (error != 0)
-    throw std::runtime_error("cannot start " + args[0] + ": " + std::generic_category().message(error));
+  if (error != 0) throw std::runtime_error("cannot start " + args[0] + ": " + std::generic_category().message(error));
   return waitProgram(pid, args[0]);
 }
 

@@ -3,8 +3,8 @@
 #include <limits>
 #include <stdexcept>
 
-#include <assimp/Importer.hpp>
 #include <assimp/scene.h>
+#include <assimp/Importer.hpp>
 
 #include "app/output/frame_name.h"
 

@@ -1,8 +1,8 @@
 #include "app/output/pc2.h"
 
-#include <limits>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 
 namespace wobble {

@@ -1,7 +1,7 @@
 #include "app/output/progress.h"
 
-#include <cstdio>
 #include <unistd.h>
+#include <cstdio>
 
 namespace wobble {
 

@@ -47,8 +47,14 @@ std::string rateOf(double fps) {
 // video on any machine (measured: one CPU or two, the same bytes; by default, not). 4 is a fixed choice, not a tuned
 // one: encoding is about 5% of a rendered run.
 std::vector<std::string> encoderArgs(double fps, int frames, const fs::path& temp) {
-  std::vector<std::string> args = {"-vf", "crop=trunc(iw/2)*2:trunc(ih/2)*2", "-c:v", "libx264", "-preset", "veryfast",
-                                   "-crf", "20", "-pix_fmt", "yuv420p", "-r", rateOf(fps), "-f", "mp4", temp.string()};
+  std::vector<std::string> args = {"-vf",        "crop=trunc(iw/2)*2:trunc(ih/2)*2",
+                                   "-c:v",       "libx264",
+                                   "-preset",    "veryfast",
+                                   "-crf",       "20",
+                                   "-pix_fmt",   "yuv420p",
+                                   "-r",         rateOf(fps),
+                                   "-f",         "mp4",
+                                   temp.string()};
   args.insert(args.begin(), {"-threads", std::to_string(kEncoderThreads)});
   if (frames > 0) args.insert(args.begin(), {"-frames:v", std::to_string(frames)});
   return args;
@@ -77,9 +83,17 @@ std::optional<fs::path> encodeVideo(const fs::path& frames_dir, const std::strin
   const auto ffmpeg = findFfmpeg(frames_dir);
   if (!ffmpeg) return std::nullopt;
   const fs::path temp = io::temporarySibling(mp4, "partial");
-  std::vector<std::string> args = {ffmpeg->string(), "-nostdin", "-y", "-loglevel", "error",
-                                   "-framerate", rateOf(fps), "-start_number", std::to_string(first),
-                                   "-i", (frames_dir / (name + "_%04d.png")).string()};
+  std::vector<std::string> args = {ffmpeg->string(),
+                                   "-nostdin",
+                                   "-y",
+                                   "-loglevel",
+                                   "error",
+                                   "-framerate",
+                                   rateOf(fps),
+                                   "-start_number",
+                                   std::to_string(first),
+                                   "-i",
+                                   (frames_dir / (name + "_%04d.png")).string()};
   for (std::string& a : encoderArgs(fps, last - first + 1, temp)) args.push_back(std::move(a));
   return settle(runProgram(args), temp, mp4);
 }
@@ -89,10 +103,21 @@ std::unique_ptr<VideoStream> VideoStream::open(const fs::path& mp4, int width, i
   if (!ffmpeg) return nullptr;
   std::signal(SIGPIPE, SIG_IGN);  // a write to an ffmpeg that has stopped reads as EPIPE, not a silent death
   const fs::path temp = io::temporarySibling(mp4, "partial");
-  std::vector<std::string> args = {ffmpeg->string(), "-nostdin", "-y", "-loglevel", "error",
-                                   "-f", "rawvideo", "-pix_fmt", "rgb24",
-                                   "-video_size", std::to_string(width) + "x" + std::to_string(height),
-                                   "-framerate", rateOf(fps), "-i", "pipe:0"};
+  std::vector<std::string> args = {ffmpeg->string(),
+                                   "-nostdin",
+                                   "-y",
+                                   "-loglevel",
+                                   "error",
+                                   "-f",
+                                   "rawvideo",
+                                   "-pix_fmt",
+                                   "rgb24",
+                                   "-video_size",
+                                   std::to_string(width) + "x" + std::to_string(height),
+                                   "-framerate",
+                                   rateOf(fps),
+                                   "-i",
+                                   "pipe:0"};
   for (std::string& a : encoderArgs(fps, 0, temp)) args.push_back(std::move(a));
   const PipedProgram child = startPiped(args);
   return std::unique_ptr<VideoStream>(new VideoStream(mp4, temp, child.pid, child.input, width, height));

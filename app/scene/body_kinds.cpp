@@ -5,8 +5,8 @@
 #include <stdexcept>
 
 #include "app/scene/kind_table.h"
-#include "app/scene/scene_file.h"
 #include "app/scene/scene_budget.h"
+#include "app/scene/scene_file.h"
 #include "app/scene/table_reader.h"
 #include "sim/bodies/cloth.h"
 #include "sim/bodies/jelly.h"
@@ -48,8 +48,8 @@ void readPins(TableReader& r, ClothParams& p) {
   for (const toml::node& item : *list) {
     if (const auto* index = item.as_integer()) {
       if (index->get() < 0 || index->get() >= p.nx * p.ny)
-        r.fail("pinned", "index " + std::to_string(index->get()) + " must be in [0, " + std::to_string(p.nx * p.ny - 1) +
-                             "] (i + nx * j)");
+        r.fail("pinned", "index " + std::to_string(index->get()) + " must be in [0, " +
+                             std::to_string(p.nx * p.ny - 1) + "] (i + nx * j)");
       p.pinned.push_back(static_cast<int>(index->get()));
     } else if (const auto* set = item.as_string()) {
       try {

@@ -19,7 +19,7 @@ namespace wobble {
 class TableReader;
 
 // What a collider looks like at a time, in the scene's units (double); render_scene.cpp makes the renderer's shapes.
-struct DrawnQuad {    // a finite square: a plane's `size` around its `point`
+struct DrawnQuad {  // a finite square: a plane's `size` around its `point`
   Vec3 center, normal;
   double size, tile;  // side; texture tile (texture_scale)
 };
@@ -27,16 +27,16 @@ struct DrawnSphere {
   Vec3 center;
   double radius;
 };
-struct DrawnBox {     // axis-aligned
+struct DrawnBox {  // axis-aligned
   Vec3 center, size;
 };
 using DrawnShape = std::variant<DrawnQuad, DrawnSphere, DrawnBox>;
 
 struct ColliderKind {
-  std::string_view type;      // the scene's `type` value
-  Vec3 color;                 // default look: `color` and `texture`
+  std::string_view type;  // the scene's `type` value
+  Vec3 color;             // default look: `color` and `texture`
   std::string_view texture;
-  bool moves;                 // drawn again at every frame
+  bool moves;  // drawn again at every frame
   // Reads the kind's own keys (the contact keys are read already); may set look keys it owns (a plane's `size`).
   std::unique_ptr<Collider> (*read)(TableReader& r, const std::string& name, const ContactParams& contact,
                                     ColliderLook& look);

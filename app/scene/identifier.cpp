@@ -15,8 +15,8 @@ bool identifierChar(char c) {
 }  // namespace
 
 std::string identifierProblem(std::string_view name) {
-  const std::string rule = "a name must be 1 to " + std::to_string(kMaxNameLength) +
-                           " letters, digits, '_' or '-' (it names output files)";
+  const std::string rule =
+      "a name must be 1 to " + std::to_string(kMaxNameLength) + " letters, digits, '_' or '-' (it names output files)";
   if (name.empty()) return "empty; " + rule;
   if (name.size() > kMaxNameLength) return std::to_string(name.size()) + " characters long; " + rule;
   if (!std::all_of(name.begin(), name.end(), identifierChar)) return "not an identifier; " + rule;

@@ -32,7 +32,8 @@ void applyOverride(toml::table& root, const std::string& assignment) {
   const auto eq = assignment.find('=');
   const std::string key = eq == std::string::npos ? "" : assignment.substr(0, eq);
   std::vector<std::string> path = split(key);
-  if (eq == std::string::npos || path.empty() || std::any_of(path.begin(), path.end(), [](auto& p) { return p.empty(); }))
+  if (eq == std::string::npos || path.empty() ||
+      std::any_of(path.begin(), path.end(), [](auto& p) { return p.empty(); }))
     throw InputError("--set " + assignment + ": expected KEY=VALUE with a dotted key, e.g. --set bodies.jelly.ks=2800");
 
   // Shorthand: a body or collider name standing first.

@@ -116,7 +116,8 @@ void readRenderTables(TableReader& root, SceneFile& scene) {
   const QualityPreset& preset = qualityPreset(o.quality);
   o.samples = r.integer("samples", preset.samples, Range{1, 65536});
   o.min_samples = r.integer("min_samples", std::min(preset.min_samples, o.samples), Range{1, 65536});
-  if (o.min_samples > o.samples) r.fail("min_samples", "must be at most render.samples (" + std::to_string(o.samples) + ")");
+  if (o.min_samples > o.samples)
+    r.fail("min_samples", "must be at most render.samples (" + std::to_string(o.samples) + ")");
   o.noise_threshold = r.number("noise_threshold", preset.noise_threshold, Range{0, 1});
   o.denoise = r.boolean("denoise", preset.denoise);
   o.sampler = r.string("sampler", o.sampler, {"sobol", "independent"});

@@ -24,17 +24,17 @@ struct CameraConfig {
   Vec3 up = Vec3::UnitY();
   double fov_deg = 40;  // vertical
   std::array<int, 2> resolution{1280, 720};
-  std::string follow;            // body name, or empty: a fixed camera
-  double follow_smoothing = 0.5; // s: time constant of the exponential smoothing of the followed centroid
+  std::string follow;             // body name, or empty: a fixed camera
+  double follow_smoothing = 0.5;  // s: time constant of the exponential smoothing of the followed centroid
 };
 
 // A quality preset: the sampling and denoising settings a `render.quality` name stands for. Each can still be set
 // on its own (an explicit key or flag wins over the preset). Chosen from `wobble study render` (README).
 struct QualityPreset {
   const char* name;
-  int samples;              // the most per pixel
-  int min_samples;          // adaptive sampling's first pass
-  double noise_threshold;   // 0: no adaptive sampling
+  int samples;             // the most per pixel
+  int min_samples;         // adaptive sampling's first pass
+  double noise_threshold;  // 0: no adaptive sampling
   bool denoise;
   double resolution_scale;  // of camera.resolution (preview: half each way, a quarter of the pixels)
   const char* summary;      // for --help and the docs
@@ -53,7 +53,7 @@ struct RenderOptionsConfig {
   bool sky_sampling = false;
   bool russian_roulette = false;  // from the second bounce on, by throughput (render/path_tracer.h)
   int bounces = 2;
-  double exposure = -0.5;  // stops: the sun and sky on a light surface need a little less than 0
+  double exposure = -0.5;                // stops: the sun and sky on a light surface need a little less than 0
   Vec3 sun_direction{-0.35, 1.0, 0.55};  // towards the sun
   double sun_radius_deg = 2.0;           // apparent radius: the softness of shadows
 };

@@ -9,8 +9,8 @@
 namespace wobble {
 
 struct RenderFlags {
-  std::optional<std::string> render;      // "png", "exr", "png,exr" or "none"
-  std::optional<std::string> quality;     // render.quality
+  std::optional<std::string> render;   // "png", "exr", "png,exr" or "none"
+  std::optional<std::string> quality;  // render.quality
   std::optional<int> spp;
   std::optional<std::string> denoise;     // "on" or "off"
   std::optional<std::string> resolution;  // "WxH"

@@ -32,8 +32,8 @@ void readSimulation(TableReader r, SceneFile& scene, Vec3& gravity) {
   if (frames > double(kMaxFrames))
     r.fail(r.node("duration") || !r.node("fps") ? "duration" : "fps",
            "duration * fps = " + io::formatNumber(frames, 3) + " frames (duration " + io::formatNumber(scene.duration) +
-               " s at " + io::formatNumber(scene.fps) + " fps), above the cap of " +
-               std::to_string(kMaxFrames) + " frames per run");
+               " s at " + io::formatNumber(scene.fps) + " fps), above the cap of " + std::to_string(kMaxFrames) +
+               " frames per run");
   if (1 / (scene.fps * scene.dt) > kMaxStepsPerFrame)
     r.fail("dt", "1 / (fps dt) = " + io::formatNumber(1 / (scene.fps * scene.dt), 3) +
                      " steps per frame, above the cap of " + std::to_string(std::llround(kMaxStepsPerFrame)) +
@@ -64,11 +64,13 @@ void readBody(TableReader r, const std::string& name, SceneFile& scene) {
     const auto header = render::readImageHeader(path, reason);
     if (!header) r.fail("texture", "cannot read the image " + path.string() + " (" + reason + ")");
     if (header->width > kMaxTextureSide || header->height > kMaxTextureSide)
-      r.fail("texture", path.string() + " is " + std::to_string(header->width) + " x " + std::to_string(header->height) +
-                            " pixels; a texture may have at most " + std::to_string(kMaxTextureSide) + " on each side");
+      r.fail("texture", path.string() + " is " + std::to_string(header->width) + " x " +
+                            std::to_string(header->height) + " pixels; a texture may have at most " +
+                            std::to_string(kMaxTextureSide) + " on each side");
     SceneEstimate e = scene.estimate;
     e.texture_pixels += std::int64_t(header->width) * header->height;
-    if (e.bytes(integratorTraits(scene.integrator).implicit) > scene.memory_budget) failOverBudget(r, scene, "texture", e, "");
+    if (e.bytes(integratorTraits(scene.integrator).implicit) > scene.memory_budget)
+      failOverBudget(r, scene, "texture", e, "");
     scene.estimate = e;
     scene.textures[name] = path;
   }
@@ -158,8 +160,8 @@ SceneFile loadScene(const fs::path& file, const std::vector<std::string>& overri
   scene.file = file;
   scene.name = file.stem().string();
   if (const std::string problem = identifierProblem(scene.name); !problem.empty())
-    throw InputError(file.string() + ": the scene name " + quotedName(scene.name) + " (the file name without .toml) is " +
-                     problem);
+    throw InputError(file.string() + ": the scene name " + quotedName(scene.name) +
+                     " (the file name without .toml) is " + problem);
   scene.memory_budget = max_memory > 0 ? max_memory : memoryBudget();
   toml::table table = parseFile(file);
   for (const std::string& o : overrides) {

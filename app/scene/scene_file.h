@@ -33,7 +33,7 @@ struct SceneFile {
   // The same without the keys that choose which files are written, not what a frame shows (render.png, .exr, .video,
   // output.*, simulation.duration): what a frame's picture key hashes (app/view/picture_key.h).
   std::string picture_text;
-  RenderConfig render;  // camera, render settings and the look of bodies and colliders (render_config.h)
+  RenderConfig render;              // camera, render settings and the look of bodies and colliders (render_config.h)
   std::uint64_t memory_budget = 0;  // bytes the scene's estimate may reach (scene_limits.h)
   SceneEstimate estimate;           // summed as bodies and textures are read, before each is built or loaded
 
@@ -47,6 +47,6 @@ struct SceneFile {
 // overrides: "dotted.key=value" (value in TOML syntax; a bare word is taken as a string). A first component that
 // names a body or collider may omit "bodies." / "colliders.": "jelly.ks=2800". Throws InputError.
 SceneFile loadScene(const std::filesystem::path& file, const std::vector<std::string>& overrides = {},
-                std::uint64_t max_memory = 0);
+                    std::uint64_t max_memory = 0);
 
 }  // namespace wobble

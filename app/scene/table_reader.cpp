@@ -20,10 +20,8 @@ std::string format(double x) {
 std::string show(const toml::node& node) {
   std::ostringstream out;
   node.visit([&](const auto& value) {
-    if constexpr (toml::is_string<decltype(value)>)
-      out << '"' << value.get() << '"';
-    else
-      out << value;
+    if constexpr (toml::is_string<decltype(value)>) out << '"' << value.get() << '"';
+    else out << value;
   });
   return out.str();
 }

@@ -4,10 +4,10 @@
 #include <cmath>
 #include <sstream>
 
-
 namespace wobble {
 
-ErrorEstimator::ErrorEstimator(SceneFile scene, const std::string& integrator, const IntegratorOptions& options, double dt)
+ErrorEstimator::ErrorEstimator(SceneFile scene, const std::string& integrator, const IntegratorOptions& options,
+                               double dt)
     : scene_(std::move(scene)) {
   IntegratorOptions half = options;
   const IntegratorTraits& traits = integratorTraits(integrator);

@@ -16,12 +16,12 @@
 namespace wobble {
 
 struct ErrorEstimate {
-  int order = 0;           // p used for the Richardson factor
-  double factor = 0;       // 2^p / (2^p - 1)
+  int order = 0;      // p used for the Richardson factor
+  double factor = 0;  // 2^p / (2^p - 1)
   double max_error = 0, rms_error = 0, final_max_error = 0;
-  int frames = 0;          // frames compared
-  double seconds = 0;      // wall time of the half-step run
-  std::string failure;     // non-empty when the half-step run blew up or failed: the estimate then covers fewer frames
+  int frames = 0;       // frames compared
+  double seconds = 0;   // wall time of the half-step run
+  std::string failure;  // non-empty when the half-step run blew up or failed: the estimate then covers fewer frames
 };
 
 class ErrorEstimator {

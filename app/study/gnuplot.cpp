@@ -21,7 +21,8 @@ PlotResult runGnuplot(const fs::path& script, const fs::path& output, const std:
   if (!found)
     return {false, "no plot " + output.filename().string() + ": the program '" + program +
                        "' was not found (install gnuplot, e.g. apt-get install gnuplot-nox, or name it with "
-                       "--gnuplot); the CSV and Markdown are written. Plot later with: gnuplot " + script.string()};
+                       "--gnuplot); the CSV and Markdown are written. Plot later with: gnuplot " +
+                       script.string()};
   const fs::path temp = io::temporarySibling(output);
   const fs::path log = script.string() + ".log";
   const std::string set_out = "out=" + gnuplotQuote(temp.string());

@@ -95,9 +95,11 @@ void validate(const AccuracyOptions& o) {
         "--samples " + std::to_string(o.samples) + ": must be a power of 2 in [1, 4096]");
   check(o.k_min >= 0 && o.k_max <= 24 && o.k_min <= o.k_max,
         "--kmin " + std::to_string(o.k_min) + " --kmax " + std::to_string(o.k_max) + ": need 0 <= kmin <= kmax <= 24");
-  check((1L << o.k_min) >= o.samples, "--kmin " + std::to_string(o.k_min) + ": the largest step T/2^kmin must divide the "
-                                      "sample interval T/" + std::to_string(o.samples) + " (use --kmin >= " +
-                                      std::to_string(int(std::log2(o.samples))) + " or fewer --samples)");
+  check((1L << o.k_min) >= o.samples, "--kmin " + std::to_string(o.k_min) +
+                                          ": the largest step T/2^kmin must divide the "
+                                          "sample interval T/" +
+                                          std::to_string(o.samples) + " (use --kmin >= " +
+                                          std::to_string(int(std::log2(o.samples))) + " or fewer --samples)");
   check(o.tol_min >= 1 && o.tol_max <= 13 && o.tol_min <= o.tol_max,
         "--tol-min " + std::to_string(o.tol_min) + " --tol-max " + std::to_string(o.tol_max) +
             ": need 1 <= tol-min <= tol-max <= 13 (rtol = 10^-j)");
@@ -111,7 +113,8 @@ void validate(const AccuracyOptions& o) {
 std::vector<AccuracyFit> fitAccuracy(const std::vector<AccuracyPoint>& points) {
   std::vector<AccuracyFit> fits;
   for (const AccuracyPoint& p : points) {
-    auto it = std::find_if(fits.begin(), fits.end(), [&](const AccuracyFit& f) { return f.integrator == p.integrator; });
+    auto it =
+        std::find_if(fits.begin(), fits.end(), [&](const AccuracyFit& f) { return f.integrator == p.integrator; });
     if (it == fits.end()) {
       fits.push_back({p.integrator, convergenceOrder(p.integrator)});
       it = fits.end() - 1;
@@ -155,7 +158,8 @@ AccuracyResult runAccuracyStudy(const AccuracyOptions& o) {
 
   int total_runs = 2;
   for (const std::string& name : integrators)
-    total_runs += (integratorTraits(name).adaptive ? o.tol_max - o.tol_min + 1 : o.k_max - o.k_min + 1) * (1 + o.repeats);
+    total_runs +=
+        (integratorTraits(name).adaptive ? o.tol_max - o.tol_min + 1 : o.k_max - o.k_min + 1) * (1 + o.repeats);
   Progress progress("accuracy " + scene.name, total_runs, "run");
   int done = 0;
   const auto tick = [&] {
@@ -165,7 +169,8 @@ AccuracyResult runAccuracyStudy(const AccuracyOptions& o) {
   // The reference and a looser twin whose difference from it bounds the reference's own error.
   // rk45's largest step: a sample interval on a smooth scene; with colliders the scene's dt, since collisions are
   // resolved only between steps.
-  const double rk45_largest = result.has_colliders ? std::min(scene.dt, o.duration / o.samples) : o.duration / o.samples;
+  const double rk45_largest =
+      result.has_colliders ? std::min(scene.dt, o.duration / o.samples) : o.duration / o.samples;
   const bool use_rk45 = o.reference == "rk45" || (o.reference == "auto" && !result.has_colliders);
   RunSpec ref{use_rk45 ? "rk45" : "rk4", use_rk45 ? rk45_largest : finest / 16, scene.integrator_options};
   RunSpec twin = ref;
@@ -177,7 +182,8 @@ AccuracyResult runAccuracyStudy(const AccuracyOptions& o) {
                        " s; its error estimated against rtol = atol = 1e-11";
   } else {
     twin.dt = 2 * ref.dt;
-    result.reference = "rk4 at dt = " + dtLabel(o.duration, ref.dt) + " (finest swept dt / 16); its error estimated "
+    result.reference = "rk4 at dt = " + dtLabel(o.duration, ref.dt) +
+                       " (finest swept dt / 16); its error estimated "
                        "against rk4 at twice that step";
   }
   const Trajectory reference = simulate(system, ref, times);
@@ -222,7 +228,8 @@ AccuracyResult runAccuracyStudy(const AccuracyOptions& o) {
       }
       p.seconds = warm.seconds;
       for (int r = 0; r < o.repeats; ++r) {
-        p.seconds = r == 0 ? simulate(system, spec, times).seconds : std::min(p.seconds, simulate(system, spec, times).seconds);
+        p.seconds =
+            r == 0 ? simulate(system, spec, times).seconds : std::min(p.seconds, simulate(system, spec, times).seconds);
         tick();
       }
       p.in_fit = !p.diverged && !(p.final_error <= floor);  // a NaN floor (twin failed) excludes nothing
@@ -238,13 +245,15 @@ std::string accuracyMarkdown(const AccuracyResult& r) {
   std::ostringstream md;
   md << "# Accuracy study: " << r.scene_name << "\n\n";
   md << "Scene `" << r.scene_file.string() << "`, simulated time T = " << io::formatNumber(r.duration) << " s, "
-     << r.moving_particles << " moving particles of " << r.particles << ". Machine: " << machineDescription() << ".\n\n";
+     << r.moving_particles << " moving particles of " << r.particles << ". Machine: " << machineDescription()
+     << ".\n\n";
   if (r.has_colliders)
     md << "**This scene has colliders: the fitted orders below are not meaningful.** Contact forces switch on and off "
           "and collisions are resolved at step ends (static friction even depends on the step size), so the "
           "trajectory is not a smooth function of time and no method keeps its textbook order; expect about 1 or "
           "less for all of them. Read the errors and run times, not the slopes. rk45 may take at most "
-       << kContactSubsteps << " substeps per scene step here (it crawls through contact switches at tight "
+       << kContactSubsteps
+       << " substeps per scene step here (it crawls through contact switches at tight "
           "tolerances); runs that need more are left out.\n\n";
   else
     md << "The scene has no colliders: the motion is smooth, so the fitted orders should approach the theoretical "
@@ -261,7 +270,8 @@ std::string accuracyMarkdown(const AccuracyResult& r) {
   md << "## Fitted convergence order (slope of log error against log dt)\n\n";
   io::TextTable fits{{"integrator", "theory", "fitted (final error)", "fitted (RMS error)", "points in fit"}};
   for (const AccuracyFit& f : r.fits)
-    fits.add({f.integrator, std::to_string(f.expected), std::isnan(f.order_final) ? "n/a" : io::formatNumber(f.order_final, 3),
+    fits.add({f.integrator, std::to_string(f.expected),
+              std::isnan(f.order_final) ? "n/a" : io::formatNumber(f.order_final, 3),
               std::isnan(f.order_rms) ? "n/a" : io::formatNumber(f.order_rms, 3), std::to_string(f.points)});
   md << fits.markdown() << "\n";
 
@@ -277,25 +287,28 @@ std::string accuracyMarkdown(const AccuracyResult& r) {
       if (p) order.push_back(p);
     std::sort(order.begin(), order.end(), [](auto* a, auto* b) { return a->seconds < b->seconds; });
     const auto setting = [&](const AccuracyPoint* p) {
-      return integratorTraits(p->integrator).adaptive ? "rtol " + io::formatNumber(p->rtol, 2) : "dt " + dtLabel(r.duration, p->dt);
+      return integratorTraits(p->integrator).adaptive ? "rtol " + io::formatNumber(p->rtol, 2)
+                                                      : "dt " + dtLabel(r.duration, p->dt);
     };
     if (order.empty()) {
       fastest.add({io::formatNumber(target), "none reached it", "", "", ""});
       continue;
     }
-    fastest.add({io::formatNumber(target), order[0]->integrator, setting(order[0]), io::formatNumber(order[0]->seconds, 3),
-                 order.size() > 1 ? order[1]->integrator + " (" + io::formatNumber(order[1]->seconds, 3) + " s)" : "-"});
+    fastest.add(
+        {io::formatNumber(target), order[0]->integrator, setting(order[0]), io::formatNumber(order[0]->seconds, 3),
+         order.size() > 1 ? order[1]->integrator + " (" + io::formatNumber(order[1]->seconds, 3) + " s)" : "-"});
   }
   md << fastest.markdown() << "\n";
 
   md << "## Every point\n\n";
   io::TextTable all{{"integrator", "dt (s)", "rtol", "steps", "evaluations", "final error (m)", "RMS error (m)",
-                 "run time (s)", "in fit"}};
+                     "run time (s)", "in fit"}};
   for (const AccuracyPoint& p : r.points)
-    all.add({p.integrator, dtLabel(r.duration, p.dt), p.rtol > 0 ? io::formatNumber(p.rtol, 2) : "-", std::to_string(p.steps),
-             std::to_string(p.evaluations), p.diverged ? "diverged" : io::formatNumber(p.final_error, 3),
-             p.diverged ? "diverged" : io::formatNumber(p.rms_error, 3), p.diverged ? "-" : io::formatNumber(p.seconds, 3),
-             p.in_fit ? "yes" : "no"});
+    all.add({p.integrator, dtLabel(r.duration, p.dt), p.rtol > 0 ? io::formatNumber(p.rtol, 2) : "-",
+             std::to_string(p.steps), std::to_string(p.evaluations),
+             p.diverged ? "diverged" : io::formatNumber(p.final_error, 3),
+             p.diverged ? "diverged" : io::formatNumber(p.rms_error, 3),
+             p.diverged ? "-" : io::formatNumber(p.seconds, 3), p.in_fit ? "yes" : "no"});
   md << all.markdown() << "\n";
 
   md << "## Left out (diverged or failed)\n\n";
@@ -303,8 +316,9 @@ std::string accuracyMarkdown(const AccuracyResult& r) {
   for (const AccuracyPoint& p : r.points)
     if (p.diverged) {
       md << "- " << p.integrator << " at "
-         << (integratorTraits(p.integrator).adaptive ? "rtol " + io::formatNumber(p.rtol, 2) : "dt = " + dtLabel(r.duration, p.dt)) << ": "
-         << p.failure << "\n";
+         << (integratorTraits(p.integrator).adaptive ? "rtol " + io::formatNumber(p.rtol, 2)
+                                                     : "dt = " + dtLabel(r.duration, p.dt))
+         << ": " << p.failure << "\n";
       any = true;
     }
   if (!any) md << "None.\n";
@@ -313,13 +327,13 @@ std::string accuracyMarkdown(const AccuracyResult& r) {
 
 PlotResult writeAccuracyOutputs(const AccuracyResult& r, const fs::path& out, const std::string& gnuplot) {
   fs::create_directories(out);
-  io::TextTable csv{{"scene", "integrator", "dt", "rtol", "mean_step", "steps", "evaluations", "final_error", "rms_error",
-                 "seconds", "diverged", "in_fit", "failure", "has_colliders"}};
+  io::TextTable csv{{"scene", "integrator", "dt", "rtol", "mean_step", "steps", "evaluations", "final_error",
+                     "rms_error", "seconds", "diverged", "in_fit", "failure", "has_colliders"}};
   for (const AccuracyPoint& p : r.points)
-    csv.add({r.scene_name, p.integrator, io::formatNumber(p.dt, 17), io::formatNumber(p.rtol, 3), io::formatNumber(p.mean_step, 17),
-             std::to_string(p.steps), std::to_string(p.evaluations), io::formatNumber(p.final_error, 17),
-             io::formatNumber(p.rms_error, 17), io::formatNumber(p.seconds, 6), p.diverged ? "1" : "0", p.in_fit ? "1" : "0",
-             p.failure, r.has_colliders ? "1" : "0"});
+    csv.add({r.scene_name, p.integrator, io::formatNumber(p.dt, 17), io::formatNumber(p.rtol, 3),
+             io::formatNumber(p.mean_step, 17), std::to_string(p.steps), std::to_string(p.evaluations),
+             io::formatNumber(p.final_error, 17), io::formatNumber(p.rms_error, 17), io::formatNumber(p.seconds, 6),
+             p.diverged ? "1" : "0", p.in_fit ? "1" : "0", p.failure, r.has_colliders ? "1" : "0"});
   io::writeTextFile(out / "accuracy.csv", csv.csv());
   io::writeTextFile(out / "accuracy.md", accuracyMarkdown(r));
 
@@ -335,12 +349,13 @@ PlotResult writeAccuracyOutputs(const AccuracyResult& r, const fs::path& out, co
     gp << "$d" << i << " << EOD\n";
     for (const AccuracyPoint& p : r.points)
       if (p.integrator == names[i] && !p.diverged && p.final_error > 0 && p.rms_error > 0)
-        gp << io::formatNumber(p.final_error, 10) << " " << io::formatNumber(p.rms_error, 10) << " " << io::formatNumber(p.seconds, 6)
-           << "\n";
+        gp << io::formatNumber(p.final_error, 10) << " " << io::formatNumber(p.rms_error, 10) << " "
+           << io::formatNumber(p.seconds, 6) << "\n";
     gp << "EOD\n";
   }
-  gp << "set format x '%.0e'\nset multiplot layout 1,2 title " << gnuplotQuote("wobble study accuracy: " + r.scene_name +
-                                                                                   (r.has_colliders ? " (colliders: orders not meaningful)" : ""))
+  gp << "set format x '%.0e'\nset multiplot layout 1,2 title "
+     << gnuplotQuote("wobble study accuracy: " + r.scene_name +
+                     (r.has_colliders ? " (colliders: orders not meaningful)" : ""))
      << "\n";
   for (int panel = 0; panel < 2; ++panel) {
     gp << "set xlabel '" << (panel == 0 ? "final error (m)" : "RMS error over frames (m)") << "'\nplot ";

@@ -33,7 +33,7 @@ struct AccuracyOptions {
   int repeats = 3;                       // timed runs after the warm-up
   std::string reference = "auto";        // auto, rk45, rk4
   std::string gnuplot = "gnuplot";
-  bool progress = true;                  // on a terminal only (app/progress.h)
+  bool progress = true;  // on a terminal only (app/progress.h)
 };
 
 struct AccuracyPoint {
@@ -50,9 +50,9 @@ struct AccuracyPoint {
 
 struct AccuracyFit {
   std::string integrator;
-  int expected = 0;                         // theoretical order
-  double order_final = 0, order_rms = 0;    // NaN when fewer than two points
-  int points = 0;                           // used in the fit
+  int expected = 0;                       // theoretical order
+  double order_final = 0, order_rms = 0;  // NaN when fewer than two points
+  int points = 0;                         // used in the fit
 };
 
 struct AccuracyResult {
@@ -61,9 +61,9 @@ struct AccuracyResult {
   bool has_colliders = false;
   int particles = 0, moving_particles = 0;
   double duration = 0;
-  std::string reference;          // description
-  double reference_seconds = 0;   // wall time of the reference run
-  double reference_error = 0;     // its estimated final error (floor of meaningful errors)
+  std::string reference;         // description
+  double reference_seconds = 0;  // wall time of the reference run
+  double reference_error = 0;    // its estimated final error (floor of meaningful errors)
   std::vector<AccuracyPoint> points;
   std::vector<AccuracyFit> fits;
 };

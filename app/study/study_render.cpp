@@ -63,15 +63,16 @@ void check(bool ok, const std::string& message) {
 
 const std::vector<RenderVariant>& renderStudyVariants() {
   static const std::vector<RenderVariant> variants = {
-      {"independent-nomis", "independent random samples, no MIS (suns and area lights by light sampling alone), no denoising",
-       "independent", false, false, false, -1, false},
+      {"independent-nomis",
+       "independent random samples, no MIS (suns and area lights by light sampling alone), no denoising", "independent",
+       false, false, false, -1, false},
       {"independent", "independent random samples, no denoising", "independent"},
       {"sobol", "Owen-scrambled Sobol samples, no denoising", "sobol"},
       {"sobol+sky", "Sobol, with next-event estimation of the sky (MIS), no denoising", "sobol", true},
       {"independent+denoise", "independent samples, denoised", "independent", false, true},
       {"sobol+denoise", "Sobol samples, denoised", "sobol", false, true},
-      {"adaptive", "Sobol, adaptive sampling (4 to max spp) over noise thresholds, no denoising", "sobol", false,
-       false, true},
+      {"adaptive", "Sobol, adaptive sampling (4 to max spp) over noise thresholds, no denoising", "sobol", false, false,
+       true},
       {"adaptive+denoise", "Sobol, adaptive sampling over noise thresholds, denoised", "sobol", false, true, true},
       {"sobol+denoise-rr", "Sobol samples, denoised, Russian roulette by throughput from the second continuation on",
        "sobol", false, true, false, -1, true, true},
@@ -87,7 +88,8 @@ std::vector<RenderVariantFit> fitRenderStudy(const std::vector<RenderPoint>& poi
     std::vector<double> spp, rmse;
     for (const RenderPoint& p : points)
       if (p.variant == v.name && p.rmse > 2 * floor) spp.push_back(p.mean_spp), rmse.push_back(p.rmse);
-    const bool present = std::any_of(points.begin(), points.end(), [&](const RenderPoint& p) { return p.variant == v.name; });
+    const bool present =
+        std::any_of(points.begin(), points.end(), [&](const RenderPoint& p) { return p.variant == v.name; });
     if (present) fits.push_back({v.name, fitOrder(spp, rmse), int(spp.size())});
   }
   return fits;
@@ -119,8 +121,8 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
   for (const std::string& s : renderOverrides(flags)) overrides.push_back(s);
   const SceneFile scene = loadScene(o.scene, overrides);
   const int frame = o.frame > 0 ? o.frame : (scene.frameCount() + 1) / 2;
-  check(frame <= scene.frameCount(), "--frame " + std::to_string(frame) + ": the scene has " +
-                                         std::to_string(scene.frameCount()) + " frames");
+  check(frame <= scene.frameCount(),
+        "--frame " + std::to_string(frame) + ": the scene has " + std::to_string(scene.frameCount()) + " frames");
 
   RenderStudyResult result;
   result.scene_name = scene.name;
@@ -151,8 +153,8 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
 
   // The reference: two halves with independent seeds; cached.
   std::ostringstream key;
-  key << scene.text << "\nframe " << frame << " bounces " << result.bounces << " spp " << o.reference_spp
-      << " version " << kRendererVersion;
+  key << scene.text << "\nframe " << frame << " bounces " << result.bounces << " spp " << o.reference_spp << " version "
+      << kRendererVersion;
   const std::string hex = io::hashOf(key.str());  // stable across builds, unlike std::hash
   result.reference_file = out / ("reference-" + hex + ".pfm");
   const fs::path second_half = out / ("reference-" + hex + "-b.pfm");
@@ -169,11 +171,12 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
   if (!result.reference_cached) {
     const RenderVariant sobol{"reference", "", "sobol"};
     const auto start = Clock::now();
-    render::Film a = render::render(view.scene.scene(), camera,
-                                    settingsFor(sobol, o.reference_spp / 2, 0, result.bounces, frame));
+    render::Film a =
+        render::render(view.scene.scene(), camera, settingsFor(sobol, o.reference_spp / 2, 0, result.bounces, frame));
     tick();
-    render::Film b = render::render(view.scene.scene(), camera,
-                                    settingsFor(sobol, o.reference_spp / 2, 0, result.bounces, frame ^ kSecondHalfSeed));
+    render::Film b =
+        render::render(view.scene.scene(), camera,
+                       settingsFor(sobol, o.reference_spp / 2, 0, result.bounces, frame ^ kSecondHalfSeed));
     tick();
     result.reference_seconds = std::chrono::duration<double>(Clock::now() - start).count();
     reference = std::move(a.color);
@@ -203,8 +206,8 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
       render::RenderStats stats;
       for (int r = 0; r < o.repeats; ++r) {
         const auto start = Clock::now();
-        render::Film film = render::render(view.scene.scene(), camera,
-                                           settingsFor(v, spp, threshold, result.bounces, frame), &stats);
+        render::Film film =
+            render::render(view.scene.scene(), camera, settingsFor(v, spp, threshold, result.bounces, frame), &stats);
         const auto rendered = Clock::now();
         image = v.denoise ? render::denoise(film) : std::move(film.color);
         const auto end = Clock::now();
@@ -215,8 +218,10 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
       p.mean_spp = double(stats.camera_rays) / double(std::size_t(w) * h);
       p.rays_per_sample = double(stats.rays) / double(stats.camera_rays);
       const render::ImageError e = render::imageError(w, h, image, reference, tone);
-      p.rmse = e.rmse, p.relmse = e.relmse, p.worst_tile_rmse = e.worst_tile_rmse, p.worst_tile_relmse = e.worst_tile_relmse;
-      std::string file = v.name + "_" + (v.adaptive ? "t" + io::formatNumber(threshold, 3) : std::to_string(spp)) + ".png";
+      p.rmse = e.rmse, p.relmse = e.relmse, p.worst_tile_rmse = e.worst_tile_rmse,
+      p.worst_tile_relmse = e.worst_tile_relmse;
+      std::string file =
+          v.name + "_" + (v.adaptive ? "t" + io::formatNumber(threshold, 3) : std::to_string(spp)) + ".png";
       std::replace(file.begin(), file.end(), '+', '-');
       render::writePng(out / "images" / file, render::develop(w, h, image, tone));
       result.points.push_back(p);
@@ -275,7 +280,8 @@ std::string renderStudyMarkdown(const RenderStudyResult& r) {
           const RenderPoint &a = *curve[i - 1], &b = *curve[i];
           const double f = std::log(target / a.rmse) / std::log(b.rmse / a.rmse);
           const auto lerp = [&](double x, double y) { return std::exp(std::log(x) + f * (std::log(y) - std::log(x))); };
-          cell = io::formatNumber(lerp(a.mean_spp, b.mean_spp), 3) + " / " + io::formatNumber(lerp(a.seconds, b.seconds), 3);
+          cell = io::formatNumber(lerp(a.mean_spp, b.mean_spp), 3) + " / " +
+                 io::formatNumber(lerp(a.seconds, b.seconds), 3);
         }
         break;
       }
@@ -287,27 +293,31 @@ std::string renderStudyMarkdown(const RenderStudyResult& r) {
 
   md << "## Every point\n\n";
   io::TextTable all{{"variant", "setting", "mean spp", "RMSE", "worst tile RMSE", "relMSE", "worst tile relMSE",
-                 "time (s)", "of which denoising (s)"}};
+                     "time (s)", "of which denoising (s)"}};
   for (const RenderPoint& p : r.points)
     all.add({p.variant, pointLabel(p), io::formatNumber(p.mean_spp, 4), io::formatNumber(p.rmse, 3),
-             io::formatNumber(p.worst_tile_rmse, 3), io::formatNumber(p.relmse, 3), io::formatNumber(p.worst_tile_relmse, 3),
-             io::formatNumber(p.seconds, 3), io::formatNumber(p.denoise_seconds, 3)});
+             io::formatNumber(p.worst_tile_rmse, 3), io::formatNumber(p.relmse, 3),
+             io::formatNumber(p.worst_tile_relmse, 3), io::formatNumber(p.seconds, 3),
+             io::formatNumber(p.denoise_seconds, 3)});
   md << all.markdown() << "\n";
   md << "## Variants\n\n";
   for (const RenderVariant& v : renderStudyVariants())
-    if (std::find(names.begin(), names.end(), v.name) != names.end()) md << "- `" << v.name << "`: " << v.description << "\n";
+    if (std::find(names.begin(), names.end(), v.name) != names.end())
+      md << "- `" << v.name << "`: " << v.description << "\n";
   return md.str();
 }
 
 PlotResult writeRenderStudyOutputs(const RenderStudyResult& r, const fs::path& out, const std::string& gnuplot) {
   fs::create_directories(out);
   io::TextTable csv{{"scene", "frame", "width", "height", "variant", "spp", "threshold", "mean_spp", "rmse", "relmse",
-                 "worst_tile_rmse", "worst_tile_relmse", "seconds", "denoise_seconds", "rays_per_sample", "reference_rmse"}};
+                     "worst_tile_rmse", "worst_tile_relmse", "seconds", "denoise_seconds", "rays_per_sample",
+                     "reference_rmse"}};
   for (const RenderPoint& p : r.points)
     csv.add({r.scene_name, std::to_string(r.frame), std::to_string(r.width), std::to_string(r.height), p.variant,
-             std::to_string(p.spp), io::formatNumber(p.threshold, 4), io::formatNumber(p.mean_spp, 6), io::formatNumber(p.rmse, 6),
-             io::formatNumber(p.relmse, 6), io::formatNumber(p.worst_tile_rmse, 6), io::formatNumber(p.worst_tile_relmse, 6),
-             io::formatNumber(p.seconds, 6), io::formatNumber(p.denoise_seconds, 6), io::formatNumber(p.rays_per_sample, 4),
+             std::to_string(p.spp), io::formatNumber(p.threshold, 4), io::formatNumber(p.mean_spp, 6),
+             io::formatNumber(p.rmse, 6), io::formatNumber(p.relmse, 6), io::formatNumber(p.worst_tile_rmse, 6),
+             io::formatNumber(p.worst_tile_relmse, 6), io::formatNumber(p.seconds, 6),
+             io::formatNumber(p.denoise_seconds, 6), io::formatNumber(p.rays_per_sample, 4),
              io::formatNumber(r.reference_rmse, 6)});
   io::writeTextFile(out / "render.csv", csv.csv());
   io::writeTextFile(out / "render.md", renderStudyMarkdown(r));
@@ -324,7 +334,8 @@ PlotResult writeRenderStudyOutputs(const RenderStudyResult& r, const fs::path& o
     gp << "$d" << i << " << EOD\n";
     for (const RenderPoint& p : r.points)
       if (p.variant == names[i])
-        gp << io::formatNumber(p.rmse, 8) << " " << io::formatNumber(p.seconds, 6) << " " << io::formatNumber(p.mean_spp, 6) << "\n";
+        gp << io::formatNumber(p.rmse, 8) << " " << io::formatNumber(p.seconds, 6) << " "
+           << io::formatNumber(p.mean_spp, 6) << "\n";
     gp << "EOD\n";
   }
   gp << "set multiplot layout 1,2 title "
@@ -336,10 +347,11 @@ PlotResult writeRenderStudyOutputs(const RenderStudyResult& r, const fs::path& o
                       : "set xlabel 'samples per pixel (mean)'\nset ylabel 'RMSE (display values)'\n")
        << "plot ";
     for (std::size_t i = 0; i < names.size(); ++i)
-      gp << (i ? ", " : "") << "$d" << i << " using " << (panel == 0 ? "1:2" : "3:1") << " with linespoints lw 2 pt 7 title "
-         << gnuplotQuote(names[i]);
-    if (panel == 1) gp << ", " << io::formatNumber(r.points.empty() ? 0.1 : r.points.front().rmse, 6)
-                       << " / sqrt(x) dt 2 lc 'grey' title '1/sqrt(spp)'";
+      gp << (i ? ", " : "") << "$d" << i << " using " << (panel == 0 ? "1:2" : "3:1")
+         << " with linespoints lw 2 pt 7 title " << gnuplotQuote(names[i]);
+    if (panel == 1)
+      gp << ", " << io::formatNumber(r.points.empty() ? 0.1 : r.points.front().rmse, 6)
+         << " / sqrt(x) dt 2 lc 'grey' title '1/sqrt(spp)'";
     gp << "\n";
   }
   gp << "unset multiplot\n";

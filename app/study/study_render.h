@@ -24,15 +24,15 @@ namespace wobble {
 
 struct RenderStudyOptions {
   std::filesystem::path scene = "scenes/jelly_slope.toml";
-  std::vector<std::string> sets;      // KEY=VALUE scene overrides, as for `wobble run`
-  int frame = 0;                      // 0: the scene's middle frame
+  std::vector<std::string> sets;  // KEY=VALUE scene overrides, as for `wobble run`
+  int frame = 0;                  // 0: the scene's middle frame
   std::string resolution = "640x360";
   int reference_spp = 1024;
   int max_spp = 64;
-  std::vector<std::string> variants;  // empty: all (renderStudyVariants())
+  std::vector<std::string> variants;                                // empty: all (renderStudyVariants())
   std::vector<double> thresholds = {0.1, 0.05, 0.02, 0.01, 0.005};  // adaptive variants
   int repeats = 1;
-  std::filesystem::path out;          // empty: out/study-render-<scene name>
+  std::filesystem::path out;  // empty: out/study-render-<scene name>
   std::string gnuplot = "gnuplot";
   bool progress = true;
 };
@@ -41,21 +41,21 @@ struct RenderStudyOptions {
 struct RenderVariant {
   std::string name;
   std::string description;
-  std::string sampler;     // "sobol" or "independent"
+  std::string sampler;  // "sobol" or "independent"
   bool sky_sampling = false;
   bool denoise = false;
-  bool adaptive = false;   // swept over thresholds instead of spp
-  int bounces = -1;        // -1: the scene's (render.bounces), as the reference
-  bool mis = true;         // false: lights by light sampling alone, as before MIS
-  bool roulette = false;   // Russian roulette from the second continuation on (render/path_tracer.h)
+  bool adaptive = false;  // swept over thresholds instead of spp
+  int bounces = -1;       // -1: the scene's (render.bounces), as the reference
+  bool mis = true;        // false: lights by light sampling alone, as before MIS
+  bool roulette = false;  // Russian roulette from the second continuation on (render/path_tracer.h)
 };
 const std::vector<RenderVariant>& renderStudyVariants();
 
 struct RenderPoint {
   std::string variant;
-  int spp = 0;              // fixed count, or the adaptive cap
-  double threshold = 0;     // adaptive only
-  double mean_spp = 0;      // samples taken / pixels
+  int spp = 0;                 // fixed count, or the adaptive cap
+  double threshold = 0;        // adaptive only
+  double mean_spp = 0;         // samples taken / pixels
   double rays_per_sample = 0;  // camera, bounce and shadow rays
   double rmse = 0, relmse = 0, worst_tile_rmse = 0, worst_tile_relmse = 0;
   double seconds = 0, denoise_seconds = 0;
@@ -75,7 +75,7 @@ struct RenderStudyResult {
   double reference_seconds = 0;  // 0 when read from the cache
   bool reference_cached = false;
   std::filesystem::path reference_file;
-  double reference_rmse = 0;     // estimated RMSE of the reference itself (the floor of meaningful errors)
+  double reference_rmse = 0;  // estimated RMSE of the reference itself (the floor of meaningful errors)
   std::vector<RenderPoint> points;
   std::vector<RenderVariantFit> fits;
 };

@@ -20,7 +20,8 @@ std::string machineDescription() {
   return model + " (" + std::to_string(std::thread::hardware_concurrency()) + " hardware threads)";
 }
 
-std::vector<std::string> selectIntegrators(const std::vector<std::string>& names, const std::vector<std::string>& skip) {
+std::vector<std::string> selectIntegrators(const std::vector<std::string>& names,
+                                           const std::vector<std::string>& skip) {
   std::vector<std::string> chosen;
   std::string allowed;
   for (std::string_view n : integratorNames()) allowed += (allowed.empty() ? "" : ", ") + std::string(n);

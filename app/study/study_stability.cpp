@@ -28,8 +28,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 std::vector<double> logSpaced(double lo, double hi, int count) {
   std::vector<double> values;
-  for (int i = 0; i < count; ++i)
-    values.push_back(count == 1 ? lo : lo * std::pow(hi / lo, double(i) / (count - 1)));
+  for (int i = 0; i < count; ++i) values.push_back(count == 1 ? lo : lo * std::pow(hi / lo, double(i) / (count - 1)));
   return values;
 }
 
@@ -46,11 +45,13 @@ void validate(const StabilityOptions& o) {
         "--ks-points/--dt-points: must be in [1, 200]");
   check(o.jobs >= 0, "--jobs " + std::to_string(o.jobs) + ": must be >= 0");
   for (const auto& c : o.cases)
-    check(c[0] >= 0 && c[1] > 0, "--case " + io::formatNumber(c[0]) + "," + io::formatNumber(c[1]) + ": need ks >= 0, dt > 0");
+    check(c[0] >= 0 && c[1] > 0,
+          "--case " + io::formatNumber(c[0]) + "," + io::formatNumber(c[1]) + ": need ks >= 0, dt > 0");
 }
 
 // The scene with every spring's ks set: one override per body.
-std::unique_ptr<MassSpringSystem> systemAt(const StabilityOptions& o, const std::vector<std::string>& bodies, double ks) {
+std::unique_ptr<MassSpringSystem> systemAt(const StabilityOptions& o, const std::vector<std::string>& bodies,
+                                           double ks) {
   std::vector<std::string> sets = o.sets;
   for (const std::string& b : bodies) sets.push_back("bodies." + b + ".ks=" + io::formatNumber(ks, 17));
   return std::move(loadScene(o.scene, sets).system);
@@ -58,10 +59,14 @@ std::unique_ptr<MassSpringSystem> systemAt(const StabilityOptions& o, const std:
 
 std::string cellSymbol(const StabilityCell& c) {
   switch (c.outcome) {
-    case Outcome::Stable: return c.inferred ? "ok*" : "ok";
-    case Outcome::LostShape: return c.inferred ? "SHAPE*" : "SHAPE";
-    case Outcome::BlewUp: return "BLOW";
-    case Outcome::Failed: return "FAIL";
+    case Outcome::Stable:
+      return c.inferred ? "ok*" : "ok";
+    case Outcome::LostShape:
+      return c.inferred ? "SHAPE*" : "SHAPE";
+    case Outcome::BlewUp:
+      return "BLOW";
+    case Outcome::Failed:
+      return "FAIL";
   }
   return "?";
 }
@@ -70,10 +75,14 @@ std::string cellSymbol(const StabilityCell& c) {
 
 const char* toString(Outcome outcome) {
   switch (outcome) {
-    case Outcome::Stable: return "stable";
-    case Outcome::LostShape: return "lost-shape";
-    case Outcome::BlewUp: return "blew-up";
-    case Outcome::Failed: return "failed";
+    case Outcome::Stable:
+      return "stable";
+    case Outcome::LostShape:
+      return "lost-shape";
+    case Outcome::BlewUp:
+      return "blew-up";
+    case Outcome::Failed:
+      return "failed";
   }
   return "?";
 }
@@ -119,8 +128,9 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
     if (integratorTraits(name).adaptive) adaptive.emplace_back(name);
   result.integrators = selectIntegrators(o.integrators, adaptive);
   if (o.integrators.empty())
-    result.notes.push_back("rk45 is left out by default: it chooses its own substeps (dt is only its largest step), "
-                           "so it does not blow up at any dt, it only slows down; name it with --integrators to map it.");
+    result.notes.push_back(
+        "rk45 is left out by default: it chooses its own substeps (dt is only its largest step), "
+        "so it does not blow up at any dt, it only slows down; name it with --integrators to map it.");
   const SceneFile base = loadScene(o.scene, o.sets);
   result.scene_name = base.name;
   result.scene_file = o.scene;
@@ -221,16 +231,19 @@ std::string stabilityMarkdown(const StabilityResult& r) {
   };
   md << "# Stability study: " << r.scene_name << "\n\n"
      << "Scene `" << r.scene_file.string() << "` with every spring's ks set to the map's value (kd as in the scene), "
-     << "each cell run for " << io::formatNumber(r.duration) << " simulated seconds from the initial state. Machine: "
-     << machineDescription() << ".\n\n"
-     << "- **ok**: ran to the end with the largest spring strain |l - rest|/rest <= " << io::formatNumber(r.strain_bound)
-     << " at every check (every 0.01 s); **SHAPE**: survived but the strain exceeded " << io::formatNumber(r.strain_bound)
+     << "each cell run for " << io::formatNumber(r.duration)
+     << " simulated seconds from the initial state. Machine: " << machineDescription() << ".\n\n"
+     << "- **ok**: ran to the end with the largest spring strain |l - rest|/rest <= "
+     << io::formatNumber(r.strain_bound)
+     << " at every check (every 0.01 s); **SHAPE**: survived but the strain exceeded "
+     << io::formatNumber(r.strain_bound)
      << "; **ok\\*** / **SHAPE\\***: not run, inferred from the largest dt at this ks that did not blow up (stability "
         "regions contain the segment from 0 to their boundary, and a smaller step solves the same physics more "
         "accurately; --no-infer runs them); **BLOW**: blew up (a NaN or |v|^2 > 1e6, sim/simulation.h), the cell "
         "stopped there; **FAIL**: the integrator gave up (message in the CSV).\n"
      << "- Theory (numerics.md): omega_max by Gershgorin (omega_max^2 <= max_i 2 sum_j k_ij / m_i, a bound) and by "
-        "power iteration on M^-1 K at the initial state (an estimate); a mode w has damping ratio zeta = (kd/ks) w / 2; "
+        "power iteration on M^-1 K at the initial state (an estimate); a mode w has damping ratio zeta = (kd/ks) w / "
+        "2; "
         "the largest stable dt is the least of limit(zeta)/w over the modes, with each method's limit of w h measured "
         "on its own one-step map (explicit Euler needs h <= kd/ks on underdamped modes). Gravity, drag and contact "
         "are left out of the theory.\n";
@@ -245,14 +258,15 @@ std::string stabilityMarkdown(const StabilityResult& r) {
        << "Reported with the course framework: at ks 5e4, dt 1.2e-3 explicit Euler and pc-euler blow up, midpoint and "
           "RK4 survive; at ks 1e5, dt 1.4e-3 midpoint jitters and shrinks, RK4 stays stable.\n\n";
     io::TextTable t{{"ks", "dt (s)", "integrator", "outcome", "max strain", "final strain", "max speed (m/s)",
-                 "theory dt_max (power it.)", "theory dt_max (Gershgorin)", "note"}};
+                     "theory dt_max (power it.)", "theory dt_max (Gershgorin)", "note"}};
     for (const StabilityCell& c : r.cells)
       if (c.user_case) {
         const StabilityTheory* th = theoryAt(c.ks);
         const std::size_t i = index(c.integrator);
-        t.add({io::formatNumber(c.ks), io::formatNumber(c.dt), c.integrator, toString(c.outcome), io::formatNumber(c.max_strain, 3),
-               io::formatNumber(c.final_strain, 3), io::formatNumber(c.max_speed, 3),
-               th ? io::formatNumber(th->dt_power[i], 3) : "", th ? io::formatNumber(th->dt_gershgorin[i], 3) : "", c.note});
+        t.add({io::formatNumber(c.ks), io::formatNumber(c.dt), c.integrator, toString(c.outcome),
+               io::formatNumber(c.max_strain, 3), io::formatNumber(c.final_strain, 3), io::formatNumber(c.max_speed, 3),
+               th ? io::formatNumber(th->dt_power[i], 3) : "", th ? io::formatNumber(th->dt_gershgorin[i], 3) : "",
+               c.note});
       }
     md << t.markdown() << "\n";
   }
@@ -262,11 +276,13 @@ std::string stabilityMarkdown(const StabilityResult& r) {
   for (const std::string& n : r.integrators) header.push_back(n + " dt_max");
   io::TextTable theory{header};
   for (const StabilityTheory& t : r.theory) {
-    std::vector<std::string> row{io::formatNumber(t.ks), io::formatNumber(t.omega_gershgorin, 4), io::formatNumber(t.omega_power, 4),
+    std::vector<std::string> row{io::formatNumber(t.ks), io::formatNumber(t.omega_gershgorin, 4),
+                                 io::formatNumber(t.omega_power, 4),
                                  io::formatNumber(t.damper_ratio * t.omega_power / 2, 3)};
     for (std::size_t i = 0; i < r.integrators.size(); ++i)
-      row.push_back(std::isinf(t.dt_power[i]) ? "unbounded"
-                                              : io::formatNumber(t.dt_power[i], 3) + " (G " + io::formatNumber(t.dt_gershgorin[i], 3) + ")");
+      row.push_back(std::isinf(t.dt_power[i])
+                        ? "unbounded"
+                        : io::formatNumber(t.dt_power[i], 3) + " (G " + io::formatNumber(t.dt_gershgorin[i], 3) + ")");
     theory.add(row);
   }
   md << "dt_max from the power-iteration omega_max, and in brackets from Gershgorin's bound (smaller, safe).\n\n"
@@ -274,8 +290,7 @@ std::string stabilityMarkdown(const StabilityResult& r) {
 
   md << "## Measured boundary against theory\n\n";
   io::TextTable boundary{{"integrator", "ks", "largest dt that did not blow up", "smallest dt that blew up or failed",
-                      "theory dt_max (power it.)",
-                      "theory dt_max (Gershgorin)"}};
+                          "theory dt_max (power it.)", "theory dt_max (Gershgorin)"}};
   for (const std::string& name : r.integrators)
     for (double ks : r.ks) {
       double largest_ok = 0, smallest_bad = std::numeric_limits<double>::infinity();
@@ -315,20 +330,23 @@ std::string stabilityMarkdown(const StabilityResult& r) {
   return md.str();
 }
 
-std::vector<PlotResult> writeStabilityOutputs(const StabilityResult& r, const fs::path& out, const std::string& gnuplot) {
+std::vector<PlotResult> writeStabilityOutputs(const StabilityResult& r, const fs::path& out,
+                                              const std::string& gnuplot) {
   fs::create_directories(out);
-  io::TextTable csv{{"scene", "integrator", "ks", "dt", "outcome", "inferred", "user_case", "max_strain", "final_strain",
-                 "max_speed", "end_time", "steps", "theory_dt_power", "theory_dt_gershgorin", "note"}};
+  io::TextTable csv{{"scene", "integrator", "ks", "dt", "outcome", "inferred", "user_case", "max_strain",
+                     "final_strain", "max_speed", "end_time", "steps", "theory_dt_power", "theory_dt_gershgorin",
+                     "note"}};
   for (const StabilityCell& c : r.cells) {
-    const auto i = std::size_t(std::find(r.integrators.begin(), r.integrators.end(), c.integrator) - r.integrators.begin());
+    const auto i =
+        std::size_t(std::find(r.integrators.begin(), r.integrators.end(), c.integrator) - r.integrators.begin());
     const StabilityTheory* th = nullptr;
     for (const StabilityTheory& t : r.theory)
       if (t.ks == c.ks) th = &t;
     csv.add({r.scene_name, c.integrator, io::formatNumber(c.ks, 10), io::formatNumber(c.dt, 10), toString(c.outcome),
              c.inferred ? "1" : "0", c.user_case ? "1" : "0", io::formatNumber(c.max_strain, 6),
              io::formatNumber(c.final_strain, 6), io::formatNumber(c.max_speed, 6), io::formatNumber(c.end_time, 6),
-             std::to_string(c.steps), th ? io::formatNumber(th->dt_power[i], 6) : "", th ? io::formatNumber(th->dt_gershgorin[i], 6) : "",
-             c.note});
+             std::to_string(c.steps), th ? io::formatNumber(th->dt_power[i], 6) : "",
+             th ? io::formatNumber(th->dt_gershgorin[i], 6) : "", c.note});
   }
   io::writeTextFile(out / "stability.csv", csv.csv());
   io::writeTextFile(out / "stability.md", stabilityMarkdown(r));
@@ -344,8 +362,10 @@ std::vector<PlotResult> writeStabilityOutputs(const StabilityResult& r, const fs
        << "set xlabel 'dt (s)'\nset ylabel 'ks (N/m)'\nset key outside bottom center horizontal\n"
        << "set xrange [" << r.dt.front() / 1.6 << ":" << r.dt.back() * 1.6 << "]\n"
        << "set yrange [" << r.ks.front() / 2 << ":" << r.ks.back() * 2 << "]\n"
-       << "set title " << gnuplotQuote("wobble study stability: " + name + " on " + r.scene_name + ", " +
-                                       io::formatNumber(r.duration) + " s per cell") << "\n";
+       << "set title "
+       << gnuplotQuote("wobble study stability: " + name + " on " + r.scene_name + ", " + io::formatNumber(r.duration) +
+                       " s per cell")
+       << "\n";
     const char* kinds[] = {"ok", "ok*", "SHAPE", "BLOW", "FAIL", "SHAPE*"};
     for (int k = 0; k < 6; ++k) {
       gp << "$c" << k << " << EOD\n";
@@ -357,8 +377,8 @@ std::vector<PlotResult> writeStabilityOutputs(const StabilityResult& r, const fs
     gp << "$theory << EOD\n";
     for (const StabilityTheory& t : r.theory)
       if (std::find(r.ks.begin(), r.ks.end(), t.ks) != r.ks.end() && std::isfinite(t.dt_power[i]))
-        gp << io::formatNumber(t.dt_power[i], 10) << " " << io::formatNumber(t.ks, 10) << " " << io::formatNumber(t.dt_gershgorin[i], 10)
-           << "\n";
+        gp << io::formatNumber(t.dt_power[i], 10) << " " << io::formatNumber(t.ks, 10) << " "
+           << io::formatNumber(t.dt_gershgorin[i], 10) << "\n";
     gp << "EOD\n"
        << "plot $c0 using 1:2 with points pt 5 ps 4 lc rgb '#2ca02c' title 'stable', "
        << "$c1 using 1:2 with points pt 4 ps 4 lc rgb '#2ca02c' title 'stable (inferred)', "

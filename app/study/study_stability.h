@@ -31,10 +31,10 @@ struct StabilityOptions {
   double duration = 0.5;                 // simulated seconds per cell
   double strain_bound = kStrainBound;
   double ks_min = 1e3, ks_max = 1e9, dt_min = 1e-5, dt_max = 1.0 / 30;
-  int ks_points = 7, dt_points = 6;      // log spaced, ends included (--fine: 13 x 12)
+  int ks_points = 7, dt_points = 6;  // log spaced, ends included (--fine: 13 x 12)
   std::vector<std::array<double, 2>> cases = {{5e4, 1.2e-3}, {1e5, 1.4e-3}};  // (ks, dt): the users' reports
   bool infer = true;
-  int jobs = 0;                          // 0: hardware threads
+  int jobs = 0;  // 0: hardware threads
   std::string gnuplot = "gnuplot";
   bool progress = true;
 };
@@ -51,7 +51,7 @@ struct StabilityCell {
   double end_time = 0;                      // simulated time reached
   double max_speed = 0;                     // largest particle speed seen (m/s)
   long steps = 0;
-  std::string note;                         // the failure's message
+  std::string note;  // the failure's message
 };
 
 struct StabilityTheory {

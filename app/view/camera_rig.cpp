@@ -5,7 +5,6 @@
 
 #include <Eigen/Geometry>
 
-
 namespace wobble {
 namespace {
 

@@ -19,7 +19,8 @@ FrameView simulateTo(const SceneFile& scene, int frame) {
     rig.observe(k, system, sim.x());
   }
   std::vector<SurfaceFrame> surfaces;
-  for (const BodySlot& slot : system.bodies()) surfaces.push_back(evaluateSurface(slot.body.surface, sim.x(), slot.first));
+  for (const BodySlot& slot : system.bodies())
+    surfaces.push_back(evaluateSurface(slot.body.surface, sim.x(), slot.first));
   FrameView view{RenderScene(scene), rig.params()};
   view.scene.update(scene.frameTime(frame), surfaces);
   return view;

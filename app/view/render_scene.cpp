@@ -24,8 +24,8 @@ std::shared_ptr<const render::Texture> colliderTexture(const std::string& kind) 
   if (kind == "wood") return std::make_shared<render::WoodTexture>();
   // Two squares per tile, light and mid grey: enough contrast to read motion, not so much it flickers.
   if (kind == "checker")
-    return std::make_shared<render::CheckerTexture>(render::Color(0.75f, 0.75f, 0.72f),
-                                                    render::Color(0.3f, 0.3f, 0.3f), 2.0f);
+    return std::make_shared<render::CheckerTexture>(render::Color(0.75f, 0.75f, 0.72f), render::Color(0.3f, 0.3f, 0.3f),
+                                                    2.0f);
   return nullptr;
 }
 
@@ -61,13 +61,14 @@ RenderScene::RenderScene(const SceneFile& scene) {
   for (const auto& c : scene.system->colliders()) {
     const ColliderLook& look = scene.render.colliders.at(c->name());
     const ColliderKind& kind = colliderKind(look.type);
-    const auto material = scene_.addMaterial(
-        render::Material{c->name(), toColor(look.color), colliderTexture(look.texture)});
+    const auto material =
+        scene_.addMaterial(render::Material{c->name(), toColor(look.color), colliderTexture(look.texture)});
     const render::ShapeId shape = std::visit(
         [&](const auto& drawn) {
           using Drawn = std::decay_t<decltype(drawn)>;
           if constexpr (std::is_same_v<Drawn, DrawnQuad>) return scene_.addQuad(c->name(), toRender(drawn), material);
-          if constexpr (std::is_same_v<Drawn, DrawnSphere>) return scene_.addSphere(c->name(), toRender(drawn), material);
+          if constexpr (std::is_same_v<Drawn, DrawnSphere>)
+            return scene_.addSphere(c->name(), toRender(drawn), material);
           if constexpr (std::is_same_v<Drawn, DrawnBox>) return scene_.addBox(c->name(), toRender(drawn), material);
         },
         kind.drawn(*c, look, 0));

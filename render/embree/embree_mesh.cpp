@@ -12,11 +12,11 @@ EmbreeTriangleMesh::EmbreeTriangleMesh(RTCDevice device, std::span<const std::ar
   geometry_ = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   if (!geometry_) throw std::runtime_error("Embree: cannot create a triangle geometry");
   rtcSetGeometryBuildQuality(geometry_, quality);
-  auto* index = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry_, RTC_BUFFER_TYPE_INDEX, 0,
-                                                               RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-                                                               triangles.size()));
-  if (!index) throw std::runtime_error("Embree: cannot allocate an index buffer of " +
-                                       std::to_string(triangles.size()) + " triangles");
+  auto* index = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry_, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                               3 * sizeof(unsigned), triangles.size()));
+  if (!index)
+    throw std::runtime_error("Embree: cannot allocate an index buffer of " + std::to_string(triangles.size()) +
+                             " triangles");
   for (std::size_t t = 0; t < triangles.size(); ++t)
     for (int k = 0; k < 3; ++k) index[3 * t + k] = static_cast<unsigned>(triangles[t][k]);
   rtcSetSharedGeometryBuffer(geometry_, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices_.data(), 0,

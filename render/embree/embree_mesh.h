@@ -12,8 +12,8 @@
 #include <span>
 #include <vector>
 
-#include <Eigen/Core>
 #include <embree3/rtcore.h>
+#include <Eigen/Core>
 
 namespace wobble::render {
 

@@ -3,8 +3,8 @@
 // rtcUpdateGeometryBuffer, rtcCommitGeometry, rtcReleaseGeometry.
 // Parameters: device; set(center, radius) moves it (the scene still needs rtcCommitScene afterwards).
 #pragma once
-#include <Eigen/Core>
 #include <embree3/rtcore.h>
+#include <Eigen/Core>
 
 namespace wobble::render {
 

@@ -21,8 +21,9 @@
 
 namespace wobble::render {
 
-inline constexpr std::array<std::string_view, 10> kExrChannels = {
-    "R", "G", "B", "albedo.R", "albedo.G", "albedo.B", "normal.X", "normal.Y", "normal.Z", "depth.Z"};
+inline constexpr std::array<std::string_view, 10> kExrChannels = {"R",        "G",        "B",        "albedo.R",
+                                                                  "albedo.G", "albedo.B", "normal.X", "normal.Y",
+                                                                  "normal.Z", "depth.Z"};
 
 void writeExr(const std::filesystem::path& file, const Film& film, std::span<const Color> denoised = {},
               const std::map<std::string, std::string>& text = {});

@@ -62,12 +62,9 @@ DiffResult diffImages(const ImageF& a, const ImageF& b, const DiffOptions& o, Im
 
   if (r.fail_pixels <= o.allow_failures)  // first, as in idiff: no failing pixel passes, warnings or not
     r.code = DiffCode::Pass;
-  else if (r.fail_pixels > o.fail_percent / 100.0 * r.pixels || r.max_error > o.hard_fail)
-    r.code = DiffCode::Fail;
-  else if (r.warn_pixels > o.warn_percent / 100.0 * r.pixels || r.max_error > o.hard_warn)
-    r.code = DiffCode::Warning;
-  else
-    r.code = DiffCode::Pass;
+  else if (r.fail_pixels > o.fail_percent / 100.0 * r.pixels || r.max_error > o.hard_fail) r.code = DiffCode::Fail;
+  else if (r.warn_pixels > o.warn_percent / 100.0 * r.pixels || r.max_error > o.hard_warn) r.code = DiffCode::Warning;
+  else r.code = DiffCode::Pass;
 
   std::ostringstream m;
   if (!a.sameShape(b))
@@ -78,7 +75,9 @@ DiffResult diffImages(const ImageF& a, const ImageF& b, const DiffOptions& o, Im
   const auto percent = [&](long k) { return r.pixels ? 100.0 * double(k) / double(r.pixels) : 0.0; };
   m << "\n  " << r.warn_pixels << " pixels (" << percent(r.warn_pixels) << "%) over " << o.warn << "\n  "
     << r.fail_pixels << " pixels (" << percent(r.fail_pixels) << "%) over " << o.fail << "\n"
-    << (r.code == DiffCode::Fail ? "FAILURE" : r.code == DiffCode::Warning ? "WARNING" : "PASS");
+    << (r.code == DiffCode::Fail      ? "FAILURE"
+        : r.code == DiffCode::Warning ? "WARNING"
+                                      : "PASS");
   r.message = m.str();
   return r;
 }

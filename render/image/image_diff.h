@@ -31,7 +31,7 @@ struct DiffOptions {
   float fail = 1e-6f, fail_percent = 0, hard_fail = std::numeric_limits<float>::infinity();
   float warn = 1e-6f, warn_percent = 0, hard_warn = std::numeric_limits<float>::infinity();
   long allow_failures = 0;  // this many failing pixels pass, by any amount
-  float diff_scale = 1;  // e.g. 10 or 20 to make small differences visible
+  float diff_scale = 1;     // e.g. 10 or 20 to make small differences visible
 };
 
 enum class DiffCode : int { Pass = 0, Warning = 1, Fail = 2, FileError = 4 };
@@ -39,17 +39,16 @@ enum class DiffCode : int { Pass = 0, Warning = 1, Fail = 2, FileError = 4 };
 struct DiffResult {
   DiffCode code = DiffCode::Pass;
   long pixels = 0, warn_pixels = 0, fail_pixels = 0;  // pixels: the first image's, as idiff's percentages
-  double mean_error = 0;  // mean absolute difference over all channel values
+  double mean_error = 0;                              // mean absolute difference over all channel values
   double max_error = 0;
   int max_x = 0, max_y = 0, max_channel = 0;  // where max_error occurs (first such)
-  std::string message;  // idiff-style report, or why the files could not be compared
+  std::string message;                        // idiff-style report, or why the files could not be compared
 
   int exitCode() const { return static_cast<int>(code); }
 };
 
 // difference (optional): receives the difference image (the union's size and channels).
-DiffResult diffImages(const ImageF& a, const ImageF& b, const DiffOptions& options = {},
-                      ImageF* difference = nullptr);
+DiffResult diffImages(const ImageF& a, const ImageF& b, const DiffOptions& options = {}, ImageF* difference = nullptr);
 
 // Reads both files (readImage: PNG and other 8-bit formats). Never throws for unreadable inputs: that is
 // DiffCode::FileError with the reason in message. Throws only if the difference image cannot be written.

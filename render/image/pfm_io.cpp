@@ -35,8 +35,8 @@ FloatImage readPfm(const std::filesystem::path& file) {
   double scale = 0;
   in >> magic >> image.width >> image.height >> scale;
   in.get();  // the single whitespace character before the data
-  if (!in || magic != "PF" || image.width <= 0 || image.height <= 0 || image.width > 65536 ||
-      image.height > 65536 || scale >= 0)
+  if (!in || magic != "PF" || image.width <= 0 || image.height <= 0 || image.width > 65536 || image.height > 65536 ||
+      scale >= 0)
     throw std::runtime_error(file.string() + ": not a little-endian RGB PFM file");
   image.pixels.resize(std::size_t(image.width) * image.height);
   std::vector<float> row(3 * std::size_t(image.width));

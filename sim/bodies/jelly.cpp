@@ -26,12 +26,12 @@ struct Face {
 
 constexpr int kFaceCount = 6;
 const Face kFaces[kFaceCount] = {
-    {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},    // +z: right +x, up +y
-    {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}},   // -z: right -x
-    {{1, 0, 1}, {0, 0, -1}, {0, 1, 0}},   // +x: right -z
-    {{0, 0, 0}, {0, 0, 1}, {0, 1, 0}},    // -x: right +z
-    {{0, 1, 1}, {1, 0, 0}, {0, 0, -1}},   // +y: right +x, up -z
-    {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}},    // -y: right +x, up +z
+    {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},   // +z: right +x, up +y
+    {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}},  // -z: right -x
+    {{1, 0, 1}, {0, 0, -1}, {0, 1, 0}},  // +x: right -z
+    {{0, 0, 0}, {0, 0, 1}, {0, 1, 0}},   // -x: right +z
+    {{0, 1, 1}, {1, 0, 0}, {0, 0, -1}},  // +y: right +x, up -z
+    {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}},   // -y: right +x, up +z
 };
 
 SurfaceMesh jellySurface(int n) {
@@ -57,7 +57,8 @@ SurfaceMesh jellySurface(int n) {
 }  // namespace
 
 BodySize jellySize(std::int64_t n) {
-  return {n * n * n, latticeSpringCount({n, n, n}, kJellyOffsets), kFaceCount * n * n, kFaceCount * 2 * (n - 1) * (n - 1)};
+  return {n * n * n, latticeSpringCount({n, n, n}, kJellyOffsets), kFaceCount * n * n,
+          kFaceCount * 2 * (n - 1) * (n - 1)};
 }
 
 Body buildJelly(const std::string& name, const JellyParams& p) {

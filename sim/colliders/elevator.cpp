@@ -24,10 +24,14 @@ double ElevatorSchedule::height(double t) const {
   const auto [phase, tau] = phaseAt(*this, t);
   const double top = 0.5 * accel * travel * travel;
   switch (phase) {
-    case Phase::Rise: return 0.5 * accel * tau * tau;
-    case Phase::HoldTop: return top;
-    case Phase::Fall: return top - 0.5 * accel * tau * tau;
-    case Phase::HoldBottom: return 0;
+    case Phase::Rise:
+      return 0.5 * accel * tau * tau;
+    case Phase::HoldTop:
+      return top;
+    case Phase::Fall:
+      return top - 0.5 * accel * tau * tau;
+    case Phase::HoldBottom:
+      return 0;
   }
   return 0;
 }
@@ -46,7 +50,8 @@ double ElevatorSchedule::acceleration(double t) const {
   return 0;
 }
 
-ElevatorCollider::ElevatorCollider(std::string name, ContactParams contact, ElevatorSchedule schedule, double size, double thickness)
+ElevatorCollider::ElevatorCollider(std::string name, ContactParams contact, ElevatorSchedule schedule, double size,
+                                   double thickness)
     : Collider(std::move(name), contact), schedule_(schedule), size_(size), thickness_(thickness) {}
 
 std::optional<SurfacePoint> ElevatorCollider::query(double t, const Vec3& x) const {

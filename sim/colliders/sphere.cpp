@@ -2,7 +2,8 @@
 
 namespace wobble {
 
-SphereCollider::SphereCollider(std::string name, ContactParams contact, const Vec3& center, double radius, const Vec3& velocity)
+SphereCollider::SphereCollider(std::string name, ContactParams contact, const Vec3& center, double radius,
+                               const Vec3& velocity)
     : Collider(std::move(name), contact), center_(center), radius_(radius), velocity_(velocity) {}
 
 std::optional<SurfacePoint> SphereCollider::query(double t, const Vec3& x) const {

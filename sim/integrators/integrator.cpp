@@ -25,11 +25,13 @@ constexpr std::array kMethods{
     Method{"backward-euler", makeBackwardEuler, {.order = 1, .a_stable = true, .implicit = true}},
 };
 
-static_assert([] {
-  for (const Method& m : kMethods)
-    if (m.traits.order < 1) return false;
-  return true;
-}(), "every method in kMethods states its order of accuracy (IntegratorTraits::order >= 1)");
+static_assert(
+    [] {
+      for (const Method& m : kMethods)
+        if (m.traits.order < 1) return false;
+      return true;
+    }(),
+    "every method in kMethods states its order of accuracy (IntegratorTraits::order >= 1)");
 
 constexpr auto kNames = [] {
   std::array<std::string_view, kMethods.size()> names{};

@@ -25,8 +25,8 @@ struct IntegratorOptions {
 
 // Work counters for the studies. Every method counts steps and evaluations; the others stay 0 where meaningless.
 struct IntegratorStats {
-  long steps = 0;        // step() calls
-  long evaluations = 0;  // Dynamics::acceleration calls, plus smooth-force evaluations of Newton residuals
+  long steps = 0;                   // step() calls
+  long evaluations = 0;             // Dynamics::acceleration calls, plus smooth-force evaluations of Newton residuals
   long accepted = 0, rejected = 0;  // rk45: adaptive substeps
   double next_substep = 0;          // rk45: the controller's preferred size of the next substep
   long jacobians = 0;               // backward-euler: force-Jacobian assemblies

@@ -27,5 +27,7 @@ class PredictorCorrectorEuler final : public Integrator {
 };
 
 }  // namespace
-std::unique_ptr<Integrator> makePcEuler(const IntegratorOptions&) { return std::make_unique<PredictorCorrectorEuler>(); }
+std::unique_ptr<Integrator> makePcEuler(const IntegratorOptions&) {
+  return std::make_unique<PredictorCorrectorEuler>();
+}
 }  // namespace wobble

@@ -29,8 +29,7 @@ constexpr double a21 = 1.0 / 5;
 constexpr double a31 = 3.0 / 40, a32 = 9.0 / 40;
 constexpr double a41 = 44.0 / 45, a42 = -56.0 / 15, a43 = 32.0 / 9;
 constexpr double a51 = 19372.0 / 6561, a52 = -25360.0 / 2187, a53 = 64448.0 / 6561, a54 = -212.0 / 729;
-constexpr double a61 = 9017.0 / 3168, a62 = -355.0 / 33, a63 = 46732.0 / 5247, a64 = 49.0 / 176,
-                 a65 = -5103.0 / 18656;
+constexpr double a61 = 9017.0 / 3168, a62 = -355.0 / 33, a63 = 46732.0 / 5247, a64 = 49.0 / 176, a65 = -5103.0 / 18656;
 constexpr double a71 = 35.0 / 384, a73 = 500.0 / 1113, a74 = 125.0 / 192, a75 = -2187.0 / 6784, a76 = 11.0 / 84;
 // Difference between the 5th- and 4th-order weights.
 constexpr double e1 = 71.0 / 57600, e3 = -71.0 / 16695, e4 = 71.0 / 1920, e5 = -17253.0 / 339200, e6 = 22.0 / 525,
@@ -152,10 +151,10 @@ class DormandPrince45 final : public Integrator {
     const auto scaled_square_sum = [&](const auto& err, const VecX& y0, const VecX& y1) {
       return (err.array() / (atol_ + rtol_ * y0.array().abs().max(y1.array().abs()))).square().sum();
     };
-    const double sx = scaled_square_sum(h * (e1 * V[0] + e3 * V[2] + e4 * V[3] + e5 * V[4] + e6 * V[5] + e7 * V[6]),
-                                        x, x1_);
-    const double sv = scaled_square_sum(h * (e1 * A[0] + e3 * A[2] + e4 * A[3] + e5 * A[4] + e6 * A[5] + e7 * A[6]),
-                                        v, V[6]);
+    const double sx =
+        scaled_square_sum(h * (e1 * V[0] + e3 * V[2] + e4 * V[3] + e5 * V[4] + e6 * V[5] + e7 * V[6]), x, x1_);
+    const double sv =
+        scaled_square_sum(h * (e1 * A[0] + e3 * A[2] + e4 * A[3] + e5 * A[4] + e6 * A[5] + e7 * A[6]), v, V[6]);
     const double n = static_cast<double>(x.size() + v.size());
     return n > 0 ? std::sqrt((sx + sv) / n) : 0.0;
   }

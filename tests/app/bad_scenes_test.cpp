@@ -19,8 +19,8 @@ namespace {
 
 struct BadScene {
   const char* name;
-  std::string text;                    // the scene file (bad.toml)
-  std::vector<std::string> expected;   // parts of the message: "bad.toml:LINE:", the key, the rule
+  std::string text;                   // the scene file (bad.toml)
+  std::vector<std::string> expected;  // parts of the message: "bad.toml:LINE:", the key, the rule
   std::string extra_arguments = "";
 };
 
@@ -49,23 +49,32 @@ std::string pngHeader(std::uint32_t width, std::uint32_t height) {
 
 const BadScene kCorpus[] = {
     // Sizes (item 2): 32-bit wrap, bad_alloc, a silent 20 GB.
-    {"JellyN2048", "[bodies.jelly]\ntype = \"jelly\"\nn = 2048\n", {"bad.toml:3:", "bodies.jelly.n = 2048", "[2, 894]"}},
-    {"JellyN1000", "[bodies.jelly]\ntype = \"jelly\"\nn = 1000\n", {"bad.toml:3:", "bodies.jelly.n = 1000", "[2, 894]"}},
+    {"JellyN2048",
+     "[bodies.jelly]\ntype = \"jelly\"\nn = 2048\n",
+     {"bad.toml:3:", "bodies.jelly.n = 2048", "[2, 894]"}},
+    {"JellyN1000",
+     "[bodies.jelly]\ntype = \"jelly\"\nn = 1000\n",
+     {"bad.toml:3:", "bodies.jelly.n = 1000", "[2, 894]"}},
     {"JellyNMillion", "[bodies.jelly]\ntype = \"jelly\"\nn = 1000000\n", {"bad.toml:3:", "bodies.jelly.n = 1000000"}},
-    {"JellyN300OverBudget", "[bodies.jelly]\ntype = \"jelly\"\nn = 300\n",
-     {"bad.toml:3:", "bodies.jelly.n = 300", "27000000 particles", "memory budget of 1.0 GB", "--max-memory",
-      "n <= "},
+    {"JellyN300OverBudget",
+     "[bodies.jelly]\ntype = \"jelly\"\nn = 300\n",
+     {"bad.toml:3:", "bodies.jelly.n = 300", "27000000 particles", "memory budget of 1.0 GB", "--max-memory", "n <= "},
      "--max-memory 1GB"},
-    {"ClothWrapsToZero", "[bodies.cloth]\ntype = \"cloth\"\nnx = 65536\nny = 65536\n",
+    {"ClothWrapsToZero",
+     "[bodies.cloth]\ntype = \"cloth\"\nnx = 65536\nny = 65536\n",
      {"bad.toml:4:", "bodies.cloth.ny = 65536", "4294967296 particles", "32-bit"}},
-    {"TwoBodiesOverBudget", kJelly + "[bodies.b]\ntype = \"jelly\"\nn = 100\n",
-     {"bad.toml:6:", "bodies.b.n = 100", "memory budget of 100.0 MB"}, "--max-memory 100MB"},
+    {"TwoBodiesOverBudget",
+     kJelly + "[bodies.b]\ntype = \"jelly\"\nn = 100\n",
+     {"bad.toml:6:", "bodies.b.n = 100", "memory budget of 100.0 MB"},
+     "--max-memory 100MB"},
     // Names (item 3).
-    {"NameEscapesOut", "[bodies.\"../../x\"]\ntype = \"jelly\"\nn = 3\n",
+    {"NameEscapesOut",
+     "[bodies.\"../../x\"]\ntype = \"jelly\"\nn = 3\n",
      {"bad.toml:1:", "bodies.\"../../x\"", "letters, digits"}},
     {"EmptyName", "[bodies.\"\"]\ntype = \"jelly\"\nn = 3\n", {"bad.toml:1:", "bodies.\"\"", "empty"}},
     {"NulInName", "[bodies.\"a\\u0000b\"]\ntype = \"jelly\"\nn = 3\n", {"bad.toml:1:", "bodies.\"a\\x00b\""}},
-    {"LongColliderName", kJelly + "[colliders." + std::string(65, 'f') + "]\ntype = \"plane\"\n",
+    {"LongColliderName",
+     kJelly + "[colliders." + std::string(65, 'f') + "]\ntype = \"plane\"\n",
      {"bad.toml:4:", "colliders.\"fff", "65 characters"}},
     // Numbers (item 4).
     {"DtInf", "[simulation]\ndt = inf\n" + kJelly, {"bad.toml:2:", "simulation.dt = inf", "finite"}},
@@ -76,35 +85,51 @@ const BadScene kCorpus[] = {
     {"SizeInf", kJelly + "size = inf\n", {"bad.toml:4:", "bodies.jelly.size = inf", "finite"}},
     {"ClothSizeInf", "[bodies.c]\ntype = \"cloth\"\nsize = [1, inf]\n", {"bad.toml:3:", "bodies.c.size", "finite"}},
     {"CenterNan", kJelly + "center = [0, nan, 0]\n", {"bad.toml:4:", "bodies.jelly.center", "finite"}},
-    {"RadiusInf", kJelly + "[colliders.ball]\ntype = \"sphere\"\nradius = inf\n",
+    {"RadiusInf",
+     kJelly + "[colliders.ball]\ntype = \"sphere\"\nradius = inf\n",
      {"bad.toml:6:", "colliders.ball.radius = inf", "finite"}},
-    {"IntegerBeyond2To53", kJelly + "ks = 9007199254740993\n",
+    {"IntegerBeyond2To53",
+     kJelly + "ks = 9007199254740993\n",
      {"bad.toml:4:", "bodies.jelly.ks = 9007199254740993", "2^53"}},
-    {"DtTooSmall", "[simulation]\ndt = 1e-300\n" + kJelly,
+    {"DtTooSmall",
+     "[simulation]\ndt = 1e-300\n" + kJelly,
      {"bad.toml:2:", "simulation.dt = 1e-300", "steps per frame", "1000000"}},
     {"FpsTooHigh", "[simulation]\nfps = 1e9\n" + kJelly, {"bad.toml:2:", "simulation.fps", "100000 frames"}},
-    {"DurationTooLong", "[simulation]\nduration = 1e7\n" + kJelly,
+    {"DurationTooLong",
+     "[simulation]\nduration = 1e7\n" + kJelly,
      {"bad.toml:2:", "simulation.duration", "100000 frames"}},
     {"RenderExposureInf", kJelly + "[render]\nexposure = -inf\n", {"bad.toml:5:", "render.exposure", "finite"}},
     // Nesting (item 5): toml++ would overflow its stack on these.
     {"DeepHeader", kJelly + deepHeader(50000), {"bad.toml:4:", "nesting too deep", "64"}},
-    {"DeepArray", kJelly + "x = " + std::string(100000, '[') + std::string(100000, ']') + "\n",
+    {"DeepArray",
+     kJelly + "x = " + std::string(100000, '[') + std::string(100000, ']') + "\n",
      {"bad.toml:4:", "nesting too deep"}},
-    {"DeepInlineTable", kJelly + "x = " + [] {
-       std::string t;
-       for (int i = 0; i < 100; ++i) t += "{a = ";
-       return t + "1" + std::string(100, '}');
-     }() + "\n", {"bad.toml:4:", "nesting too deep"}},
-    {"DeepDottedKey", kJelly + [] {
-       std::string k = "x";
-       for (int i = 0; i < 80; ++i) k += ".x";
-       return k + " = 1";
-     }() + "\n", {"bad.toml:4:", "nesting too deep"}},
-    {"DeepMultiLineArray", kJelly + "x = " + [] {
-       std::string t;
-       for (int i = 0; i < 100; ++i) t += "[\n";
-       return t;
-     }(), {"bad.toml:", "nesting too deep"}},
+    {"DeepInlineTable",
+     kJelly + "x = " +
+         [] {
+           std::string t;
+           for (int i = 0; i < 100; ++i) t += "{a = ";
+           return t + "1" + std::string(100, '}');
+         }() +
+         "\n",
+     {"bad.toml:4:", "nesting too deep"}},
+    {"DeepDottedKey",
+     kJelly +
+         [] {
+           std::string k = "x";
+           for (int i = 0; i < 80; ++i) k += ".x";
+           return k + " = 1";
+         }() +
+         "\n",
+     {"bad.toml:4:", "nesting too deep"}},
+    {"DeepMultiLineArray",
+     kJelly + "x = " +
+         [] {
+           std::string t;
+           for (int i = 0; i < 100; ++i) t += "[\n";
+           return t;
+         }(),
+     {"bad.toml:", "nesting too deep"}},
     {"HugeFile", kJelly + "# " + std::string(2 << 20, 'x') + "\n", {"bad.toml", "bytes, above the limit"}},
 };
 
@@ -118,7 +143,8 @@ std::string slurp(const fs::path& file) {
 
 // Exit status of `wobble ARGS`, its output in log.
 int runBinary(const std::string& arguments, const fs::path& log) {
-  const int status = std::system((std::string(WOBBLE_BINARY) + " " + arguments + " > " + log.string() + " 2>&1").c_str());
+  const int status =
+      std::system((std::string(WOBBLE_BINARY) + " " + arguments + " > " + log.string() + " 2>&1").c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
@@ -127,7 +153,8 @@ void expectRefused(const fs::path& scene, const std::string& extra, const fs::pa
   const fs::path log = out.parent_path() / "log.txt";
   EXPECT_EQ(runBinary("run " + scene.string() + " --out " + out.string() + " " + extra, log), 2) << slurp(log);
   const std::string message = slurp(log);
-  for (const std::string& part : expected) EXPECT_NE(message.find(part), std::string::npos) << part << " in " << message;
+  for (const std::string& part : expected)
+    EXPECT_NE(message.find(part), std::string::npos) << part << " in " << message;
   EXPECT_FALSE(fs::exists(out)) << "written despite the error";
 }
 
@@ -158,7 +185,8 @@ TEST_F(BadFiles, DiffRefusesAHugeImageFromItsHeader) {
 }
 
 TEST_F(BadFiles, SceneNameMustBeAnIdentifier) {
-  expectRefused(write("bad.name.toml", kJelly), "", dir() / "out", {"bad.name.toml", "scene name \"bad.name\"", "letters, digits"});
+  expectRefused(write("bad.name.toml", kJelly), "", dir() / "out",
+                {"bad.name.toml", "scene name \"bad.name\"", "letters, digits"});
 }
 
 TEST_F(BadFiles, OverridesAreCheckedToo) {
@@ -174,7 +202,9 @@ TEST_F(BadFiles, MaxMemoryOption) {
   expectRefused(scene, "--max-memory 1KB", dir() / "out", {"ok.toml:3:", "bodies.jelly.n = 3", "1.0 KB"});
   expectRefused(scene, "--max-memory lots", dir() / "out", {"--max-memory"});
   EXPECT_EQ(runBinary("run " + scene.string() + " --max-memory 64MB --out " + (dir() / "good").string(),
-                      dir() / "log.txt"), 0) << slurp(dir() / "log.txt");
+                      dir() / "log.txt"),
+            0)
+      << slurp(dir() / "log.txt");
 }
 
 // A 16384 x 16384 frame's buffers (film, denoiser, the frame being written) are 128 GB: over any default budget
@@ -184,7 +214,10 @@ TEST_F(BadFiles, RenderBuffersCountInTheBudget) {
   expectRefused(scene, "--resolution 16384x16384 --max-memory 8GB", dir() / "out",
                 {"camera.resolution = [ 16384, 16384 ]", "268435456 image pixels", "8.0 GB"});
   EXPECT_EQ(runBinary("run " + scene.string() + " --render none --resolution 16384x16384 --max-memory 8GB --out " +
-                          (dir() / "good").string(), dir() / "log.txt"), 0) << slurp(dir() / "log.txt");
+                          (dir() / "good").string(),
+                      dir() / "log.txt"),
+            0)
+      << slurp(dir() / "log.txt");
 }
 
 }  // namespace

@@ -81,32 +81,38 @@ look_at = [0, 2, 0]
 };
 
 TEST_F(Blender, ObjSequenceImports) {
-  if (!blender_) GTEST_SKIP() << "blender is not on PATH (apt-get install blender; setup.sh leaves it out: it is large)";
+  if (!blender_)
+    GTEST_SKIP() << "blender is not on PATH (apt-get install blender; setup.sh leaves it out: it is large)";
   const fs::path out = dir() / "out", log = dir() / "log.txt";
   ASSERT_EQ(runWobble("run " + (testing::sourceDir() / "scenes/cat_jelly.toml").string() +
-                          " --frames 1:4 --set simulation.duration=0.2 --render none --out " + out.string(), log),
+                          " --frames 1:4 --set simulation.duration=0.2 --render none --out " + out.string(),
+                      log),
             0)
       << slurpFile(log);
   EXPECT_EQ(blender("--factory-startup --python-exit-code 1 --python " + script("import_check.py") + " -- " +
-                        (out / "mesh").string(), log),
+                        (out / "mesh").string(),
+                    log),
             0)
       << slurpFile(log);
 }
 
 TEST_F(Blender, PointCacheByHandPlaysTheObjFrames) {
-  if (!blender_) GTEST_SKIP() << "blender is not on PATH (apt-get install blender; setup.sh leaves it out: it is large)";
+  if (!blender_)
+    GTEST_SKIP() << "blender is not on PATH (apt-get install blender; setup.sh leaves it out: it is large)";
   const fs::path out = dir() / "out", log = dir() / "log.txt";
   ASSERT_EQ(runWobble("run " + scene().string() + " --frames 3:12 --render none --pc2 --out " + out.string(), log), 0)
       << slurpFile(log);
   for (const char* body : {"jelly", "sheet"})
     EXPECT_EQ(blender("--factory-startup --python-exit-code 1 --python " + script("mesh_cache_check.py") +
-                          " -- by-hand " + out.string() + " " + body, log),
+                          " -- by-hand " + out.string() + " " + body,
+                      log),
               0)
         << slurpFile(log);
 }
 
 TEST_F(Blender, BlendFileReopensAndPlays) {
-  if (!blender_) GTEST_SKIP() << "blender is not on PATH (apt-get install blender; setup.sh leaves it out: it is large)";
+  if (!blender_)
+    GTEST_SKIP() << "blender is not on PATH (apt-get install blender; setup.sh leaves it out: it is large)";
   const fs::path out = dir() / "out", log = dir() / "log.txt";
   ASSERT_EQ(runWobble("run " + scene().string() + " --render none --pc2 --out " + out.string(), log), 0)
       << slurpFile(log);
@@ -121,13 +127,12 @@ TEST_F(Blender, BlendFileReopensAndPlays) {
   // Moved as a whole, the folder still plays: the .blend's paths are relative to it.
   const fs::path moved = dir() / "moved";
   fs::rename(out, moved);
-  const nlohmann::json expected = {
-      {"bodies",
-       {{{"name", "jelly"}, {"color", {1.0, 0.9, 0.8}}, {"textured", true}},
-        {{"name", "sheet"}, {"color", {0.2, 0.5, 0.9}}, {"textured", false}}}},
-      {"colliders", {"floor", "ball", "lift"}},
-      {"moving", {"ball", "lift"}},
-      {"camera_follows", true}};
+  const nlohmann::json expected = {{"bodies",
+                                    {{{"name", "jelly"}, {"color", {1.0, 0.9, 0.8}}, {"textured", true}},
+                                     {{"name", "sheet"}, {"color", {0.2, 0.5, 0.9}}, {"textured", false}}}},
+                                   {"colliders", {"floor", "ball", "lift"}},
+                                   {"moving", {"ball", "lift"}},
+                                   {"camera_follows", true}};
   std::ofstream(dir() / "expected.json") << expected.dump();
   EXPECT_EQ(blender((moved / "blendable.blend").string() + " --python-exit-code 1 --python " +
                         script("mesh_cache_check.py") + " -- blend " + moved.string() + " " +
@@ -142,7 +147,8 @@ TEST_F(Blender, BlendNeedsBlenderAndThePointCaches) {
   ASSERT_EQ(runWobble("run " + scene().string() + " --frames 1:2 --render none --out " + out.string(), log), 0)
       << slurpFile(log);
   EXPECT_EQ(runWobble("blend " + out.string(), log), 2);  // no --pc2: names the missing cache and the fix
-  EXPECT_NE(slurpFile(log).find((out / "mesh/jelly.pc2").string() + ": not found"), std::string::npos) << slurpFile(log);
+  EXPECT_NE(slurpFile(log).find((out / "mesh/jelly.pc2").string() + ": not found"), std::string::npos)
+      << slurpFile(log);
   EXPECT_NE(slurpFile(log).find("--pc2"), std::string::npos) << slurpFile(log);
   EXPECT_EQ(runWobble("blend " + (dir() / "nowhere").string(), log), 2);
   EXPECT_NE(slurpFile(log).find("no run.json"), std::string::npos) << slurpFile(log);

@@ -19,8 +19,8 @@ namespace fs = std::filesystem;
 namespace wobble {
 namespace {
 
-const char* const kIntegrators[] = {"explicit-euler", "symplectic-euler", "pc-euler", "midpoint",
-                                    "rk4",            "rk45",             "backward-euler"};
+const char* const kIntegrators[] = {"explicit-euler", "symplectic-euler", "pc-euler", "midpoint", "rk4",
+                                    "rk45",           "backward-euler"};
 
 class ExtremeInputs : public testing::ScratchDir {
  protected:
@@ -191,9 +191,10 @@ TEST_F(ExtremeInputs, OneParticleThickCloth) {
   // "One particle thick": a 2 x N strip (two particles across, so no bending springs across it) and an N x 2 one,
   // hanging from the top edge. The validator needs nx, ny >= 2; both must swing without trouble.
   for (const char* size : {"nx = 2\nny = 8\n", "nx = 8\nny = 2\n"}) {
-    const RunReport r = run(std::string("[simulation]\ndt = 0.0005\nduration = 0.5\n[bodies.strip]\ntype = \"cloth\"\n") +
-                                size + "hanging = true\nsize = [0.5, 0.5]\nks = 2000.0\nkd = 5.0\npinned = [\"top-edge\"]\n",
-                            "rk4");
+    const RunReport r =
+        run(std::string("[simulation]\ndt = 0.0005\nduration = 0.5\n[bodies.strip]\ntype = \"cloth\"\n") + size +
+                "hanging = true\nsize = [0.5, 0.5]\nks = 2000.0\nkd = 5.0\npinned = [\"top-edge\"]\n",
+            "rk4");
     EXPECT_FALSE(r.blow_up) << size << r.blow_up_message;
     EXPECT_TRUE(std::isfinite(r.energy_end)) << size;
     EXPECT_GT(r.max_speed, 0) << size;

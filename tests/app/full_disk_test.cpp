@@ -29,7 +29,8 @@ class FullDisk : public testing::ScratchDir {
     copyCatTexture();
     return write("small.toml", R"([simulation]
 dt = 0.002
-duration = )" + std::to_string(duration) + R"(
+duration = )" + std::to_string(duration) +
+                                   R"(
 fps = 20
 
 [bodies.jelly]

@@ -39,8 +39,7 @@ TEST_P(Golden, SmallRenderMatches) {
   o.out = dir() / "out";
   o.frames = std::to_string(c.frame);
   // Simulate only up to the frame: (frame + 0.5) / fps seconds hold `frame` frames (the scenes run at 30 fps).
-  o.sets = {"simulation.duration=" + std::to_string((c.frame + 0.5) / 30.0), "render.video=false",
-            "render.samples=4"};
+  o.sets = {"simulation.duration=" + std::to_string((c.frame + 0.5) / 30.0), "render.video=false", "render.samples=4"};
   o.render.resolution = "160x90";
   o.render.render = "png";
   const RunReport report = runScene(o);
@@ -66,8 +65,8 @@ TEST_P(Golden, SmallRenderMatches) {
   const render::DiffResult r = render::diffFiles(golden, image, tolerance, difference);
   if (r.code >= render::DiffCode::Fail) {
     fs::copy_file(image, kept, fs::copy_options::overwrite_existing);
-    FAIL() << name << " differs from " << golden << ":\n" << r.message << "\nnew image: " << kept
-           << "\ndifference (x10): " << difference
+    FAIL() << name << " differs from " << golden << ":\n"
+           << r.message << "\nnew image: " << kept << "\ndifference (x10): " << difference
            << "\nIf the change is intended: WOBBLE_UPDATE_GOLDENS=1 ctest -R Golden, then commit tests/golden/.";
   }
   fs::remove(difference);

@@ -32,7 +32,8 @@ Image8 gradient(int w, int h, int channels) {
 // The first n pixels (row order) of channel 1 raised by `codes`.
 Image8 raised(int n, int codes) {
   Image8 img = gradient(20, 10, 3);
-  for (int i = 0; i < n; ++i) img.pixels[std::size_t(i) * 3 + 1] = std::uint8_t(img.pixels[std::size_t(i) * 3 + 1] + codes);
+  for (int i = 0; i < n; ++i)
+    img.pixels[std::size_t(i) * 3 + 1] = std::uint8_t(img.pixels[std::size_t(i) * 3 + 1] + codes);
   return img;
 }
 
@@ -43,12 +44,12 @@ Image8 withBlackRow(const Image8& a) {
 }
 
 const std::vector<std::string> kOptions = {
-    "",                                               // idiff's defaults: any difference fails
-    "--fail 0.02",                                    // only --fail: no pixel over it passes
-    "--warn 0.001 --fail 0.05",                       // --warn below --fail
-    "--fail 0.004 --warn 0.001 --failpercent 50",     // failures within the allowance: warnings decide
-    "--fail 0.005 --failpercent 10 --hardfail 0.1",   // hard limit
-    "--fail 0.007843137718737125",                    // 2/255 as a float: right at the threshold
+    "",                                              // idiff's defaults: any difference fails
+    "--fail 0.02",                                   // only --fail: no pixel over it passes
+    "--warn 0.001 --fail 0.05",                      // --warn below --fail
+    "--fail 0.004 --warn 0.001 --failpercent 50",    // failures within the allowance: warnings decide
+    "--fail 0.005 --failpercent 10 --hardfail 0.1",  // hard limit
+    "--fail 0.007843137718737125",                   // 2/255 as a float: right at the threshold
     "--allowfailures 3",
     "--failpercent 100 --warnpercent 20 --hardwarn 0.5",
 };
@@ -68,7 +69,8 @@ class IdiffConformance : public testing::ScratchDir {
       table << "  " << name << ":";
       for (const std::string& options : kOptions) {
         const std::string files = " " + a.string() + " " + b.string();
-        const int status = std::system((idiff->string() + " -q " + options + files + " > " + log.string() + " 2>&1").c_str());
+        const int status =
+            std::system((idiff->string() + " -q " + options + files + " > " + log.string() + " 2>&1").c_str());
         const int expected = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
         const int got = testing::runWobble("diff " + options + files, log);
         EXPECT_EQ(got, expected) << name << " with [" << options << "]: " << testing::slurpFile(log);

@@ -29,7 +29,8 @@ class Interrupt : public testing::ScratchDir {
   fs::path scene(double duration = 20) {
     return write("long.toml", R"([simulation]
 dt = 0.002
-duration = )" + std::to_string(duration) + R"(
+duration = )" + std::to_string(duration) +
+                                  R"(
 fps = 20
 
 [bodies.jelly]
@@ -80,7 +81,9 @@ TEST_F(Interrupt, SigintAndSigtermStopAfterACompleteFrame) {
   // A clean run of the first frames, for the bytes the interrupted runs must hold.
   const fs::path clean = dir() / "clean";
   ASSERT_EQ(runWobble("run " + file.string() + " --resolution 32x18 --frames 1:40 --out " + clean.string(),
-                      dir() / "clean.txt"), 0) << slurpFile(dir() / "clean.txt");
+                      dir() / "clean.txt"),
+            0)
+      << slurpFile(dir() / "clean.txt");
   for (const auto& [signal, status] : {std::pair{SIGINT, 130}, std::pair{SIGTERM, 143}}) {
     fs::remove_all(out());
     const pid_t child = startWobble(run(file), log());
@@ -144,7 +147,10 @@ TEST_F(Interrupt, RerunReplacesAnEarlierRunButRenderKeepsOtherFrames) {
   ASSERT_TRUE(frameExists(20));
   // `wobble render --frames` re-renders frames 3 and 4 into the same folder: the other 18 stay (split rendering).
   ASSERT_EQ(runWobble("render " + (out() / "mesh").string() + " --scene " + file.string() +
-                          " --frames 3:4 --resolution 32x18", log()), 0) << slurpFile(log());
+                          " --frames 3:4 --resolution 32x18",
+                      log()),
+            0)
+      << slurpFile(log());
   for (int k = 1; k <= 20; ++k) EXPECT_TRUE(frameExists(k)) << k;
 
   ASSERT_EQ(runWobble(run(file, "--frames 1:5"), log()), 0) << slurpFile(log());

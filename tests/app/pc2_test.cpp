@@ -7,9 +7,9 @@
 
 #include <gtest/gtest.h>
 
-#include <assimp/Importer.hpp>
 #include <assimp/material.h>
 #include <assimp/scene.h>
+#include <assimp/Importer.hpp>
 #include <nlohmann/json.hpp>
 
 #include <cstring>
@@ -62,7 +62,8 @@ Pc2Bytes readPc2Bytes(const fs::path& file) {
   p.start = f32(20);
   p.rate = f32(24);
   p.samples = std::int32_t(u32(28));
-  for (std::size_t at = 32; at + 12 <= bytes.size(); at += 12) p.positions.push_back({f32(at), f32(at + 4), f32(at + 8)});
+  for (std::size_t at = 32; at + 12 <= bytes.size(); at += 12)
+    p.positions.push_back({f32(at), f32(at + 4), f32(at + 8)});
   return p;
 }
 
@@ -139,10 +140,12 @@ type = "plane"
       const auto v = objVertices(mesh / frameName(body, frame, "obj"));
       ASSERT_EQ(v.size(), std::size_t(points)) << body << " frame " << frame;
       for (int i = 0; i < points; ++i)
-        ASSERT_EQ(p.positions[std::size_t(frame - first) * points + i], v[i]) << body << " frame " << frame << " v " << i + 1;
+        ASSERT_EQ(p.positions[std::size_t(frame - first) * points + i], v[i])
+            << body << " frame " << frame << " v " << i + 1;
     }
     // The base mesh: the first frame's file, but for the name of its material library.
-    const auto base = linesStartingWith(mesh / (body + ".obj"), ""), sequence = linesStartingWith(mesh / frameName(body, first, "obj"), "");
+    const auto base = linesStartingWith(mesh / (body + ".obj"), ""),
+               sequence = linesStartingWith(mesh / frameName(body, first, "obj"), "");
     ASSERT_EQ(base.size(), sequence.size());
     for (std::size_t i = 0; i < base.size(); ++i)
       if (base[i].rfind("mtllib", 0) != 0) {
@@ -234,7 +237,9 @@ TEST_F(PointCache, EveryWriteCheckedOnAFullDisk) {
   // obj, sample; frames 2..6: per body mtl, obj, sample (43 so far); the two headers' final counts; run.json. A
   // failure injected at any kind fails the run and leaves no temporary file; a cache only once it is complete.
   const fs::path file = scene(), log = dir() / "log.txt";
-  ASSERT_EQ(testing::runWobble("run " + file.string() + " --render none --pc2 --out " + (dir() / "clean").string(), log), 0)
+  ASSERT_EQ(testing::runWobble("run " + file.string() + " --render none --pc2 --out " + (dir() / "clean").string(),
+                               log),
+            0)
       << slurpFile(log);
   for (int n : {1, 2, 3, 4, 6, 7, 8, 13, 20, 30, 43, 44, 45, 46}) {
     const fs::path out = dir() / ("fail" + std::to_string(n));
@@ -244,7 +249,8 @@ TEST_F(PointCache, EveryWriteCheckedOnAFullDisk) {
         << n << ": " << slurpFile(log);
     EXPECT_NE(slurpFile(log).find("No space left on device"), std::string::npos) << n << ": " << slurpFile(log);
     const auto files = testing::expectCompleteFiles(out, dir() / "clean");
-    for (const fs::path& f : files) EXPECT_TRUE(n >= 45 || f.extension() != ".pc2") << n << ": a cache of a failed run: " << f;
+    for (const fs::path& f : files)
+      EXPECT_TRUE(n >= 45 || f.extension() != ".pc2") << n << ": a cache of a failed run: " << f;
     if (n == 46) {
       EXPECT_TRUE(fs::exists(out / "mesh/sheet.pc2")) << "the count above is off";
     }
@@ -278,7 +284,8 @@ TEST(ObjVertexOrder, OneVPerParticleInFirstUseOrderWhateverThePositions) {
 TEST_F(PointCache, MaterialsFollowTheScene) {
   runScene(options(scene()));
   for (const char* body : {"jelly", "sheet"})
-    for (const fs::path& obj : {dir() / "out/mesh" / (std::string(body) + ".obj"), dir() / "out/mesh" / frameName(body, 3, "obj")}) {
+    for (const fs::path& obj :
+         {dir() / "out/mesh" / (std::string(body) + ".obj"), dir() / "out/mesh" / frameName(body, 3, "obj")}) {
       Assimp::Importer importer;
       const aiScene* s = importer.ReadFile(obj.string(), 0);
       ASSERT_TRUE(s && s->mNumMeshes == 1) << obj << ": " << importer.GetErrorString();

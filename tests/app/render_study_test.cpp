@@ -62,8 +62,8 @@ TEST_F(RenderStudy, DenoisingAndSobolLowerTheErrorOnAShippedFrame) {
 
   const fs::path out = dir() / "study";
   writeRenderStudyOutputs(r, out, "no-such-gnuplot");
-  for (const char* file : {"render.csv", "render.md", "reference.png", "images/sobol-denoise_4.png",
-                           "frame/scene.obj", "frame/scene.json"})
+  for (const char* file : {"render.csv", "render.md", "reference.png", "images/sobol-denoise_4.png", "frame/scene.obj",
+                           "frame/scene.json"})
     EXPECT_TRUE(fs::exists(out / file)) << file;
   EXPECT_TRUE(fs::exists(r.reference_file));
   std::ifstream csv(out / "render.csv");

@@ -85,8 +85,8 @@ TEST_F(Render, DiffExitCodesAreIdiffs) {
   render::writePng(dir() / "small.png", render::Image8(4, 4, 3));
   const std::string A = (dir() / "a.png").string(), B = (dir() / "b.png").string();
   EXPECT_EQ(wobble("diff " + A + " " + (dir() / "a2.png").string()), 0) << log();
-  EXPECT_EQ(wobble("diff " + A + " " + B), 2) << log();                        // idiff default: any difference fails
-  EXPECT_EQ(wobble("diff " + A + " " + B + " --fail 0.05"), 0) << log();       // no pixel fails: pass, as idiff
+  EXPECT_EQ(wobble("diff " + A + " " + B), 2) << log();                   // idiff default: any difference fails
+  EXPECT_EQ(wobble("diff " + A + " " + B + " --fail 0.05"), 0) << log();  // no pixel fails: pass, as idiff
   EXPECT_EQ(wobble("diff " + A + " " + B + " --fail 0.05 --warn 0.05"), 0) << log();
   EXPECT_EQ(wobble("diff " + A + " " + B + " --fail 0.01 --failpercent 5"), 1) << log();  // 1 of 32 = 3.1% < 5%
   EXPECT_EQ(wobble("diff " + A + " " + B + " --fail 0.01 --failpercent 5 --hardfail 0.03"), 2) << log();
@@ -178,8 +178,9 @@ TEST_F(Render, QualityAndDenoiseFlags) {
   EXPECT_NE(noisy.pixels, final_frame.pixels);
   EXPECT_NE(slurp(dir() / "final/exr/small_0003.exr").find("noisy.R"), std::string::npos);
   EXPECT_EQ(slurp(dir() / "noisy/exr/small_0003.exr").find("noisy.R"), std::string::npos);
-  for (const char* flags : {"--quality best", "--denoise maybe", "--set render.quality=fast",
-                            "--set render.min_samples=8", "--set render.noise_threshold=2", "--set render.sampler=halton"}) {
+  for (const char* flags :
+       {"--quality best", "--denoise maybe", "--set render.quality=fast", "--set render.min_samples=8",
+        "--set render.noise_threshold=2", "--set render.sampler=halton"}) {
     EXPECT_EQ(wobble(run + out().string() + " " + flags), 2) << flags << "\n" << log();
     EXPECT_FALSE(fs::exists(out())) << flags;
   }
@@ -187,10 +188,10 @@ TEST_F(Render, QualityAndDenoiseFlags) {
 
 TEST_F(Render, BadRenderFlagsWriteNothing) {
   const fs::path s = scene();
-  for (const char* flags : {"--resolution 12", "--resolution 0x10", "--resolution 64x", "--resolution 1x1",
-                            "--spp 0", "--spp many", "--render gif", "--render png,none", "--render none --video",
-                            "--set camera.fov=180", "--set camera.follow=cat", "--set render.samples=0",
-                            "--set render.png=false --video", "--set floor.texture=marble"}) {
+  for (const char* flags :
+       {"--resolution 12", "--resolution 0x10", "--resolution 64x", "--resolution 1x1", "--spp 0", "--spp many",
+        "--render gif", "--render png,none", "--render none --video", "--set camera.fov=180", "--set camera.follow=cat",
+        "--set render.samples=0", "--set render.png=false --video", "--set floor.texture=marble"}) {
     EXPECT_EQ(wobble("run " + s.string() + " --out " + out().string() + " " + flags), 2) << flags << "\n" << log();
     EXPECT_FALSE(fs::exists(out())) << flags;
   }
@@ -207,9 +208,10 @@ TEST_F(Render, VideoIsAnMp4) {
   EXPECT_GT(fs::file_size(mp4), 0u);
   if (findProgram("ffprobe")) {
     const fs::path probe = dir() / "probe.txt";
-    const std::string command = "ffprobe -v error -select_streams v:0 -count_frames -show_entries "
-                                "stream=codec_name,width,height,pix_fmt,nb_read_frames -of default=nw=1 " +
-                                mp4.string() + " > " + probe.string();
+    const std::string command =
+        "ffprobe -v error -select_streams v:0 -count_frames -show_entries "
+        "stream=codec_name,width,height,pix_fmt,nb_read_frames -of default=nw=1 " +
+        mp4.string() + " > " + probe.string();
     ASSERT_EQ(std::system(command.c_str()), 0);
     const std::string info = slurp(probe);
     for (const char* expected : {"codec_name=h264", "width=64", "height=36", "pix_fmt=yuv420p", "nb_read_frames=4"})
@@ -232,7 +234,8 @@ TEST_F(Render, StreamedVideoIsTheVideoOfThePngFrames) {
     return slurp(md5);
   };
   const std::string streamed = frameMd5(out() / "small.mp4"), afterwards = frameMd5(*again);
-  EXPECT_EQ(std::count(streamed.begin(), streamed.end(), '\n') - std::count(afterwards.begin(), afterwards.end(), '\n'), 0);
+  EXPECT_EQ(std::count(streamed.begin(), streamed.end(), '\n') - std::count(afterwards.begin(), afterwards.end(), '\n'),
+            0);
   EXPECT_EQ(streamed.substr(streamed.find("\n0,")), afterwards.substr(afterwards.find("\n0,")));
 }
 

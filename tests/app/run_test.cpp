@@ -2,9 +2,9 @@
 // run.json, blow-ups that keep earlier frames, exit statuses, and byte-identical reruns.
 #include <gtest/gtest.h>
 
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <assimp/Importer.hpp>
 #include <nlohmann/json.hpp>
 
 #include <fstream>
@@ -198,7 +198,8 @@ TEST_F(Run, BinaryExitStatuses) {
   const fs::path file = scene(R"(
 [render]
 png = false
-)"), log = dir() / "log.txt";
+)"),
+                 log = dir() / "log.txt";
   EXPECT_EQ(runBinary("run " + file.string() + " --out " + (dir() / "good").string(), log), 0) << slurp(log);
   EXPECT_TRUE(fs::exists(dir() / "good/mesh/jelly_0004.obj"));
 
@@ -209,8 +210,12 @@ png = false
   EXPECT_EQ(runBinary("run " + file.string() + " --integrator rk5 --out " + (dir() / "bad").string(), log), 2);
   EXPECT_FALSE(fs::exists(dir() / "bad"));
 
-  EXPECT_EQ(runBinary("run " + file.string() + " --integrator explicit-euler --set jelly.ks=1e6 --set "
-                      "simulation.duration=2 --out " + (dir() / "boom").string(), log), 3);
+  EXPECT_EQ(runBinary("run " + file.string() +
+                          " --integrator explicit-euler --set jelly.ks=1e6 --set "
+                          "simulation.duration=2 --out " +
+                          (dir() / "boom").string(),
+                      log),
+            3);
   EXPECT_NE(slurp(log).find("blew up"), std::string::npos);
   EXPECT_TRUE(fs::exists(dir() / "boom/mesh/jelly_0001.obj"));
 

@@ -27,10 +27,8 @@ class InputErrors : public testing::ScratchDir {
   // The error message for a scene made from kValid with one line replaced (or appended), and optional overrides.
   std::string errorFor(const std::string& from, const std::string& to, std::vector<std::string> overrides = {}) {
     std::string text = kValid;
-    if (from.empty())
-      text += to + "\n";
-    else
-      text.replace(text.find(from), from.size(), to);
+    if (from.empty()) text += to + "\n";
+    else text.replace(text.find(from), from.size(), to);
     const auto file = write("bad.toml", text);
     try {
       loadScene(file, overrides);
@@ -43,7 +41,8 @@ class InputErrors : public testing::ScratchDir {
 };
 
 void expectAll(const std::string& message, std::initializer_list<const char*> parts) {
-  for (const char* part : parts) EXPECT_NE(message.find(part), std::string::npos) << "'" << part << "' missing in: " << message;
+  for (const char* part : parts)
+    EXPECT_NE(message.find(part), std::string::npos) << "'" << part << "' missing in: " << message;
 }
 
 TEST_F(InputErrors, ValidSceneLoads) {
@@ -65,7 +64,8 @@ TEST_F(InputErrors, UnknownKeySuggestsTheNearestOne) {
 }
 
 TEST_F(InputErrors, WrongTypes) {
-  expectAll(errorFor("dt = 0.001", "dt = \"small\""), {"bad.toml:3:6", "simulation.dt = \"small\"", "must be a number"});
+  expectAll(errorFor("dt = 0.001", "dt = \"small\""),
+            {"bad.toml:3:6", "simulation.dt = \"small\"", "must be a number"});
   expectAll(errorFor("n = 3", "n = 3.5"), {"bodies.jelly.n = 3.5", "whole number"});
   expectAll(errorFor("n = 3", "n = 3\ncenter = [0, 1]"), {"bodies.jelly.center", "three numbers"});
   expectAll(errorFor("type = \"plane\"", "type = \"plane\"\nnormal = \"up\""), {"colliders.floor.normal"});
@@ -79,13 +79,14 @@ TEST_F(InputErrors, OutOfRangeValues) {
   expectAll(errorFor("n = 3", "n = 3\nks = -5"), {"bodies.jelly.ks = -5", "must be >= 0"});
   expectAll(errorFor("restitution = 0.5", "restitution = 1.5"), {"colliders.floor.restitution = 1.5", "in [0, 1]"});
   expectAll(errorFor("restitution = 0.5", "restitution = -0.1"), {"in [0, 1]"});
-  expectAll(errorFor("integrator = \"rk4\"", "integrator = \"rk5\""), {"simulation.integrator = \"rk5\"", "explicit-euler",
-                                                                        "pc-euler", "midpoint", "rk4"});
+  expectAll(errorFor("integrator = \"rk4\"", "integrator = \"rk5\""),
+            {"simulation.integrator = \"rk5\"", "explicit-euler", "pc-euler", "midpoint", "rk4"});
   expectAll(errorFor("type = \"jelly\"", "type = \"blob\""), {"bodies.jelly.type = \"blob\"", "jelly, cloth"});
 }
 
 TEST_F(InputErrors, MissingTextureFile) {
-  expectAll(errorFor("n = 3", "n = 3\ntexture = \"nowhere.png\""), {"bodies.jelly.texture", "file not found", "nowhere.png"});
+  expectAll(errorFor("n = 3", "n = 3\ntexture = \"nowhere.png\""),
+            {"bodies.jelly.texture", "file not found", "nowhere.png"});
 }
 
 TEST_F(InputErrors, ClothPins) {
@@ -127,7 +128,7 @@ TEST_F(InputErrors, OverridesAreCheckedLikeTheFile) {
 TEST_F(InputErrors, OverridesApply) {
   const auto file = write("ok.toml", kValid);
   const SceneFile scene = loadScene(file, {"jelly.ks=2800", "simulation.integrator=midpoint", "simulation.dt=2e-3",
-                                       "bodies.jelly.n=4", "floor.friction=0"});
+                                           "bodies.jelly.n=4", "floor.friction=0"});
   EXPECT_EQ(scene.integrator, "midpoint");
   EXPECT_EQ(scene.dt, 2e-3);
   EXPECT_EQ(scene.system->particleCount(), 64);

@@ -44,7 +44,7 @@ TEST(OrderFit, SyntheticTables) {
     }
     EXPECT_NEAR(fitOrder(h, e), p, 0.02) << p;
   }
-  EXPECT_TRUE(std::isnan(fitOrder({0.1}, {0.01})));                   // one point
+  EXPECT_TRUE(std::isnan(fitOrder({0.1}, {0.01})));                          // one point
   EXPECT_NEAR(fitOrder({0.1, 0.05, 0.025}, {NAN, 0.01, 0.0025}), 2, 1e-12);  // NaN skipped
   EXPECT_EQ(convergenceOrder("rk4"), 4);
   EXPECT_EQ(convergenceOrder("midpoint"), 2);
@@ -55,10 +55,18 @@ TEST(OrderFit, FitAccuracyGroupsByIntegratorAndSkipsPointsOutOfTheFit) {
   std::vector<AccuracyPoint> points;
   for (int k = 3; k <= 6; ++k) {
     const double h = std::ldexp(1.0, -k);
-    points.push_back({.integrator = "midpoint", .dt = h, .mean_step = h, .final_error = h * h, .rms_error = h * h / 2,
+    points.push_back({.integrator = "midpoint",
+                      .dt = h,
+                      .mean_step = h,
+                      .final_error = h * h,
+                      .rms_error = h * h / 2,
                       .in_fit = true});
-    points.push_back({.integrator = "rk4", .dt = h, .mean_step = h, .final_error = std::pow(h, 4),
-                      .rms_error = std::pow(h, 4), .in_fit = k < 6});
+    points.push_back({.integrator = "rk4",
+                      .dt = h,
+                      .mean_step = h,
+                      .final_error = std::pow(h, 4),
+                      .rms_error = std::pow(h, 4),
+                      .in_fit = k < 6});
   }
   points.push_back({.integrator = "rk4", .dt = 1, .mean_step = 1, .final_error = 1e9, .diverged = true});
   const auto fits = fitAccuracy(points);
@@ -202,8 +210,9 @@ TEST(StabilityStudy, OneSpringFlipsWhereTheoryPutsTheLimit) {
 
 TEST_F(Study, StabilityFilesAndInference) {
   StabilityOptions o;
-  o.scene = write("jelly.toml", "[bodies.jelly]\ntype = \"jelly\"\nn = 3\nsize = 1.0\nvelocity = [0, 0, 0]\n"
-                                "center = [0, 0.6, 0]\n[colliders.floor]\ntype = \"plane\"\n");
+  o.scene = write("jelly.toml",
+                  "[bodies.jelly]\ntype = \"jelly\"\nn = 3\nsize = 1.0\nvelocity = [0, 0, 0]\n"
+                  "center = [0, 0.6, 0]\n[colliders.floor]\ntype = \"plane\"\n");
   o.integrators = {"explicit-euler", "backward-euler"};
   o.duration = 0.1;
   o.ks_min = 1e3;
@@ -243,8 +252,9 @@ TEST_F(Study, EstimateErrorMatchesExplicitEulerInFreeFall) {
   // order 1 recovers it. The largest is at the last frame, t = 0.9 s. No springs: at this step explicit Euler would
   // amplify round-off in the jelly's stiff overdamped modes (h |lambda| > 2) and blow up.
   RunOptions o;
-  o.scene = write("fall.toml", "[simulation]\ndt = 0.01\nduration = 1.0\nfps = 10\n[output]\nobj = false\n"
-                               "[bodies.jelly]\ntype = \"jelly\"\nn = 2\nsize = 1.0\nks = 0.0\nkd = 0.0\n");
+  o.scene = write("fall.toml",
+                  "[simulation]\ndt = 0.01\nduration = 1.0\nfps = 10\n[output]\nobj = false\n"
+                  "[bodies.jelly]\ntype = \"jelly\"\nn = 2\nsize = 1.0\nks = 0.0\nkd = 0.0\n");
   o.out = dir() / "out";
   o.render.render = "none";
   o.estimate_error = true;

@@ -7,8 +7,8 @@
 #include <optional>
 #include <utility>
 
-#include <tbb/global_control.h>
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include "render/image/image_error.h"
 #include "render/renderer.h"
@@ -28,7 +28,8 @@ Scene backlitSphere() {
   Scene scene;
   scene.addQuad("floor", Quad{{0, 0, 0}, {0, 1, 0}, 20, 1},
                 scene.addMaterial(Material::diffuse("grey", Color::Constant(0.5f))));
-  scene.addSphere("ball", Sphere{kSphereCentre, 1}, scene.addMaterial(Material::diffuse("white", Color::Constant(0.7f))));
+  scene.addSphere("ball", Sphere{kSphereCentre, 1},
+                  scene.addMaterial(Material::diffuse("white", Color::Constant(0.7f))));
   SunLight sun;
   sun.direction = kSunDirection;
   scene.lights.suns = {sun};
@@ -92,8 +93,9 @@ TEST(Adaptive, NoisyPixelsGetMoreSamplesThanTheSky) {
         bool smooth_sky = true;
         for (int ny = std::max(0, y - 1); ny <= std::min(film.height - 1, y + 1); ++ny)
           for (int nx = std::max(0, x - 1); nx <= std::min(film.width - 1, x + 1); ++nx)
-            smooth_sky &= !std::isfinite(film.depth[film.index(nx, ny)]) &&
-                          cam.ray(nx + 0.5f, ny + 0.5f).direction.y() > std::sin(5.0f * std::numbers::pi_v<float> / 180);
+            smooth_sky &=
+                !std::isfinite(film.depth[film.index(nx, ny)]) &&
+                cam.ray(nx + 0.5f, ny + 0.5f).direction.y() > std::sin(5.0f * std::numbers::pi_v<float> / 180);
         if (smooth_sky) {
           ++smooth;
           EXPECT_EQ(n, 4u) << "sky pixel " << x << "," << y;

@@ -7,8 +7,8 @@
 #include <numbers>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 namespace wobble::render {
 namespace {
@@ -159,10 +159,8 @@ TEST(Bsdf, SampleAgreesWithPdfEvalAndLobes) {
             coat_like += s->lobes.specular > s->lobes.diffuse;
           }
       EXPECT_GT(samples, n * n * n / 2) << m.name;
-      if (m.coat > 0)
-        EXPECT_GT(coat_like, 0) << "the coat lobe was sampled";
-      else
-        EXPECT_EQ(coat_like, 0);
+      if (m.coat > 0) EXPECT_GT(coat_like, 0) << "the coat lobe was sampled";
+      else EXPECT_EQ(coat_like, 0);
     }
 }
 
@@ -192,7 +190,9 @@ TEST(Bsdf, CoatedWhiteSurfaceReflectsAtMostWhatArrives) {
   // The quadrature's own error: halving the resolution changes the total by less than 1e-5.
   const Vector3f wo = outgoing(55);
   const Bsdf bsdf(jelly, Color::Ones(), kNormal, wo);
-  const auto reflected = [&](const Vector3f& wi) { return double(bsdf.eval(wi).x()) * std::max(0.0f, wi.dot(kNormal)); };
+  const auto reflected = [&](const Vector3f& wi) {
+    return double(bsdf.eval(wi).x()) * std::max(0.0f, wi.dot(kNormal));
+  };
   EXPECT_NEAR(sphereIntegral<double>(mirror(wo), reflected, 750, 128), sphereIntegral<double>(mirror(wo), reflected),
               1e-5);
 }

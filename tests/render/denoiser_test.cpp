@@ -9,8 +9,8 @@
 #include <random>
 #include <stdexcept>
 
-#include <tbb/global_control.h>
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include "render/image/film.h"
 
@@ -170,7 +170,9 @@ TEST(Denoiser, SkyAndSurfacesDoNotMix) {
   const int w = 40, h = 40;
   const float sigma = 0.05f, lighting = 0.4f;
   const Color sky(0.3f, 0.5f, 1.5f);
-  const auto inDisc = [](int x, int y) { return (x - 19.5f) * (x - 19.5f) + (y - 19.5f) * (y - 19.5f) < 14.0f * 14.0f; };
+  const auto inDisc = [](int x, int y) {
+    return (x - 19.5f) * (x - 19.5f) + (y - 19.5f) * (y - 19.5f) < 14.0f * 14.0f;
+  };
   Film film(w, h);
   Noise noise(4);
   for (int y = 0; y < h; ++y)
@@ -179,7 +181,8 @@ TEST(Denoiser, SkyAndSurfacesDoNotMix) {
         setSky(film, x, y, sky);
         continue;
       }
-      setSurface(film, x, y, Color::Constant(0.6f), Eigen::Vector3f::UnitZ(), 4, lighting + noise(sigma), sigma * sigma);
+      setSurface(film, x, y, Color::Constant(0.6f), Eigen::Vector3f::UnitZ(), 4, lighting + noise(sigma),
+                 sigma * sigma);
       const std::size_t i = film.index(x, y);
       film.color[i] += Color::Constant(0.1f + noise(sigma));  // a grey coat reflection on top
       film.variance_other[i] = sigma * sigma;
@@ -213,7 +216,9 @@ TEST(Denoiser, SkySeenDirectlyIsLeftAsRendered) {
   const int w = 40, h = 40;
   const float sigma = 0.05f;
   const auto skyColor = [](int y) { return Color(0.3f, 0.5f + 0.01f * y, 1.5f); };
-  const auto inDisc = [](int x, int y) { return (x - 19.5f) * (x - 19.5f) + (y - 19.5f) * (y - 19.5f) < 14.0f * 14.0f; };
+  const auto inDisc = [](int x, int y) {
+    return (x - 19.5f) * (x - 19.5f) + (y - 19.5f) * (y - 19.5f) < 14.0f * 14.0f;
+  };
   Film film(w, h);
   Noise noise(6);
   for (int y = 0; y < h; ++y)

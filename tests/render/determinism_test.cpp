@@ -1,8 +1,8 @@
 // Determinism: the same scene, frame and sample count give the same bytes whatever the thread count and tiling.
 #include <cstring>
 
-#include <tbb/global_control.h>
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include "render/image/film.h"
 #include "render/image_texture.h"

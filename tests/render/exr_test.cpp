@@ -93,7 +93,8 @@ TEST(Exr, DenoisedColourGoesToRgbAndTheNoisyOneIsKept) {
   int count = 0;
   for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it) ++count;
   EXPECT_EQ(count, 13);
-  for (const auto& [values, prefix] : {std::pair{static_cast<const std::vector<Color>*>(&denoised), std::string()}, std::pair{&film.color, std::string("noisy.")}})
+  for (const auto& [values, prefix] : {std::pair{static_cast<const std::vector<Color>*>(&denoised), std::string()},
+                                       std::pair{&film.color, std::string("noisy.")}})
     for (int k = 0; k < 3; ++k) {
       const std::string name = prefix + "RGB"[k];
       ASSERT_NE(file.header().channels().findChannel(name), nullptr) << name;

@@ -1,5 +1,6 @@
-// Multiple importance sampling, sky sampling and Russian roulette are unbiased: a diffuse floor lit by a finite sun, by the sky or by
-// an area light renders the analytic radiance (or the light-sampling-only estimate) whichever strategies combine.
+// Multiple importance sampling, sky sampling and Russian roulette are unbiased: a diffuse floor lit by a finite sun, by
+// the sky or by an area light renders the analytic radiance (or the light-sampling-only estimate) whichever strategies
+// combine.
 #include <cmath>
 #include <numbers>
 

@@ -21,7 +21,7 @@ using test::TempDir;
 
 // 3 x 2 pixels, all channels different, with zeros, values above 1, a tiny and a huge one.
 std::vector<Color> sample() {
-  return {{0, 0.5f, 1}, {1.5f, 2.25f, 100}, {1e-30f, 3.4e38f, 0.1f},
+  return {{0, 0.5f, 1}, {1.5f, 2.25f, 100},        {1e-30f, 3.4e38f, 0.1f},
           {0.3f, 0, 7}, {-0.0f, 65504, 0.333333f}, {std::numeric_limits<float>::denorm_min(), 12.5f, 0.7f}};
 }
 
@@ -65,7 +65,8 @@ TEST(Pfm, FileStoresRowsBottomToTopLittleEndian) {
   for (int row = 0; row < 2; ++row)
     for (int x = 0; x < 3; ++x) {
       Color stored;
-      std::memcpy(stored.data(), bytes.data() + data + (std::size_t(row) * 3 + x) * 3 * sizeof(float), 3 * sizeof(float));
+      std::memcpy(stored.data(), bytes.data() + data + (std::size_t(row) * 3 + x) * 3 * sizeof(float),
+                  3 * sizeof(float));
       const int image_row = 1 - row;  // the file's first row is the image's bottom row
       EXPECT_TRUE(sameBits(stored, pixels[std::size_t(image_row) * 3 + x])) << "file row " << row << " x " << x;
     }

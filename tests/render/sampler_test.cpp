@@ -16,9 +16,7 @@ namespace wobble::render {
 namespace {
 
 // The top `bits` bits of a 32-bit fraction: the index of its interval [k / 2^bits, (k + 1) / 2^bits).
-std::uint32_t topBits(std::uint32_t fraction, int bits) {
-  return bits == 0 ? 0 : fraction >> (32 - bits);
-}
+std::uint32_t topBits(std::uint32_t fraction, int bits) { return bits == 0 ? 0 : fraction >> (32 - bits); }
 
 // The same for a float in [0, 1) (exact: the sampler's floats have 24 significant bits and bits <= 24).
 std::uint32_t interval(float value, int bits) {
@@ -63,9 +61,9 @@ TEST(Sampler, RawSobolDimensionsZeroAndOneFormNets) {
 
 TEST(Sampler, OwenScramblingKeepsTheNet) {
   for (const auto& [seed_x, seed_y] : {std::pair<std::uint32_t, std::uint32_t>{1u, 2u},
-                                      {0xDEADBEEFu, 0x12345678u},
-                                      {0u, 0xFFFFFFFFu},
-                                      {sobol::hash(7, 8), sobol::hash(9, 10)}}) {
+                                       {0xDEADBEEFu, 0x12345678u},
+                                       {0u, 0xFFFFFFFFu},
+                                       {sobol::hash(7, 8), sobol::hash(9, 10)}}) {
     for (int m = 4; m <= 8; ++m)
       EXPECT_TRUE(isNet(
           m,
@@ -74,7 +72,8 @@ TEST(Sampler, OwenScramblingKeepsTheNet) {
           << "seeds " << seed_x << ", " << seed_y;
     // And it does change the points (it is not the identity).
     int moved = 0;
-    for (std::uint32_t i = 0; i < 16; ++i) moved += sobol::owenScramble(sobol::dimension0(i), seed_x) != sobol::dimension0(i);
+    for (std::uint32_t i = 0; i < 16; ++i)
+      moved += sobol::owenScramble(sobol::dimension0(i), seed_x) != sobol::dimension0(i);
     EXPECT_GT(moved, 0) << "seed " << seed_x;
   }
 }
@@ -156,8 +155,10 @@ TEST(Sampler, SameSeedRepeatsWhateverTheOrderOfQueries) {
     const PixelSampler s(kind, 4242, 17);
     for (int slot = kSlots - 1; slot >= 0; --slot)
       for (int i = kSamples - 1; i >= 0; --i) {
-        EXPECT_EQ(s.get1D(i, slot), forward1[i * kSlots + slot]) << toString(kind) << " sample " << i << " slot " << slot;
-        EXPECT_EQ(s.get2D(i, slot), forward[i * kSlots + slot]) << toString(kind) << " sample " << i << " slot " << slot;
+        EXPECT_EQ(s.get1D(i, slot), forward1[i * kSlots + slot])
+            << toString(kind) << " sample " << i << " slot " << slot;
+        EXPECT_EQ(s.get2D(i, slot), forward[i * kSlots + slot])
+            << toString(kind) << " sample " << i << " slot " << slot;
       }
   }
 }

@@ -146,8 +146,8 @@ TEST(TextureFilter, HugeFootprintOverCheckerGivesTheMeanOfItsColours) {
   const Color a(0.9f, 0.1f, 0.2f), b(0.1f, 0.8f, 0.3f);
   const CheckerTexture checker(a, b, 8);
   for (const Vector2f& uv : kCentres)
-    for (const TextureFootprint& f : {footprint({100, 0}, {0, 100}), footprint({70, 70}, {-70, 70}),
-                                      footprint({300, 20}, {5, 150})}) {
+    for (const TextureFootprint& f :
+         {footprint({100, 0}, {0, 100}), footprint({70, 70}, {-70, 70}), footprint({300, 20}, {5, 150})}) {
       // Over 800 squares or more the box holds at most one square's worth of imbalance per axis: 1/800 of it.
       EXPECT_LT(maxChannelDifference(checker.evalFootprint(uv, f), 0.5f * (a + b)), 2e-3f) << uv.transpose();
     }

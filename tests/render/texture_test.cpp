@@ -78,8 +78,8 @@ TEST(Srgb, DecodesKnownValues) {
 TEST(ImageTexture, LoadsPngFileAndReportsMissingOnes) {
   test::TempDir dir;
   Image8 image(2, 2, 4);
-  image.pixels = {255, 0, 0, 255, 0, 255, 0, 128,  // top row: red, green (alpha ignored)
-                  0, 0, 255, 255, 128, 128, 128, 255};
+  image.pixels = {255, 0, 0,   255, 0,   255, 0,   128,  // top row: red, green (alpha ignored)
+                  0,   0, 255, 255, 128, 128, 128, 255};
   writePng(dir / "t.png", image);
   const ImageTexture t = ImageTexture::load(dir / "t.png", Wrap::Clamp);
   ASSERT_EQ(t.width(), 2);

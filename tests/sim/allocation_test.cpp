@@ -35,7 +35,8 @@ TEST(Allocation, NoIntegratorAllocatesPerStep) {
   p.pinned = clothPinSet("corners", p.nx, p.ny);
   MassSpringSystem system;
   system.addBody(buildCloth("cloth", p));
-  system.addCollider(std::make_unique<SphereCollider>("sphere", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), 1.0, Vec3::Zero()));
+  system.addCollider(
+      std::make_unique<SphereCollider>("sphere", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), 1.0, Vec3::Zero()));
   for (std::string_view name : integratorNames()) {
     const double dt = name == "backward-euler" ? 1.0 / 240 : 1e-4;
     Simulation sim(system, makeIntegrator(name), dt);

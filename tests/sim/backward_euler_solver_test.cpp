@@ -32,7 +32,8 @@ Landed landedJelly() {
   body.pinned[0] = true;
   Landed l{std::make_unique<MassSpringSystem>()};
   l.system->addBody(std::move(body));
-  l.system->addCollider(std::make_unique<PlaneCollider>("floor", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), Vec3::UnitY()));
+  l.system->addCollider(
+      std::make_unique<PlaneCollider>("floor", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), Vec3::UnitY()));
   Simulation sim(*l.system, makeIntegrator("backward-euler"), l.h);
   EXPECT_FALSE(sim.advanceTo(0.5));
   l.x = sim.x();
@@ -124,7 +125,8 @@ TEST(BackwardEulerSolver, ContactFilterHoldsTheNormalVelocity) {
   double tangential = 0;
   for (const ContactConstraint& c : contacts) {
     EXPECT_NEAR(c.normal.dot(particle(dv, c.particle)), l.h * c.normal_acceleration, 1e-15) << c.particle;
-    tangential = std::max(tangential, (particle(dv, c.particle) - c.normal.dot(particle(dv, c.particle)) * c.normal).norm());
+    tangential =
+        std::max(tangential, (particle(dv, c.particle) - c.normal.dot(particle(dv, c.particle)) * c.normal).norm());
   }
   EXPECT_GT(tangential, 0);
   EXPECT_EQ(particle(dv, 0), Vec3::Zero());

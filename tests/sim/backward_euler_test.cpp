@@ -125,9 +125,10 @@ JellyRun runStiffJelly(double ground_y, double restitution, int frames) {
   run.lowest = y.minCoeff();
   run.highest = y.maxCoeff();
   run.final_speed = sim.v().cwiseAbs().maxCoeff();
-  std::printf("  jelly from %.2f m, e = %.1f: max strain %.3g, max CG iterations/step %d, y in [%.4f, %.4f], "
-              "final max |v| %.3g\n",
-              ground_y, restitution, run.worst_strain, run.max_cg, run.lowest, run.highest, run.final_speed);
+  std::printf(
+      "  jelly from %.2f m, e = %.1f: max strain %.3g, max CG iterations/step %d, y in [%.4f, %.4f], "
+      "final max |v| %.3g\n",
+      ground_y, restitution, run.worst_strain, run.max_cg, run.lowest, run.highest, run.final_speed);
   return run;
 }
 

@@ -30,9 +30,14 @@ TEST(Jelly, RestLengthsAreInitialDistancesAndTypesHaveTheirLengths) {
     const double len = (particle(j.x, j.springs.a[s]) - particle(j.x, j.springs.b[s])).norm();
     EXPECT_NEAR(j.springs.rest[s], len, 1e-12);
     switch (j.springs.type[s]) {
-      case SpringType::Structural: EXPECT_NEAR(len, h, 1e-12); break;
-      case SpringType::Bending: EXPECT_NEAR(len, 2 * h, 1e-12); break;
-      case SpringType::Shear: EXPECT_TRUE(std::abs(len - std::sqrt(2.0)) < 1e-12 || std::abs(len - std::sqrt(3.0)) < 1e-12);
+      case SpringType::Structural:
+        EXPECT_NEAR(len, h, 1e-12);
+        break;
+      case SpringType::Bending:
+        EXPECT_NEAR(len, 2 * h, 1e-12);
+        break;
+      case SpringType::Shear:
+        EXPECT_TRUE(std::abs(len - std::sqrt(2.0)) < 1e-12 || std::abs(len - std::sqrt(3.0)) < 1e-12);
     }
   }
 }
@@ -53,7 +58,8 @@ TEST(Jelly, SurfaceIsSixOutwardTexturedFaces) {
   EXPECT_EQ(s.triangles.size(), 12u * (n - 1) * (n - 1));
   const Vec3 centre = j.x.reshaped(3, j.particleCount()).rowwise().mean();
   for (const auto& t : s.triangles) {
-    const Vec3 a = particle(j.x, s.particle[t[0]]), b = particle(j.x, s.particle[t[1]]), c = particle(j.x, s.particle[t[2]]);
+    const Vec3 a = particle(j.x, s.particle[t[0]]), b = particle(j.x, s.particle[t[1]]),
+               c = particle(j.x, s.particle[t[2]]);
     EXPECT_GT((b - a).cross(c - a).dot((a + b + c) / 3 - centre), 0) << "triangle faces inward";
   }
   for (const auto& uv : s.uv) EXPECT_TRUE(uv.x() >= 0 && uv.x() <= 1 && uv.y() >= 0 && uv.y() <= 1);
@@ -61,7 +67,8 @@ TEST(Jelly, SurfaceIsSixOutwardTexturedFaces) {
   const Body upright = buildJelly("j", {.n = n});
   for (int face = 0; face < 4; ++face) {
     const int bottom = face * n * n, top = bottom + n * (n - 1);
-    EXPECT_GT(particle(upright.x, upright.surface.particle[top]).y(), particle(upright.x, upright.surface.particle[bottom]).y());
+    EXPECT_GT(particle(upright.x, upright.surface.particle[top]).y(),
+              particle(upright.x, upright.surface.particle[bottom]).y());
     EXPECT_EQ(upright.surface.uv[top].y(), 1.0f);
   }
 }

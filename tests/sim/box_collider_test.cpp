@@ -28,10 +28,11 @@ TEST(BoxCollider, DistanceAndNormalOutsideInsideAndAtAnEdge) {
 TEST(BoxCollider, ADroppedParticleComesToRestOnTheTop) {
   MassSpringSystem system;
   system.addBody(testing::particles({Vec3(0.2, 3, -0.3)}));
-  system.addCollider(std::make_unique<BoxCollider>("crate", ContactParams{0.5, 0.5, 0.01}, Vec3(0, 1, 0), Vec3(2, 2, 2)));
+  system.addCollider(
+      std::make_unique<BoxCollider>("crate", ContactParams{0.5, 0.5, 0.01}, Vec3(0, 1, 0), Vec3(2, 2, 2)));
   Simulation sim(system, makeIntegrator("rk4"), 1e-3);
   ASSERT_FALSE(sim.advanceTo(3));
-  EXPECT_NEAR(sim.x()[1], 2, 0.011);  // on the top face, within the contact tolerance
+  EXPECT_NEAR(sim.x()[1], 2, 0.011);      // on the top face, within the contact tolerance
   EXPECT_LT(sim.v().norm(), 9.8 * 1e-3);  // at rest: what gravity adds in one step, at most
 }
 

@@ -41,7 +41,8 @@ TEST(Bounce, RestitutionIsRelativeToTheMovingElevator) {
   // falling at -2 m/s, leaves at u - e (v - u) = 3 - 0.8 (-5) = 7 m/s, moved back onto the top.
   MassSpringSystem system;
   system.addBody(testing::particles({Vec3(0.5, 2.499, 0)}, Vec3(0.3, -2, 0)));
-  system.addCollider(std::make_unique<ElevatorCollider>("lift", ContactParams{0.8, 0.5, 0.01}, ElevatorSchedule{}, 5, 0.25));
+  system.addCollider(
+      std::make_unique<ElevatorCollider>("lift", ContactParams{0.8, 0.5, 0.01}, ElevatorSchedule{}, 5, 0.25));
   VecX x = system.initialPositions(), v = system.initialVelocities();
   system.resolveCollisions(1.0, x, v);
   EXPECT_NEAR(v[1], 7.0, 1e-12);
@@ -60,7 +61,8 @@ TEST(Bounce, ParticleDroppedOnRisingElevatorLeavesAtRelativeRestitution) {
   // Integrated version: drop onto the rising platform; just after the bounce, v' = u - e (v - u) within a step's drift.
   MassSpringSystem system;
   system.addBody(testing::particles({Vec3(0, 3.0, 0)}));
-  system.addCollider(std::make_unique<ElevatorCollider>("lift", ContactParams{0.8, 0, 0.01}, ElevatorSchedule{}, 5, 0.25));
+  system.addCollider(
+      std::make_unique<ElevatorCollider>("lift", ContactParams{0.8, 0, 0.01}, ElevatorSchedule{}, 5, 0.25));
   Simulation sim(system, makeIntegrator("rk4"), 1e-5);
   double previous_v = 0, previous_t = 0;
   while (sim.time() < 1.5) {
@@ -80,8 +82,8 @@ TEST(ElevatorCollider, ScheduleIsAFunctionOfTime) {
   EXPECT_DOUBLE_EQ(s.height(1.0), 1.5);
   EXPECT_DOUBLE_EQ(s.velocity(1.0), 3.0);
   EXPECT_NEAR(s.velocity(1.999999), 6.0, 1e-5);  // reaching 6 m/s...
-  EXPECT_DOUBLE_EQ(s.height(2.0), 6.0);            // ...6 m up...
-  EXPECT_DOUBLE_EQ(s.velocity(2.0), 0.0);          // ...and stopping dead
+  EXPECT_DOUBLE_EQ(s.height(2.0), 6.0);          // ...6 m up...
+  EXPECT_DOUBLE_EQ(s.velocity(2.0), 0.0);        // ...and stopping dead
   EXPECT_DOUBLE_EQ(s.height(2.0005), 6.0);
   EXPECT_NEAR(s.height(3.001), 4.5, 1e-12);
   EXPECT_NEAR(s.velocity(3.001), -3.0, 1e-12);
@@ -110,7 +112,8 @@ TEST(Friction, ParticleStaysOnTheSlopeAboveTan20) {
 
 TEST(Friction, ParticleSlidesBelowTan20WithCoulombAcceleration) {
   const double mu = 0.2, t = 2.0, expected = 0.5 * 9.8 * (kSin20 - mu * kCos20) * t * t;
-  for (const auto& method : {"midpoint", "rk4"}) EXPECT_NEAR(slideAfter(mu, t, method), expected, 1e-3 * expected) << method;
+  for (const auto& method : {"midpoint", "rk4"})
+    EXPECT_NEAR(slideAfter(mu, t, method), expected, 1e-3 * expected) << method;
   EXPECT_NEAR(slideAfter(mu, t, "explicit-euler"), expected, 0.01 * expected);
 }
 
@@ -121,8 +124,13 @@ TEST(Friction, JellyBlockRestingOnTheSlopeStaysOrSlides) {
   const Vec3 normal(kSin20, kCos20, 0), downhill(kCos20, -kSin20, 0);
   const auto run = [&](double mu, std::initializer_list<double> times) {
     MassSpringSystem system;
-    system.addBody(buildJelly("block", {.n = 3, .size = 1, .ks = 5000, .kd = 50, .center = 0.5 * normal,
-                                        .rotation_axis = Vec3::UnitZ(), .rotation_deg = -20}));
+    system.addBody(buildJelly("block", {.n = 3,
+                                        .size = 1,
+                                        .ks = 5000,
+                                        .kd = 50,
+                                        .center = 0.5 * normal,
+                                        .rotation_axis = Vec3::UnitZ(),
+                                        .rotation_deg = -20}));
     system.addCollider(std::make_unique<PlaneCollider>("slope", ContactParams{0.8, mu, 0.01}, Vec3::Zero(), normal));
     Simulation sim(system, makeIntegrator("rk4"), 1e-3);
     std::vector<double> slips;
@@ -140,7 +148,7 @@ TEST(Friction, JellyBlockRestingOnTheSlopeStaysOrSlides) {
     return slips;
   };
   const auto held = run(0.6, {1.0, 4.0});
-  EXPECT_LT(std::abs(held[0]), 1e-3);           // settling
+  EXPECT_LT(std::abs(held[0]), 1e-3);            // settling
   EXPECT_LT(std::abs(held[1] - held[0]), 1e-9);  // then not a nanometre more
   EXPECT_LT(held[2], 1e-9);                      // at rest
   const double slide = 0.5 * 9.8 * (kSin20 - 0.1 * kCos20) * 4;
@@ -165,7 +173,8 @@ TEST(Contact, BounceIsTheSameUnderEveryIntegrator) {
   for (const auto& method : allIntegrators()) {
     MassSpringSystem system;
     system.addBody(testing::particles({Vec3(0, 1, 0)}));
-    system.addCollider(std::make_unique<PlaneCollider>("floor", ContactParams{0.5, 0, 0.01}, Vec3::Zero(), Vec3::UnitY()));
+    system.addCollider(
+        std::make_unique<PlaneCollider>("floor", ContactParams{0.5, 0, 0.01}, Vec3::Zero(), Vec3::UnitY()));
     Simulation sim(system, makeIntegrator(method), 1e-4);
     double apex = 0;
     bool bounced = false;
@@ -182,7 +191,8 @@ TEST(Contact, MovingSphereCarriesRestingCloth) {
   // A particle resting on top of a sphere moving sideways with friction is dragged along (kinetic friction).
   MassSpringSystem system;
   system.addBody(testing::particles({Vec3(0, 1.0, 0)}));
-  system.addCollider(std::make_unique<SphereCollider>("ball", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), 1.0, Vec3(1, 0, 0)));
+  system.addCollider(
+      std::make_unique<SphereCollider>("ball", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), 1.0, Vec3(1, 0, 0)));
   Simulation sim(system, makeIntegrator("rk4"), 1e-3);
   ASSERT_FALSE(sim.advanceTo(0.05));
   EXPECT_GT(sim.v()[0], 0.2);  // mu g t = 0.245 m/s gained by friction

@@ -23,8 +23,8 @@ struct Expected {
 
 // omega = 2 pi, zeta = 0.1, one period. Errors from the largest h down to h/16.
 const Expected kMethods[] = {
-    {"explicit-euler", 1, 256}, {"symplectic-euler", 1, 256}, {"pc-euler", 1, 256}, {"backward-euler", 1, 256},
-    {"midpoint", 2, 64},        {"rk4", 4, 16},
+    {"explicit-euler", 1, 256}, {"symplectic-euler", 1, 256}, {"pc-euler", 1, 256},
+    {"backward-euler", 1, 256}, {"midpoint", 2, 64},          {"rk4", 4, 16},
 };
 
 double oscillatorError(const std::string& method, int steps) {

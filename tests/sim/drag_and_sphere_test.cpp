@@ -29,12 +29,12 @@ TEST(SphereCollider, HoldsTheClothAndPinnedCornersStay) {
   p.pinned = clothPinSet("corners", p.nx, p.ny);
   MassSpringSystem system;
   system.addBody(buildCloth("cloth", p));
-  system.addCollider(std::make_unique<SphereCollider>("ball", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), 1.0, Vec3::Zero()));
+  system.addCollider(
+      std::make_unique<SphereCollider>("ball", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), 1.0, Vec3::Zero()));
   Simulation sim(system, makeIntegrator("rk4"), 1e-4);
   ASSERT_FALSE(sim.advanceTo(1.0));
   double deepest = 0;
-  for (int i = 0; i < system.particleCount(); ++i)
-    deepest = std::min(deepest, particle(sim.x(), i).norm() - 1.0);
+  for (int i = 0; i < system.particleCount(); ++i) deepest = std::min(deepest, particle(sim.x(), i).norm() - 1.0);
   EXPECT_GT(deepest, -1e-9);  // step ends project onto the surface
   const int centre = 5 + 11 * 5;
   EXPECT_NEAR(particle(sim.x(), centre).y(), 1.0, 0.011);  // resting on top of the sphere, within epsilon

@@ -19,7 +19,9 @@ double fallHeightError(const std::string& method) {
   return sim.x()[1] - (100 - 0.5 * kG * kT * kT);
 }
 
-TEST(FreeFall, ExplicitEulerIsHighByHalfGTH) { EXPECT_NEAR(fallHeightError("explicit-euler"), kG * kT * kH / 2, 1e-10); }
+TEST(FreeFall, ExplicitEulerIsHighByHalfGTH) {
+  EXPECT_NEAR(fallHeightError("explicit-euler"), kG * kT * kH / 2, 1e-10);
+}
 // The predictor-corrector applies the predicted velocity, so on constant forces it equals symplectic Euler.
 TEST(FreeFall, PredictorCorrectorIsLowByHalfGTH) { EXPECT_NEAR(fallHeightError("pc-euler"), -kG * kT * kH / 2, 1e-10); }
 TEST(FreeFall, MidpointIsExact) { EXPECT_NEAR(fallHeightError("midpoint"), 0, 1e-11); }
@@ -52,8 +54,9 @@ TEST_P(JellyFreeFall, FallsAsAPointMassAndKeepsItsShape) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(AllIntegrators, JellyFreeFall, ::testing::ValuesIn(std::vector<std::string>(
-                                                            integratorNames().begin(), integratorNames().end())),
+INSTANTIATE_TEST_SUITE_P(AllIntegrators, JellyFreeFall,
+                         ::testing::ValuesIn(std::vector<std::string>(integratorNames().begin(),
+                                                                      integratorNames().end())),
                          [](const auto& info) {
                            std::string name = info.param;
                            std::replace(name.begin(), name.end(), '-', '_');

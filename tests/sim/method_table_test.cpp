@@ -12,8 +12,8 @@ namespace {
 
 TEST(MethodTable, EveryNameMakesTheMethodOfThatName) {
   const auto names = integratorNames();
-  for (const char* expected : {"explicit-euler", "symplectic-euler", "pc-euler", "midpoint", "rk4", "rk45",
-                               "backward-euler"})
+  for (const char* expected :
+       {"explicit-euler", "symplectic-euler", "pc-euler", "midpoint", "rk4", "rk45", "backward-euler"})
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
   for (std::string_view name : names) EXPECT_EQ(makeIntegrator(name)->name(), name);
   try {

@@ -63,12 +63,24 @@ struct Limit {
 // numerics.md, "Stability limits on a linear oscillator". The zeta = 0 entries of explicit Euler and midpoint are 0
 // ("always grows"); they are checked separately below.
 const Limit kTable[] = {
-    {"explicit-euler", 0.01, 0.02},    {"explicit-euler", 0.1, 0.2},     {"explicit-euler", 0.5, 1},
-    {"explicit-euler", 1, 2},          {"symplectic-euler", 0, 2},       {"symplectic-euler", 0.01, 1.98},
-    {"symplectic-euler", 0.1, 1.81},   {"symplectic-euler", 0.5, 1.236}, {"symplectic-euler", 1, 0.828},
-    {"midpoint", 0.01, 0.444},         {"midpoint", 0.1, 1.05},          {"midpoint", 0.5, 2},
-    {"midpoint", 1, 2},                {"rk4", 0, 2.828},                {"rk4", 0.01, 2.849},
-    {"rk4", 0.1, 2.951},               {"rk4", 0.5, 2.623},              {"rk4", 1, 2.785},
+    {"explicit-euler", 0.01, 0.02},
+    {"explicit-euler", 0.1, 0.2},
+    {"explicit-euler", 0.5, 1},
+    {"explicit-euler", 1, 2},
+    {"symplectic-euler", 0, 2},
+    {"symplectic-euler", 0.01, 1.98},
+    {"symplectic-euler", 0.1, 1.81},
+    {"symplectic-euler", 0.5, 1.236},
+    {"symplectic-euler", 1, 0.828},
+    {"midpoint", 0.01, 0.444},
+    {"midpoint", 0.1, 1.05},
+    {"midpoint", 0.5, 2},
+    {"midpoint", 1, 2},
+    {"rk4", 0, 2.828},
+    {"rk4", 0.01, 2.849},
+    {"rk4", 0.1, 2.951},
+    {"rk4", 0.5, 2.623},
+    {"rk4", 1, 2.785},
     {"pc-euler", 0, 1},  // R(z) = 1 + z + z^2: explicit, |R(i y)| <= 1 only up to y = 1
 };
 
@@ -88,7 +100,8 @@ TEST(Stability, UndampedExplicitEulerAndMidpointGrowAtEveryStep) {
 
 TEST(Stability, BackwardEulerIsStableAtAnyStep) {
   for (double zeta : {0.0, 0.1, 1.0})
-    for (double wh : {0.5, 3.0, 100.0, 1e4}) EXPECT_FALSE(amplitudeGrows("backward-euler", zeta, wh)) << zeta << " " << wh;
+    for (double wh : {0.5, 3.0, 100.0, 1e4})
+      EXPECT_FALSE(amplitudeGrows("backward-euler", zeta, wh)) << zeta << " " << wh;
 }
 
 // Per-step amplitude factor at omega h = 0.1, undamped. For these methods the step map is a scaled rotation of

@@ -43,7 +43,8 @@ std::unique_ptr<MassSpringSystem> clothOnSphere() {
   p.pinned = clothPinSet("corners", p.nx, p.ny);
   auto system = std::make_unique<MassSpringSystem>();
   system->addBody(buildCloth("cloth", p));
-  system->addCollider(std::make_unique<SphereCollider>("sphere", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), 1.0, Vec3::Zero()));
+  system->addCollider(
+      std::make_unique<SphereCollider>("sphere", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), 1.0, Vec3::Zero()));
   return system;
 }
 
@@ -51,8 +52,7 @@ struct Run {
   VecX x, v;
 };
 
-Run simulate(MassSpringSystem& system, const std::string& method, double dt, int steps, int threads,
-             int threshold) {
+Run simulate(MassSpringSystem& system, const std::string& method, double dt, int steps, int threads, int threshold) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
   const int saved = parallelThreshold();
   setParallelThreshold(threshold);
