@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <initializer_list>
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
@@ -41,22 +42,20 @@ std::string rateOf(double fps) {
   return rate.str();
 }
 
-// ffmpeg's arguments after its input: H.264 (x264 veryfast, CRF 20), yuv420p at even dimensions, MP4 into `temp`
-// ("-f mp4": the temporary name needs no extension). Passed directly (no shell), so paths need no quoting.
+// The whole ffmpeg command: quiet, no prompts, the given input, then H.264 (x264 veryfast, CRF 20), yuv420p at even
+// dimensions, MP4 into `temp` ("-f mp4": the temporary name needs no extension); `frames` > 0 stops after that many.
+// Passed directly (no shell), so paths need no quoting.
 // x264's output depends on its thread count, by default 1.5 per CPU: a fixed count makes the same frames the same
 // video on any machine (measured: one CPU or two, the same bytes; by default, not). 4 is a fixed choice, not a tuned
 // one: encoding is about 5% of a rendered run.
-std::vector<std::string> encoderArgs(double fps, int frames, const fs::path& temp) {
-  std::vector<std::string> args = {"-vf",        "crop=trunc(iw/2)*2:trunc(ih/2)*2",
-                                   "-c:v",       "libx264",
-                                   "-preset",    "veryfast",
-                                   "-crf",       "20",
-                                   "-pix_fmt",   "yuv420p",
-                                   "-r",         rateOf(fps),
-                                   "-f",         "mp4",
-                                   temp.string()};
-  args.insert(args.begin(), {"-threads", std::to_string(kEncoderThreads)});
-  if (frames > 0) args.insert(args.begin(), {"-frames:v", std::to_string(frames)});
+std::vector<std::string> ffmpegCommand(const fs::path& ffmpeg, std::initializer_list<std::string> input, double fps,
+                                       int frames, const fs::path& temp) {
+  std::vector<std::string> args = {ffmpeg.string(), "-nostdin", "-y", "-loglevel", "error"};
+  args.insert(args.end(), input);
+  if (frames > 0) args.insert(args.end(), {"-frames:v", std::to_string(frames)});
+  args.insert(args.end(), {"-threads", std::to_string(kEncoderThreads), "-vf", "crop=trunc(iw/2)*2:trunc(ih/2)*2",
+                           "-c:v", "libx264", "-preset", "veryfast", "-crf", "20", "-pix_fmt", "yuv420p", "-r",
+                           rateOf(fps), "-f", "mp4", temp.string()});
   return args;
 }
 
@@ -83,18 +82,10 @@ std::optional<fs::path> encodeVideo(const fs::path& frames_dir, const std::strin
   const auto ffmpeg = findFfmpeg(frames_dir);
   if (!ffmpeg) return std::nullopt;
   const fs::path temp = io::temporarySibling(mp4, "partial");
-  std::vector<std::string> args = {ffmpeg->string(),
-                                   "-nostdin",
-                                   "-y",
-                                   "-loglevel",
-                                   "error",
-                                   "-framerate",
-                                   rateOf(fps),
-                                   "-start_number",
-                                   std::to_string(first),
-                                   "-i",
-                                   (frames_dir / (name + "_%04d.png")).string()};
-  for (std::string& a : encoderArgs(fps, last - first + 1, temp)) args.push_back(std::move(a));
+  const auto args = ffmpegCommand(*ffmpeg,
+                                  {"-framerate", rateOf(fps), "-start_number", std::to_string(first), "-i",
+                                   (frames_dir / (name + "_%04d.png")).string()},
+                                  fps, last - first + 1, temp);
   return settle(runProgram(args), temp, mp4);
 }
 
@@ -103,22 +94,11 @@ std::unique_ptr<VideoStream> VideoStream::open(const fs::path& mp4, int width, i
   if (!ffmpeg) return nullptr;
   std::signal(SIGPIPE, SIG_IGN);  // a write to an ffmpeg that has stopped reads as EPIPE, not a silent death
   const fs::path temp = io::temporarySibling(mp4, "partial");
-  std::vector<std::string> args = {ffmpeg->string(),
-                                   "-nostdin",
-                                   "-y",
-                                   "-loglevel",
-                                   "error",
-                                   "-f",
-                                   "rawvideo",
-                                   "-pix_fmt",
-                                   "rgb24",
-                                   "-video_size",
-                                   std::to_string(width) + "x" + std::to_string(height),
-                                   "-framerate",
-                                   rateOf(fps),
-                                   "-i",
-                                   "pipe:0"};
-  for (std::string& a : encoderArgs(fps, 0, temp)) args.push_back(std::move(a));
+  const auto args =
+      ffmpegCommand(*ffmpeg,
+                    {"-f", "rawvideo", "-pix_fmt", "rgb24", "-video_size",
+                     std::to_string(width) + "x" + std::to_string(height), "-framerate", rateOf(fps), "-i", "pipe:0"},
+                    fps, 0, temp);
   const PipedProgram child = startPiped(args);
   return std::unique_ptr<VideoStream>(new VideoStream(mp4, temp, child.pid, child.input, width, height));
 }
