@@ -14,6 +14,7 @@ packages=(
   libfontconfig-dev fonts-dejavu-core                   # labels of `wobble compare` (stb_truetype draws them)
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev   # scene files, command line, run.json
   libxxhash-dev                                         # content hashes (frames' settings, study caches)
+  libdeflate-dev                                        # PNG frames' image data (twice zlib's speed)
   libgtest-dev libgmock-dev libbenchmark-dev            # tests, benchmarks
   ffmpeg gnuplot-nox                                    # video and plots (external programs)
   openimageio-tools                                     # idiff: wobble diff's conformance test (~60 MB to fetch)

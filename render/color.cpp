@@ -39,10 +39,12 @@ struct SrgbTable {
   }
 };
 
-}  // namespace
-
-std::uint8_t linearToSrgb8(float linear) {
+const SrgbTable& srgbTable() {
   static const SrgbTable table;
+  return table;
+}
+
+std::uint8_t encode(const SrgbTable& table, float linear) {
   // !(x > 0) also sends NaN to black rather than to an arbitrary code.
   if (!(linear > 0)) return 0;
   const float v = std::min(linear, 1.0f);
@@ -51,19 +53,43 @@ std::uint8_t linearToSrgb8(float linear) {
   return code;
 }
 
-float ToneMap::curveOf(float x) const {
+template <ToneMap::Curve kCurve>
+float curve(float x) {
   float y = x;
-  switch (curve) {
-    case Curve::Aces:
-      y = x * (2.51f * x + 0.03f) / (x * (2.43f * x + 0.59f) + 0.14f);
-      break;
-    case Curve::Reinhard:
-      y = x / (1.0f + x);
-      break;
-    case Curve::Clamp:
-      break;
-  }
+  if constexpr (kCurve == ToneMap::Curve::Aces) y = x * (2.51f * x + 0.03f) / (x * (2.43f * x + 0.59f) + 0.14f);
+  if constexpr (kCurve == ToneMap::Curve::Reinhard) y = x / (1.0f + x);
   return std::clamp(y, 0.0f, 1.0f);
+}
+
+// Calls fn with the curve as a function object: one switch per image rather than per value.
+template <typename Fn>
+void withCurve(ToneMap::Curve c, const Fn& fn) {
+  switch (c) {
+    case ToneMap::Curve::Aces:
+      return fn(curve<ToneMap::Curve::Aces>);
+    case ToneMap::Curve::Reinhard:
+      return fn(curve<ToneMap::Curve::Reinhard>);
+    case ToneMap::Curve::Clamp:
+      return fn(curve<ToneMap::Curve::Clamp>);
+  }
+}
+
+}  // namespace
+
+std::uint8_t linearToSrgb8(float linear) { return encode(srgbTable(), linear); }
+
+float ToneMap::curveOf(float x) const {
+  float y = 0;
+  withCurve(curve, [&](const auto& f) { y = f(x); });
+  return y;
+}
+
+void ToneMap::toSrgb8(std::span<const float> linear, std::uint8_t* out) const {
+  const SrgbTable& table = srgbTable();
+  const float s = scale();
+  withCurve(curve, [&](const auto& f) {
+    for (std::size_t i = 0; i < linear.size(); ++i) out[i] = encode(table, f(std::max(0.0f, linear[i]) * s));
+  });
 }
 
 }  // namespace wobble::render

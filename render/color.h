@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <span>
 
 #include <Eigen/Core>
 
@@ -41,6 +42,8 @@ struct ToneMap {
   float scale() const { return std::exp2(exposure); }
   // The curve alone, of an already exposed value >= 0.
   float curveOf(float x) const;
+  // apply() then linearToSrgb8() of every value (the same codes), in one pass: out has linear.size() bytes.
+  void toSrgb8(std::span<const float> linear, std::uint8_t* out) const;
 };
 
 }  // namespace wobble::render

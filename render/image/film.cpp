@@ -21,10 +21,8 @@ Film::Film(int w, int h)
 Image8 develop(int width, int height, std::span<const Color> color, const ToneMap& tone_map) {
   if (color.size() != std::size_t(width) * height) throw std::invalid_argument("develop: wrong number of pixels");
   Image8 image(width, height, 3);
-  const float scale = tone_map.scale();
-  for (std::size_t i = 0; i < color.size(); ++i)
-    for (int c = 0; c < 3; ++c)
-      image.pixels[3 * i + c] = linearToSrgb8(tone_map.curveOf(std::max(0.0f, color[i][c]) * scale));
+  static_assert(sizeof(Color) == 3 * sizeof(float), "a Color is three packed floats");
+  tone_map.toSrgb8(std::span<const float>(color.data()->data(), 3 * color.size()), image.pixels.data());
   return image;
 }
 
