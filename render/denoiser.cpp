@@ -67,6 +67,44 @@ struct Guide {
   Plane cls, z, gx, gy, nx, ny, nz;  // cls: 1 surface, 0 sky, -1 padding
 };
 
+// Every plane of a call, kept from one frame to the next (per calling thread): a 720p frame needs about 25 planes
+// of 4 MB, and fresh memory costs a page fault per 4 KB and a zero fill. The padding is filled once, when the size
+// changes; each call writes every interior pixel it reads.
+struct Workspace {
+  std::size_t padded = 0;
+  Guide guide;
+  Signal diffuse, other, next;
+  Plane inv, lum, filled;
+
+  void resize(std::size_t size) {
+    if (size == padded) return;
+    padded = size;
+    const auto fill = [&](Plane& plane, float value) {
+      plane.v.resize(size);
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, size, 1 << 16), [&](const auto& range) {
+        std::fill(plane.v.begin() + std::ptrdiff_t(range.begin()), plane.v.begin() + std::ptrdiff_t(range.end()),
+                  value);
+      });
+    };
+    fill(guide.cls, -1), fill(guide.z, 0), fill(guide.gx, 0), fill(guide.gy, 0);
+    fill(guide.nx, 0), fill(guide.ny, 0), fill(guide.nz, 1);
+    for (Signal* signal : {&diffuse, &other, &next})
+      for (Plane* plane : {&signal->r, &signal->g, &signal->b, &signal->var}) fill(*plane, 0);
+    fill(inv, 0), fill(lum, 0), fill(filled, 0);
+  }
+};
+
+// dst = src, plane by plane, on threads.
+void copySignal(const Signal& src, Signal& dst) {
+  const auto copy = [](const Plane& from, Plane& to) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, from.v.size(), 1 << 16), [&](const auto& range) {
+      std::copy(from.v.begin() + std::ptrdiff_t(range.begin()), from.v.begin() + std::ptrdiff_t(range.end()),
+                to.v.begin() + std::ptrdiff_t(range.begin()));
+    });
+  };
+  copy(src.r, dst.r), copy(src.g, dst.g), copy(src.b, dst.b), copy(src.var, dst.var);
+}
+
 template <typename Body>
 void forRows(int begin, int end, const Body& body) {
   tbb::parallel_for(tbb::blocked_range<int>(begin, end), [&](const tbb::blocked_range<int>& rows) {
@@ -155,10 +193,14 @@ struct Window {
 };
 
 // Where a pixel has one sample its variance is unknown (-1): the luminance variance over its 3 x 3 neighbourhood
-// (padding counts as zero; large at silhouettes, which keeps the filter off them).
-void fillMissingVariance(Signal& s, int stride, int pad, int w, int h) {
-  Plane l{decltype(Plane::v)(s.r.v.size())}, filled = s.var;
-  for (std::size_t i = 0; i < l.v.size(); ++i) l.v[i] = lum(s.r.v[i], s.g.v[i], s.b.v[i]);
+// (padding counts as zero; large at silhouettes, which keeps the filter off them). l and filled are scratch planes
+// whose padding is zero; filled is swapped with s.var.
+void fillMissingVariance(Signal& s, Plane& l, Plane& filled, int stride, int pad, int w, int h) {
+  forRows(pad, pad + h, [&](int y) {
+    const float *r = s.r.row(y, stride), *g = s.g.row(y, stride), *b = s.b.row(y, stride);
+    float* out = l.row(y, stride);
+    for (int x = pad; x < pad + w; ++x) out[x] = lum(r[x], g[x], b[x]);
+  });
   forRows(pad, pad + h, [&](int y) {
     const float* up = l.row(y - 1, stride);
     const float* mid = l.row(y, stride);
@@ -173,7 +215,7 @@ void fillMissingVariance(Signal& s, int stride, int pad, int w, int h) {
       out[x] = known[x] >= 0 ? known[x] : std::max(0.0f, sq / 9.0f - m * m);
     }
   });
-  s.var = std::move(filled);
+  std::swap(s.var, filled);
 }
 
 // 1 / (sigma_l sqrt(3 x 3 Gaussian of the variance) + eps) per pixel of rows y0..y1, columns x0..x1 (padded
@@ -211,19 +253,14 @@ std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
   const int pad = std::max(1, settings.iterations > 0 ? settings.radius << (settings.iterations - 1) : 0);
   const int stride = w + 2 * pad, rows = h + 2 * pad;
   const std::size_t padded = std::size_t(stride) * rows;
-  const auto planeOf = [&](float fill) {
-    Plane plane{decltype(Plane::v)(padded)};
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, padded, 1 << 16), [&](const auto& range) {
-      std::fill(plane.v.begin() + std::ptrdiff_t(range.begin()), plane.v.begin() + std::ptrdiff_t(range.end()), fill);
-    });
-    return plane;
-  };
+  thread_local Workspace ws;
+  ws.resize(padded);
   const auto at = [&](int x, int y) { return std::size_t(y + pad) * stride + (x + pad); };
 
   // Guides: class, depth and its screen-space gradient, normal (sky pixels get a fixed normal and depth 0, so only
   // their class keeps them apart from surfaces).
-  Guide guide{planeOf(-1), planeOf(0), planeOf(0), planeOf(0), planeOf(0), planeOf(0), planeOf(1)};
-  Signal diffuse{planeOf(0), planeOf(0), planeOf(0), planeOf(0)}, other = diffuse;
+  Guide& guide = ws.guide;
+  Signal &diffuse = ws.diffuse, &other = ws.other;
   // Only surfaces need filtering (the sky seen directly is exact up to anti-aliasing), and of `other` only where
   // it is not zero: the coat's reflections (usually a small part of the frame).
   std::vector<Window> row_surfaces(h), row_coated(h);  // per row, merged below (rows are filled in parallel)
@@ -234,9 +271,10 @@ std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
       guide.cls.v[p] = sky ? 0.0f : 1.0f;
       const Color d = film.diffuse[i].cwiseQuotient(film.albedo[i].cwiseMax(kAlbedoFloor));
       const Color o = film.color[i] - film.diffuse[i];
+      guide.z.v[p] = sky ? 0.0f : film.depth[i];
+      guide.nx.v[p] = sky ? 0.0f : film.normal[i].x(), guide.ny.v[p] = sky ? 0.0f : film.normal[i].y();
+      guide.nz.v[p] = sky ? 1.0f : film.normal[i].z();
       if (!sky) {
-        guide.z.v[p] = film.depth[i];
-        guide.nx.v[p] = film.normal[i].x(), guide.ny.v[p] = film.normal[i].y(), guide.nz.v[p] = film.normal[i].z();
         row_surfaces[y].add(x, y);
         if (!o.isZero()) row_coated[y].add(x, y);
       }
@@ -255,6 +293,7 @@ std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
   forRows(0, h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       const std::size_t p = at(x, y);
+      guide.gx.v[p] = guide.gy.v[p] = 0;
       if (guide.cls.v[p] != 1.0f) continue;
       const auto slope = [&](std::size_t before, std::size_t after) {
         const bool fb = guide.cls.v[before] == 1.0f, fa = guide.cls.v[after] == 1.0f;
@@ -266,14 +305,14 @@ std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
       guide.gy.v[p] = slope(p - stride, p + stride);
     }
   });
-  fillMissingVariance(diffuse, stride, pad, w, h);
-  fillMissingVariance(other, stride, pad, w, h);
+  fillMissingVariance(diffuse, ws.lum, ws.filled, stride, pad, w, h);
+  fillMissingVariance(other, ws.lum, ws.filled, stride, pad, w, h);
 
   const float b3[5] = {1.0f / 16, 1.0f / 4, 3.0f / 8, 1.0f / 4, 1.0f / 16};
   const float b1[3] = {1.0f / 4, 1.0f / 2, 1.0f / 4};
   const float* kernel = settings.radius == 2 ? b3 : b1;
   const int r = settings.radius;
-  Plane inv = planeOf(0);
+  Plane& inv = ws.inv;
   // One a-trous iteration of one signal over its window, from `in` into `out` (pixels outside the window keep their
   // values: both buffers start equal and only the window is written).
   const auto pass = [&](const Signal& in, Signal& out, const Window& window, int step) {
@@ -304,7 +343,8 @@ std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
   };
   for (const auto& [signal, window] : {std::pair{&diffuse, surfaces}, std::pair{&other, coated}}) {
     if (window.empty()) continue;
-    Signal next = *signal;
+    Signal& next = ws.next;
+    copySignal(*signal, next);
     for (int iteration = 0; iteration < settings.iterations; ++iteration) {
       pass(*signal, next, window, 1 << iteration);
       std::swap(*signal, next);

@@ -8,6 +8,7 @@
 #include <limits>
 #include <random>
 #include <stdexcept>
+#include <thread>
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -240,13 +241,14 @@ TEST(Denoiser, SkySeenDirectlyIsLeftAsRendered) {
   EXPECT_EQ(changed, 0) << "sky pixels changed by the filter";
 }
 
-TEST(Denoiser, SameBytesWithOneAndTwoThreads) {
-  const int w = 64, h = 48;
+// The film of SameBytesWithOneAndTwoThreads: surfaces with noisy light and a coat, a corner of sky, and a few
+// single-sample pixels.
+Film mixedFilm(int w, int h, std::uint32_t seed, int sky_x) {
   Film film(w, h);
-  Noise noise(5);
+  Noise noise(seed);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      if (y < 10 && x > 20) {
+      if (y < 10 && x > sky_x) {
         setSky(film, x, y, Color(0.3f, 0.5f, 1.0f));
         continue;
       }
@@ -256,6 +258,11 @@ TEST(Denoiser, SameBytesWithOneAndTwoThreads) {
       film.color[i] += Color::Constant(0.05f + noise(0.02f));
       film.variance_other[i] = (x % 7 == 0) ? -1.0f : 0.0004f;  // a few single-sample pixels
     }
+  return film;
+}
+
+TEST(Denoiser, SameBytesWithOneAndTwoThreads) {
+  const Film film = mixedFilm(64, 48, 5, 20);
   DenoiseSettings settings;
   settings.radius = 2;
   std::vector<Color> one, two;
@@ -271,6 +278,23 @@ TEST(Denoiser, SameBytesWithOneAndTwoThreads) {
   EXPECT_EQ(std::memcmp(one.data(), two.data(), one.size() * sizeof(Color)), 0);
   // It did something.
   EXPECT_NE(std::memcmp(one.data(), film.color.data(), one.size() * sizeof(Color)), 0);
+}
+
+// denoise() keeps its planes from one call to the next on each thread: a film denoised after others of other sizes
+// and contents (sky where it had surface, surface where it had sky) gives the bytes a fresh thread gives.
+TEST(Denoiser, EarlierFilmsLeaveNoTrace) {
+  const Film film = mixedFilm(64, 48, 5, 20);
+  std::vector<Color> fresh;
+  std::thread([&] { fresh = denoise(film); }).join();  // a new thread: nothing kept yet
+  denoise(mixedFilm(40, 30, 6, 5));
+  Film all_sky(64, 48);
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 64; ++x) setSky(all_sky, x, y, Color(5.0f, 0.1f, 0.1f));
+  denoise(all_sky);
+  denoise(mixedFilm(64, 48, 7, 50));  // same size, other sky and noise
+  const std::vector<Color> again = denoise(film);
+  ASSERT_EQ(fresh.size(), again.size());
+  EXPECT_EQ(std::memcmp(fresh.data(), again.data(), fresh.size() * sizeof(Color)), 0);
 }
 
 TEST(Denoiser, RejectsBadInput) {
