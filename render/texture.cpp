@@ -93,11 +93,11 @@ float boxedSineAmplitude(float phase_width) {
 
 // Mean of frac(x)^5 over [x - width/2, x + width/2]: from its integral floor(x) / 6 + frac(x)^6 / 6.
 float boxedLateWood(float x, float width) {
-  const auto integral = [](float z) {
+  const auto integral = [](float z) {  // times 6
     const float whole = std::floor(z), f = z - whole, f2 = f * f;
-    return (whole + f2 * f2 * f2) / 6.0f;
+    return whole + f2 * f2 * f2;
   };
-  return (integral(x + 0.5f * width) - integral(x - 0.5f * width)) / width;
+  return (integral(x + 0.5f * width) - integral(x - 0.5f * width)) / (6.0f * width);
 }
 
 // A board's tone, 0.88 to 1.12 (mean 1), averaged over the boards in [across - width/2, across + width/2] by their

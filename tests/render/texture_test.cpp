@@ -1,6 +1,11 @@
 // Textures: texel lookup at texel centres, bilinear filtering, wrap modes, sRGB decoding, files, procedurals.
 #include "render/image_texture.h"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include "render/image/png_io.h"
@@ -57,6 +62,29 @@ TEST(ImageTexture, RepeatWrapsAndClampExtendsEdges) {
   EXPECT_NEAR(clamp.eval(left_edge).x(), 0.0f, 1e-6);
   EXPECT_NEAR(clamp.eval({-50.0f, 0.75f}).x(), 0.0f, 1e-6);
   EXPECT_NEAR(clamp.eval({1e9f, 0.75f}).x(), 0.75f, 1e-6);
+}
+
+// The 8-bit encode is the number of code boundaries ((k + 1/2) / 255 decoded) at or below the value: checked by plain
+// counting at a million values over [0, 1], both ends and beyond them, and NaN.
+TEST(Srgb, EncodeCountsTheBoundariesBelow) {
+  std::vector<float> bounds;
+  for (int k = 0; k < 255; ++k) bounds.push_back(srgbToLinear((k + 0.5f) / 255.0f));
+  const auto reference = [&](float v) {
+    if (!(v > 0)) return 0;
+    v = std::min(v, 1.0f);
+    return int(std::count_if(bounds.begin(), bounds.end(), [&](float b) { return v >= b; }));
+  };
+  int wrong = 0;
+  for (int i = -10; i <= (1 << 20) + 10; ++i) {
+    const float v = float(i) / float(1 << 20);
+    wrong += linearToSrgb8(v) != reference(v);
+  }
+  for (const float b : bounds)
+    wrong += linearToSrgb8(b) != reference(b) ||
+             linearToSrgb8(std::nextafter(b, 0.0f)) != reference(std::nextafter(b, 0.0f));
+  EXPECT_EQ(wrong, 0);
+  EXPECT_EQ(linearToSrgb8(std::numeric_limits<float>::quiet_NaN()), 0);
+  EXPECT_EQ(linearToSrgb8(1e30f), 255);
 }
 
 TEST(Srgb, DecodesKnownValues) {
