@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
 
 #include <tbb/blocked_range.h>
@@ -218,21 +219,19 @@ void fillMissingVariance(Signal& s, Plane& l, Plane& filled, int stride, int pad
   std::swap(s.var, filled);
 }
 
-// 1 / (sigma_l sqrt(3 x 3 Gaussian of the variance) + eps) per pixel of rows y0..y1, columns x0..x1 (padded
+// 1 / (sigma_l sqrt(3 x 3 Gaussian of the variance) + eps) per pixel of row y, columns x0..x1 (padded
 // coordinates): the luminance weight's scale.
-void inverseDeviation(const Plane& var, Plane& out, float sigma, int stride, int x0, int x1, int y0, int y1) {
-  forRows(y0, y1, [&](int y) {
-    const float* up = var.row(y - 1, stride);
-    const float* mid = var.row(y, stride);
-    const float* down = var.row(y + 1, stride);
-    float* o = out.row(y, stride);
-    for (int x = x0; x < x1; ++x) {
-      const float blurred = (up[x - 1] + 2 * up[x] + up[x + 1] + 2 * (mid[x - 1] + 2 * mid[x] + mid[x + 1]) +
-                             down[x - 1] + 2 * down[x] + down[x + 1]) /
-                            16.0f;
-      o[x] = 1.0f / (sigma * std::sqrt(blurred) + 1e-4f);
-    }
-  });
+void inverseDeviation(const Plane& var, Plane& out, float sigma, int stride, int x0, int x1, int y) {
+  const float* up = var.row(y - 1, stride);
+  const float* mid = var.row(y, stride);
+  const float* down = var.row(y + 1, stride);
+  float* o = out.row(y, stride);
+  for (int x = x0; x < x1; ++x) {
+    const float blurred = (up[x - 1] + 2 * up[x] + up[x + 1] + 2 * (mid[x - 1] + 2 * mid[x] + mid[x + 1]) +
+                           down[x - 1] + 2 * down[x] + down[x + 1]) /
+                          16.0f;
+    o[x] = 1.0f / (sigma * std::sqrt(blurred) + 1e-4f);
+  }
 }
 
 }  // namespace
@@ -314,8 +313,11 @@ std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
   const int r = settings.radius;
   Plane& inv = ws.inv;
   // One a-trous iteration of one signal over its window, from `in` into `out` (pixels outside the window keep their
-  // values: both buffers start equal and only the window is written).
-  const auto pass = [&](const Signal& in, Signal& out, const Window& window, int step) {
+  // values: both buffers start equal and only the window is written). With `spans`, each row only over its own span
+  // of the window (the diffuse signal: beyond a row's first and last surface pixel there is only sky, which the
+  // filter leaves as it is).
+  const auto pass = [&](const Signal& in, Signal& out, const Window& window, const std::vector<Window>* spans,
+                        int step) {
     Taps taps;
     for (int ky = -r; ky <= r; ++ky)
       for (int kx = -r; kx <= r; ++kx) {
@@ -325,11 +327,12 @@ std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
         taps.dx[taps.count] = float(dx), taps.dy[taps.count] = float(dy);
         taps.k[taps.count++] = kernel[kx + r] * kernel[ky + r];
       }
-    inverseDeviation(in.var, inv, settings.sigma_luminance, stride, window.x0 + pad, window.x1 + pad, window.y0 + pad,
-                     window.y1 + pad);
     forRows(window.y0, window.y1, [&](int y) {
-      const std::size_t first = at(window.x0, y);
-      const int span = window.x1 - window.x0;
+      const Window& row = spans ? (*spans)[y] : window;
+      if (row.empty()) return;
+      inverseDeviation(in.var, inv, settings.sigma_luminance, stride, row.x0 + pad, row.x1 + pad, y + pad);
+      const std::size_t first = at(row.x0, y);
+      const int span = row.x1 - row.x0;
       const TapInput tap_in{guide.cls.v.data() + first, guide.z.v.data() + first,  guide.gx.v.data() + first,
                             guide.gy.v.data() + first,  guide.nx.v.data() + first, guide.ny.v.data() + first,
                             guide.nz.v.data() + first,  in.r.v.data() + first,     in.g.v.data() + first,
@@ -341,12 +344,13 @@ std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
       else filterSpan<24>(tap_in, sums, span, taps, centre, settings.sigma_normal, settings.sigma_depth);
     });
   };
-  for (const auto& [signal, window] : {std::pair{&diffuse, surfaces}, std::pair{&other, coated}}) {
+  using Job = std::tuple<Signal*, Window, const std::vector<Window>*>;
+  for (const auto& [signal, window, spans] : {Job{&diffuse, surfaces, &row_surfaces}, Job{&other, coated, nullptr}}) {
     if (window.empty()) continue;
     Signal& next = ws.next;
     copySignal(*signal, next);
     for (int iteration = 0; iteration < settings.iterations; ++iteration) {
-      pass(*signal, next, window, 1 << iteration);
+      pass(*signal, next, window, spans, 1 << iteration);
       std::swap(*signal, next);
     }
   }
