@@ -30,6 +30,12 @@ PairSchedule::PairSchedule(std::span<const int> a, std::span<const int> b, int p
   task_begin_.assign(count.begin(), count.end());
   order_.resize(a.size());
   for (std::size_t e = 0; e < a.size(); ++e) order_[count[rank[taskOf(e)]]++] = static_cast<int>(e);
+  // Within each task, by (b - a, a): the same particles, in runs. Stable, so equal pairs keep the input order.
+  for (std::size_t t = 0; t + 1 < task_begin_.size(); ++t)
+    std::stable_sort(order_.begin() + task_begin_[t], order_.begin() + task_begin_[t + 1], [&](int i, int j) {
+      const long long oi = static_cast<long long>(b[i]) - a[i], oj = static_cast<long long>(b[j]) - a[j];
+      return oi != oj ? oi < oj : a[i] < a[j];
+    });
   a_.resize(a.size());
   b_.resize(a.size());
   for (std::size_t k = 0; k < order_.size(); ++k) {
@@ -37,6 +43,16 @@ PairSchedule::PairSchedule(std::span<const int> a, std::span<const int> b, int p
     b_[k] = b[order_[k]];
   }
   phase_begin_ = {0, blocks, odd_first, 2 * blocks};
+  // Runs: maximal stretches of a task whose pairs step both endpoints by one.
+  task_runs_.assign(1, 0);
+  for (std::size_t t = 0; t + 1 < task_begin_.size(); ++t) {
+    for (int e = task_begin_[t]; e < task_begin_[t + 1]; ++e) {
+      PairRun* last = runs_.empty() || task_runs_.back() == static_cast<int>(runs_.size()) ? nullptr : &runs_.back();
+      if (last && a_[e] == last->a + last->length && b_[e] == last->a + last->offset + last->length) ++last->length;
+      else runs_.push_back({e, 1, a_[e], b_[e] - a_[e]});
+    }
+    task_runs_.push_back(static_cast<int>(runs_.size()));
+  }
 }
 
 }  // namespace wobble

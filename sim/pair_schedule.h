@@ -3,7 +3,9 @@
 // Particles are cut into contiguous blocks at least as long as the longest pair's index span, so a pair joins one
 // block or two neighbouring ones. Phase 0 runs each block's own pairs, phase 1 the pairs between blocks 2k and
 // 2k + 1, phase 2 those between 2k + 1 and 2k + 2: the tasks of a phase touch disjoint particles, and every
-// particle receives its terms in one fixed order. Built once per topology.
+// particle receives its terms in one fixed order. Within a task the pairs are sorted by (b - a, a), which cuts them
+// into runs (a0 + k, a0 + offset + k), k = 0 .. length - 1: a lattice body's springs come in runs as long as a row,
+// which loops can read and write as contiguous memory (spring_runs.h). Built once per topology.
 #pragma once
 #include <span>
 #include <vector>
@@ -11,6 +13,11 @@
 #include "sim/parallel.h"
 
 namespace wobble {
+
+// Pairs first .. first + length - 1 (schedule order) are (a + k, a + offset + k), k = 0 .. length - 1.
+struct PairRun {
+  int first = 0, length = 0, a = 0, offset = 0;
+};
 
 class PairSchedule {
  public:
@@ -24,16 +31,31 @@ class PairSchedule {
   const std::vector<int>& b() const { return b_; }
   int particles() const { return particles_; }
   std::size_t size() const { return a_.size(); }
+  // Every run, task by task in schedule order: together they cover each pair once.
+  const std::vector<PairRun>& runs() const { return runs_; }
 
   // fn(begin, end) over ranges of pairs in schedule order, phase by phase, the ranges of a phase on threads
   // when parallel.
   template <class Fn>
   void run(bool parallel, Fn&& fn) const {
+    forEachTask(parallel, [&](int t) {
+      if (task_begin_[t] < task_begin_[t + 1]) fn(task_begin_[t], task_begin_[t + 1]);
+    });
+  }
+  // The same tasks, each as its runs: fn(std::span<const PairRun>).
+  template <class Fn>
+  void runByRuns(bool parallel, Fn&& fn) const {
+    forEachTask(parallel, [&](int t) {
+      const int first = task_runs_[t], last = task_runs_[t + 1];
+      if (first < last) fn(std::span<const PairRun>(runs_.data() + first, last - first));
+    });
+  }
+
+ private:
+  template <class Task>
+  void forEachTask(bool parallel, Task&& task) const {
     for (std::size_t p = 0; p + 1 < phase_begin_.size(); ++p) {
       const int first = phase_begin_[p], last = phase_begin_[p + 1];
-      const auto task = [&](int t) {
-        if (task_begin_[t] < task_begin_[t + 1]) fn(task_begin_[t], task_begin_[t + 1]);
-      };
       if (parallel && last - first > 1)
         tbb::parallel_for(tbb::blocked_range<int>(first, last, 1), [&](const tbb::blocked_range<int>& r) {
           for (int t = r.begin(); t != r.end(); ++t) task(t);
@@ -43,10 +65,11 @@ class PairSchedule {
     }
   }
 
- private:
   std::vector<int> order_, a_, b_;
   std::vector<int> task_begin_;   // pair ranges, tasks in phase order
   std::vector<int> phase_begin_;  // task ranges of the three phases
+  std::vector<PairRun> runs_;
+  std::vector<int> task_runs_;  // run ranges of the tasks
   int particles_ = 0;
 };
 

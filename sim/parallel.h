@@ -7,6 +7,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <Eigen/Core>
 
 namespace wobble {
 
@@ -30,6 +31,22 @@ void forEachChunk(int n, bool parallel, Fn&& fn) {
     });
   else
     for (int c = 0; c < chunks; ++c) run(c);
+}
+
+// fn(begin, size) over the element ranges of a flat vector of size values, in chunks of 3 kParticleChunk, on threads
+// when the vector is a large system's state (3 values a particle, runsInParallel). For elementwise work, such as an
+// integrator's x += h v: each element sees the same operations whatever the chunk, so the bytes do not change.
+template <class Fn>
+void forEachSegment(Eigen::Index size, Fn&& fn) {
+  constexpr Eigen::Index kChunk = 3 * kParticleChunk;
+  const Eigen::Index chunks = (size + kChunk - 1) / kChunk;
+  const auto run = [&](Eigen::Index c) { fn(c * kChunk, std::min(kChunk, size - c * kChunk)); };
+  if (chunks > 1 && size >= 3 * Eigen::Index(parallelThreshold()))
+    tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, chunks, 1), [&](const tbb::blocked_range<Eigen::Index>& r) {
+      for (Eigen::Index c = r.begin(); c != r.end(); ++c) run(c);
+    });
+  else
+    for (Eigen::Index c = 0; c < chunks; ++c) run(c);
 }
 
 // The sum of fn(begin, end) over the chunks of [0, n), added in chunk order; T is double or a fixed-size Eigen

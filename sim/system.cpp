@@ -6,6 +6,7 @@
 #include "sim/contact_constraints.h"
 #include "sim/force_jacobian.h"
 #include "sim/pair_block_matrix.h"
+#include "sim/spring_runs.h"
 
 namespace wobble {
 namespace {
@@ -46,7 +47,7 @@ void MassSpringSystem::smoothForce(double, const VecX& x, const VecX& v, VecX& f
   forEachChunk(n, threads, [&](int begin, int end) {
     for (int i = begin; i < end; ++i) particle(f, i) = mass_[i] * gravity_ - drag_[i] * particle(v, i);
   });
-  schedule_.run(threads, [&](int begin, int end) { addSpringForces(springs_, begin, end, x, v, f); });
+  schedule_.runByRuns(threads, [&](std::span<const PairRun> runs) { addSpringForces(springs_, runs, x, v, f); });
 }
 
 void MassSpringSystem::force(double t, const VecX& x, const VecX& v, VecX& f) const {

@@ -1,5 +1,6 @@
 // Explicit (forward) Euler: x1 = x0 + h v0, v1 = v0 + h a(x0, v0). First order; unstable on undamped oscillators.
 #include "sim/integrators/methods.h"
+#include "sim/parallel.h"
 
 namespace wobble {
 namespace {
@@ -11,8 +12,10 @@ class ExplicitEuler final : public Integrator {
     ++stats_.steps;
     stats_.evaluations += 1;
     dynamics.acceleration(t, x, v, a_);
-    x += h * v;
-    v += h * a_;
+    forEachSegment(x.size(), [&](Eigen::Index i, Eigen::Index n) {
+      x.segment(i, n) += h * v.segment(i, n);
+      v.segment(i, n) += h * a_.segment(i, n);
+    });
   }
 
  private:

@@ -1,5 +1,6 @@
 // Explicit midpoint (RK2): one Euler half step, then the full step with the midpoint derivative. Second order.
 #include "sim/integrators/methods.h"
+#include "sim/parallel.h"
 
 namespace wobble {
 namespace {
@@ -11,11 +12,17 @@ class Midpoint final : public Integrator {
     ++stats_.steps;
     stats_.evaluations += 2;
     dynamics.acceleration(t, x, v, a_);
-    xm_ = x + (h / 2) * v;
-    vm_ = v + (h / 2) * a_;
+    xm_.resize(x.size());
+    vm_.resize(v.size());
+    forEachSegment(x.size(), [&](Eigen::Index i, Eigen::Index n) {
+      xm_.segment(i, n) = x.segment(i, n) + (h / 2) * v.segment(i, n);
+      vm_.segment(i, n) = v.segment(i, n) + (h / 2) * a_.segment(i, n);
+    });
     dynamics.acceleration(t + h / 2, xm_, vm_, a_);
-    x += h * vm_;
-    v += h * a_;
+    forEachSegment(x.size(), [&](Eigen::Index i, Eigen::Index n) {
+      x.segment(i, n) += h * vm_.segment(i, n);
+      v.segment(i, n) += h * a_.segment(i, n);
+    });
   }
 
  private:

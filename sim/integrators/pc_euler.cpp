@@ -4,6 +4,7 @@
 // On y' = lambda y this is y1 = (1 + z + z^2) y0 with z = h lambda: an explicit method, first order, stable on an
 // undamped oscillator only up to omega h = 1. It is not backward Euler.
 #include "sim/integrators/methods.h"
+#include "sim/parallel.h"
 
 namespace wobble {
 namespace {
@@ -15,11 +16,17 @@ class PredictorCorrectorEuler final : public Integrator {
     ++stats_.steps;
     stats_.evaluations += 2;
     dynamics.acceleration(t, x, v, a_);
-    xp_ = x + h * v;
-    vp_ = v + h * a_;
+    xp_.resize(x.size());
+    vp_.resize(v.size());
+    forEachSegment(x.size(), [&](Eigen::Index i, Eigen::Index n) {
+      xp_.segment(i, n) = x.segment(i, n) + h * v.segment(i, n);
+      vp_.segment(i, n) = v.segment(i, n) + h * a_.segment(i, n);
+    });
     dynamics.acceleration(t + h, xp_, vp_, a_);
-    x += h * vp_;
-    v += h * a_;
+    forEachSegment(x.size(), [&](Eigen::Index i, Eigen::Index n) {
+      x.segment(i, n) += h * vp_.segment(i, n);
+      v.segment(i, n) += h * a_.segment(i, n);
+    });
   }
 
  private:

@@ -3,6 +3,7 @@
 // oscillates but does not drift, and it is stable up to omega h = 2; with explicit damping (dampers, drag) the limit
 // drops to 2 (sqrt(1 + zeta^2) - zeta). No options.
 #include "sim/integrators/methods.h"
+#include "sim/parallel.h"
 
 namespace wobble {
 namespace {
@@ -14,8 +15,10 @@ class SymplecticEuler final : public Integrator {
     ++stats_.steps;
     ++stats_.evaluations;
     dynamics.acceleration(t, x, v, a_);
-    v += h * a_;
-    x += h * v;  // with the new velocity: what makes the map symplectic
+    forEachSegment(x.size(), [&](Eigen::Index i, Eigen::Index n) {
+      v.segment(i, n) += h * a_.segment(i, n);
+      x.segment(i, n) += h * v.segment(i, n);  // with the new velocity: what makes the map symplectic
+    });
   }
 
  private:
