@@ -1,0 +1,98 @@
+// The spring-run kernel (sim/spring_runs.h) against the scalar spring loop: the schedule's runs cover every spring
+// exactly once with the endpoints they claim, and on a random cloth state the run kernel's forces equal the scalar
+// loop's to round-off (the terms are summed in another order), coincident endpoints inside a run included.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "sim/bodies/cloth.h"
+#include "sim/bodies/jelly.h"
+#include "sim/spring_runs.h"
+#include "sim/system.h"
+
+namespace wobble {
+namespace {
+
+// Every pair of the schedule lies in exactly one run, and run.first + k is the pair (a + k, a + offset + k).
+void expectRunsCoverEveryPairOnce(const PairSchedule& schedule) {
+  std::vector<int> seen(schedule.size(), 0);
+  for (const PairRun& run : schedule.runs()) {
+    ASSERT_GE(run.length, 1);
+    for (int k = 0; k < run.length; ++k) {
+      const int e = run.first + k;
+      ASSERT_LT(e, static_cast<int>(schedule.size()));
+      ++seen[e];
+      EXPECT_EQ(schedule.a()[e], run.a + k);
+      EXPECT_EQ(schedule.b()[e], run.a + run.offset + k);
+    }
+  }
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), static_cast<std::ptrdiff_t>(schedule.size()));
+  // The tasks' runs (runByRuns) are the same runs, each once.
+  std::size_t pairs = 0;
+  schedule.runByRuns(false, [&](std::span<const PairRun> runs) {
+    for (const PairRun& run : runs) pairs += run.length;
+  });
+  EXPECT_EQ(pairs, schedule.size());
+}
+
+MassSpringSystem clothSystem(int n) {
+  ClothParams p;
+  p.nx = p.ny = n;
+  MassSpringSystem system;
+  system.addBody(buildCloth("cloth", p));
+  return system;
+}
+
+TEST(SpringRuns, CoverEveryPairExactlyOnce) {
+  expectRunsCoverEveryPairOnce(clothSystem(100).jacobianPattern());
+  MassSpringSystem jelly;
+  jelly.addBody(buildJelly("jelly", {.n = 14}));
+  expectRunsCoverEveryPairOnce(jelly.jacobianPattern());
+  // Irregular pairs: mostly runs of one.
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int> pick(0, 4999);
+  std::vector<int> a, b;
+  for (int e = 0; e < 20000; ++e) {
+    a.push_back(pick(rng));
+    b.push_back(pick(rng));
+  }
+  expectRunsCoverEveryPairOnce(PairSchedule(a, b, 5000));
+}
+
+TEST(SpringRuns, MatchTheScalarLoopOnARandomClothState) {
+  // 100 x 100: five schedule blocks, rows of 99 springs (runs), the cross-block tasks' short runs (scalar loop).
+  const MassSpringSystem system = clothSystem(100);
+  const Springs& s = system.springs();
+  const PairSchedule& schedule = system.jacobianPattern();
+  const auto longest = std::max_element(schedule.runs().begin(), schedule.runs().end(),
+                                        [](const PairRun& p, const PairRun& q) { return p.length < q.length; });
+  ASSERT_GE(longest->length, 2 * kMinSpringRun);  // the run kernel really runs
+
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0, 0.01);
+  VecX x = system.initialPositions(), v(x.size());
+  for (Eigen::Index i = 0; i < x.size(); ++i) x[i] += noise(rng), v[i] = 100 * noise(rng);
+  // Two endpoints of a spring inside the longest run coincide: no direction, no force, no NaN.
+  const int e = longest->first + longest->length / 2;
+  particle(x, s.a[e]) = particle(x, s.b[e]);
+
+  VecX scalar = VecX::Zero(x.size()), runs = VecX::Zero(x.size());
+  addSpringForces(s, x, v, scalar);
+  schedule.runByRuns(false, [&](std::span<const PairRun> task) { addSpringForces(s, task, x, v, runs); });
+
+  double largest_term = 0;  // of a single spring's force: the scale of the round-off
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const Vec3 d = particle(x, s.a[i]) - particle(x, s.b[i]);
+    const double len = d.norm();
+    largest_term = std::max(largest_term, s.ks[i] * std::abs(len - s.rest[i]) +
+                                              s.kd[i] * (particle(v, s.a[i]) - particle(v, s.b[i])).norm());
+  }
+  ASSERT_GT(largest_term, 1.0);  // the noise really loads the springs
+  ASSERT_TRUE(runs.allFinite());
+  EXPECT_GT(scalar.cwiseAbs().maxCoeff(), 1.0);
+  EXPECT_LE((runs - scalar).cwiseAbs().maxCoeff(), 1e-13 * largest_term);
+}
+
+}  // namespace
+}  // namespace wobble
