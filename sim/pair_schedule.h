@@ -19,6 +19,25 @@ struct PairRun {
   int first = 0, length = 0, a = 0, offset = 0;
 };
 
+// Runs shorter than this are taken a pair at a time by the loops over runs (splitRuns).
+inline constexpr int kMinPairRun = 8;
+
+// A task's runs, in schedule order: long(run) for each run of at least kMinPairRun pairs, pairs(begin, end) for each
+// stretch of shorter runs between them (a task's runs are consecutive pairs).
+template <class LongRun, class Pairs>
+void splitRuns(std::span<const PairRun> runs, LongRun&& long_run, Pairs&& pairs) {
+  if (runs.empty()) return;
+  int pending = runs.front().first;
+  for (const PairRun& run : runs) {
+    if (run.length < kMinPairRun) continue;
+    if (pending < run.first) pairs(pending, run.first);
+    long_run(run);
+    pending = run.first + run.length;
+  }
+  const int end = runs.back().first + runs.back().length;
+  if (pending < end) pairs(pending, end);
+}
+
 class PairSchedule {
  public:
   PairSchedule() = default;

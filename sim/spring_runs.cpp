@@ -47,17 +47,14 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void addRunForces(
 void addSpringForces(const Springs& s, std::span<const PairRun> runs, const VecX& x, const VecX& v, VecX& f) {
   const double *xs = x.data(), *vs = v.data();
   double* fs = f.data();
-  // A task's runs are consecutive: the short ones between two long ones go through the scalar loop together.
-  int pending = runs.empty() ? 0 : runs.front().first;
-  for (const PairRun& run : runs) {
-    if (run.length < kMinSpringRun) continue;
-    addSpringForces(s, pending, run.first, x, v, f);
-    pending = run.first + run.length;
-    const int a = 3 * run.a, b = 3 * (run.a + run.offset), e = run.first;
-    addRunForces(xs + a, xs + b, vs + a, vs + b, s.rest.data() + e, s.ks.data() + e, s.kd.data() + e, run.length,
-                 fs + a, fs + b);
-  }
-  if (!runs.empty()) addSpringForces(s, pending, runs.back().first + runs.back().length, x, v, f);
+  splitRuns(
+      runs,
+      [&](const PairRun& run) {
+        const int a = 3 * run.a, b = 3 * (run.a + run.offset), e = run.first;
+        addRunForces(xs + a, xs + b, vs + a, vs + b, s.rest.data() + e, s.ks.data() + e, s.kd.data() + e, run.length,
+                     fs + a, fs + b);
+      },
+      [&](int begin, int end) { addSpringForces(s, begin, end, x, v, f); });
 }
 
 }  // namespace wobble

@@ -1,7 +1,7 @@
 // The spring force loop over runs of springs (pair_schedule.h): a run's endpoints, velocities and forces are
 // contiguous memory, so it is read without index gathers and its forces, computed a chunk at a time into a small
 // buffer, are added to f[a ..] and subtracted from f[a + offset ..] in two plain loops the compiler vectorises. Short
-// runs go through the scalar loop (springs.h). The same forces to round-off, summed in another fixed order.
+// runs (kMinPairRun) go through the scalar loop (springs.h). The same forces to round-off, summed in another fixed order.
 #pragma once
 #include <span>
 
@@ -9,9 +9,6 @@
 #include "sim/springs.h"
 
 namespace wobble {
-
-// Runs shorter than this take the scalar loop.
-inline constexpr int kMinSpringRun = 8;
 
 // f += the forces of the springs in runs (the springs in schedule order: run.first indexes s).
 void addSpringForces(const Springs& s, std::span<const PairRun> runs, const VecX& x, const VecX& v, VecX& f);

@@ -67,7 +67,7 @@ TEST(SpringRuns, MatchTheScalarLoopOnARandomClothState) {
   const PairSchedule& schedule = system.jacobianPattern();
   const auto longest = std::max_element(schedule.runs().begin(), schedule.runs().end(),
                                         [](const PairRun& p, const PairRun& q) { return p.length < q.length; });
-  ASSERT_GE(longest->length, 2 * kMinSpringRun);  // the run kernel really runs
+  ASSERT_GE(longest->length, 2 * kMinPairRun);  // the run kernel really runs
 
   std::mt19937 rng(11);
   std::normal_distribution<double> noise(0, 0.01);
