@@ -48,15 +48,15 @@ void addDragJacobian(const VecX& drag, Triplets& dfdv) {
       for (int k = 0; k < 3; ++k) dfdv.emplace_back(3 * i + k, 3 * i + k, -drag[i]);
 }
 
-void fillSpringBlocks(const Springs& s, int begin, int end, const VecX& x, double cx, double cv, Sym3* blocks,
+void fillSpringBlocks(const Springs& s, int begin, int end, const VecX& x, double cx, double cv, Sym3Columns blocks,
                       const VecX* w, VecX* kw) {
   for (int i = begin; i < end; ++i) {
     Sym3 kx, kv;
     if (!springBlocks(s, i, x, kx, kv)) {
-      blocks[i] = Sym3{};
+      blocks.set(i, Sym3{});
       continue;
     }
-    blocks[i] = cx * kx + cv * kv;
+    blocks.set(i, cx * kx + cv * kv);
     if (kw) {  // dF/dx w: -Kx (wa - wb) on a, the opposite on b
       const Vec3 u = kx * (particle(*w, s.a[i]) - particle(*w, s.b[i]));
       particle(*kw, s.a[i]) -= u;

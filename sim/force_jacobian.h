@@ -19,7 +19,7 @@ void addDragJacobian(const VecX& drag, Triplets& dfdv);
 
 // The same spring blocks on the fixed pattern, for springs [begin, end): blocks[i] = cx Kx + cv Kv with
 // Kx = -dFa/dxa, Kv = -dFa/dva of spring i; with w, also kw += dF/dx w (kw's a and b entries of each spring).
-void fillSpringBlocks(const Springs& s, int begin, int end, const VecX& x, double cx, double cv, Sym3* blocks,
+void fillSpringBlocks(const Springs& s, int begin, int end, const VecX& x, double cx, double cv, Sym3Columns blocks,
                       const VecX* w, VecX* kw);
 
 }  // namespace wobble

@@ -7,17 +7,19 @@ namespace wobble {
 void PairBlockMatrix::reset(const PairSchedule& pattern) {
   pattern_ = &pattern;
   self_.assign(pattern.particles(), Sym3{});
-  pair_.assign(pattern.size(), Sym3{});
+  pair_.assign(6 * pattern.size(), 0.0);
 }
 
 void PairBlockMatrix::diagonal(std::vector<Sym3>& out, bool parallel) const {
   out = self_;
   const int* a = pattern_->a().data();
   const int* b = pattern_->b().data();
+  const Sym3Columns w = columns(const_cast<double*>(pair_.data()));
   pattern_->run(parallel, [&](int begin, int end) {
     for (int e = begin; e < end; ++e) {
-      out[a[e]] += pair_[e];
-      out[b[e]] += pair_[e];
+      const Sym3 m = w.get(e);
+      out[a[e]] += m;
+      out[b[e]] += m;
     }
   });
 }
@@ -32,26 +34,30 @@ void PairBlockMatrix::multiplySelf(const VecX& x, VecX& y, int begin, int end) c
 
 namespace {
 
-// The pairs (xa + k, xb + k), k < length, with blocks w[k]: u = w[k] (xa[k] - xb[k]) is added to ya[k] and subtracted
-// from yb[k] (which may overlap: all of ya's adds come first). Clones for AVX-512, AVX2 and the baseline, compiled
-// without FMA contraction (CMakeLists.txt): every clone gives the same bits.
-__attribute__((target_clones("avx512f", "avx2", "default"))) void addRunProducts(const Sym3* w,
+// The pairs (xa + k, xb + k), k < length, with blocks w (by value, from its first pair on): u = w_k (xa[k] - xb[k]) is
+// added to ya[k] and subtracted from yb[k] (which may overlap: all of ya's adds come first). Clones for AVX-512, AVX2
+// and the baseline, compiled without FMA contraction (CMakeLists.txt): every clone gives the same bits.
+__attribute__((target_clones("avx512f", "avx2", "default"))) void addRunProducts(const Sym3Columns w,
                                                                                  const double* __restrict xa,
                                                                                  const double* __restrict xb,
                                                                                  int length, double* ya, double* yb) {
   constexpr int kChunk = 128;  // 3 KB a buffer: they stay in L1 between the passes
   alignas(64) double d[3 * kChunk], u[3 * kChunk];
-  const double* __restrict m = &w->xx;  // six values a block: xx, yy, zz, xy, xz, yz
   for (int c = 0; c < length; c += kChunk) {
     const int n = std::min(kChunk, length - c);
-    const double *x0 = xa + 3 * c, *x1 = xb + 3 * c, *b = m + 6 * c;
+    const double *x0 = xa + 3 * c, *x1 = xb + 3 * c;
+    const double* __restrict xx = w.v[0] + c;
+    const double* __restrict yy = w.v[1] + c;
+    const double* __restrict zz = w.v[2] + c;
+    const double* __restrict xy = w.v[3] + c;
+    const double* __restrict xz = w.v[4] + c;
+    const double* __restrict yz = w.v[5] + c;
     for (int j = 0; j < 3 * n; ++j) d[j] = x0[j] - x1[j];
     for (int k = 0; k < n; ++k) {
       const double dx = d[3 * k], dy = d[3 * k + 1], dz = d[3 * k + 2];
-      const double *xx = b + 6 * k, *yy = xx + 1, *zz = xx + 2, *xy = xx + 3, *xz = xx + 4, *yz = xx + 5;
-      u[3 * k] = *xx * dx + *xy * dy + *xz * dz;
-      u[3 * k + 1] = *xy * dx + *yy * dy + *yz * dz;
-      u[3 * k + 2] = *xz * dx + *yz * dy + *zz * dz;
+      u[3 * k] = xx[k] * dx + xy[k] * dy + xz[k] * dz;
+      u[3 * k + 1] = xy[k] * dx + yy[k] * dy + yz[k] * dz;
+      u[3 * k + 2] = xz[k] * dx + yz[k] * dy + zz[k] * dz;
     }
     double* y0 = ya + 3 * c;
     for (int j = 0; j < 3 * n; ++j) y0[j] += u[j];
@@ -61,12 +67,13 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void addRunProducts
 }
 
 // The same product for pairs [begin, end), one at a time: the short runs.
-void addPairProducts(const int* a, const int* b, const Sym3* w, const double* xs, double* ys, int begin, int end) {
+void addPairProducts(const int* a, const int* b, const Sym3Columns w, const double* xs, double* ys, int begin,
+                     int end) {
   for (int e = begin; e < end; ++e) {  // plain scalars: Eigen's 3-vectors mix packets and scalars here
     const double* xa = xs + 3 * a[e];
     const double* xb = xs + 3 * b[e];
     const double dx = xa[0] - xb[0], dy = xa[1] - xb[1], dz = xa[2] - xb[2];
-    const Sym3& m = w[e];
+    const Sym3 m = w.get(e);
     const double ux = m.xx * dx + m.xy * dy + m.xz * dz;
     const double uy = m.xy * dx + m.yy * dy + m.yz * dz;
     const double uz = m.xz * dx + m.yz * dy + m.zz * dz;
@@ -82,7 +89,7 @@ void addPairProducts(const int* a, const int* b, const Sym3* w, const double* xs
 void PairBlockMatrix::addPairProducts(const VecX& x, VecX& y, bool parallel) const {
   const int* a = pattern_->a().data();
   const int* b = pattern_->b().data();
-  const Sym3* w = pair_.data();
+  const Sym3Columns w = columns(const_cast<double*>(pair_.data()));
   const double* xs = x.data();
   double* ys = y.data();
   pattern_->runByRuns(parallel, [=](std::span<const PairRun> runs) {
@@ -90,7 +97,9 @@ void PairBlockMatrix::addPairProducts(const VecX& x, VecX& y, bool parallel) con
         runs,
         [&](const PairRun& run) {
           const int ia = 3 * run.a, ib = 3 * (run.a + run.offset);
-          addRunProducts(w + run.first, xs + ia, xs + ib, run.length, ys + ia, ys + ib);
+          Sym3Columns from = w;
+          for (double*& v : from.v) v += run.first;
+          addRunProducts(from, xs + ia, xs + ib, run.length, ys + ia, ys + ib);
         },
         [&](int begin, int end) { wobble::addPairProducts(a, b, w, xs, ys, begin, end); });
   });

@@ -16,13 +16,14 @@ class PairBlockMatrix {
   const PairSchedule* pattern() const { return pattern_; }
   // Whether the blocks are sized for pattern as it stands (a system may rebuild its schedule in place).
   bool fits(const PairSchedule& pattern) const {
-    return pattern_ == &pattern && self_.size() == std::size_t(pattern.particles()) && pair_.size() == pattern.size();
+    return pattern_ == &pattern && self_.size() == std::size_t(pattern.particles()) && pair_.size() == 6 * pattern.size();
   }
 
   std::vector<Sym3>& self() { return self_; }  // one block per particle
-  std::vector<Sym3>& pair() { return pair_; }  // one block per pair, in schedule order
+  // One block per pair, in schedule order, stored by value (Sym3Columns).
+  Sym3Columns pair() { return columns(pair_.data()); }
   const std::vector<Sym3>& self() const { return self_; }
-  const std::vector<Sym3>& pair() const { return pair_; }
+  Sym3 pair(std::size_t e) const { return columns(const_cast<double*>(pair_.data())).get(e); }
 
   // The diagonal blocks A_pp = self_p + sum of W_e over the pairs at p (for block-Jacobi preconditioning).
   void diagonal(std::vector<Sym3>& out, bool parallel) const;
@@ -35,7 +36,13 @@ class PairBlockMatrix {
 
  private:
   const PairSchedule* pattern_ = nullptr;
-  std::vector<Sym3> self_, pair_;
+  Sym3Columns columns(double* data) const {
+    const std::size_t n = pair_.size() / 6;
+    return {{data, data + n, data + 2 * n, data + 3 * n, data + 4 * n, data + 5 * n}};
+  }
+
+  std::vector<Sym3> self_;
+  std::vector<double> pair_;  // six arrays of pattern size (Sym3Columns)
 };
 
 }  // namespace wobble

@@ -32,4 +32,14 @@ struct Sym3 {
   friend Sym3 operator+(Sym3 a, const Sym3& b) { return a += b; }
 };
 
+// Many Sym3 stored as six arrays, one per value (xx, yy, zz, xy, xz, yz): a loop over consecutive blocks reads each
+// value contiguously, which vectorises (an array of Sym3 would be read with a stride of six).
+struct Sym3Columns {
+  double* v[6] = {};
+  Sym3 get(std::size_t i) const { return {v[0][i], v[1][i], v[2][i], v[3][i], v[4][i], v[5][i]}; }
+  void set(std::size_t i, const Sym3& m) const {
+    v[0][i] = m.xx, v[1][i] = m.yy, v[2][i] = m.zz, v[3][i] = m.xy, v[4][i] = m.xz, v[5][i] = m.yz;
+  }
+};
+
 }  // namespace wobble

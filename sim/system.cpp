@@ -71,7 +71,7 @@ void MassSpringSystem::fillJacobian(double, const VecX& x, const VecX&, double c
     for (int i = begin; i < end; ++i) a.self()[i] = Sym3::identity(cv * drag_[i]);
   });
   schedule_.run(threads,
-                [&](int begin, int end) { fillSpringBlocks(springs_, begin, end, x, cx, cv, a.pair().data(), w, kw); });
+                [&](int begin, int end) { fillSpringBlocks(springs_, begin, end, x, cx, cv, a.pair(), w, kw); });
 }
 
 void MassSpringSystem::contactConstraints(double t, const VecX& x, const VecX& v,
