@@ -40,9 +40,9 @@ Springs Springs::permuted(const std::vector<int>& order) const {
 std::size_t Springs::count(SpringType t) const { return std::count(type.begin(), type.end(), t); }
 
 void addSpringForces(const Springs& s, int begin, int end, const VecX& x, const VecX& v, VecX& f) {
-  // Scalar on purpose: a variant that gathered a batch of springs into arrays and vectorised the square roots and
-  // divisions ran no faster on this project's machines (the loop is bound by its loads and stores), and this one
-  // gives the same bytes as the whole-range loop always did.
+  // Scalar, with indexed loads: the reference, and the loop for springs outside long runs. The system's force loop
+  // takes runs of springs through spring_runs.h, whose contiguous loads vectorise (gathering a batch of scattered
+  // springs into arrays first ran no faster: such a loop is bound by its indexed loads and stores).
   for (int i = begin; i < end; ++i) {
     const int a = s.a[i], b = s.b[i];
     const Vec3 d = particle(x, a) - particle(x, b);
