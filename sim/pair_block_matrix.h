@@ -1,6 +1,7 @@
 // The implicit solver's matrix, in the shape of pairwise forces' Jacobians: A = blockdiag(self_p) plus, for every
 // pair e = (a, b) of a PairSchedule, W_e on the diagonal blocks (a, a) and (b, b) and -W_e on (a, b) and (b, a).
-// The pattern is the schedule's, fixed per topology; each step refills the values in place (symmetric 3x3 blocks).
+// The pattern is the schedule's, fixed per topology; each step refills the values in place (symmetric 3x3 blocks;
+// the W_e by value in six arrays, so that the product reads a run of pairs contiguously).
 #pragma once
 #include <vector>
 
