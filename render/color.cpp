@@ -48,12 +48,9 @@ std::uint8_t encode(const SrgbTable& table, float linear) {
   // !(x > 0) also sends NaN to black rather than to an arbitrary code.
   if (!(linear > 0)) return 0;
   const float v = std::min(linear, 1.0f);
-  // A bucket spans at most one threshold: one step up at most; the second only guards that, without a branch to
-  // mispredict.
-  int code = table.start[static_cast<int>(v * kBuckets)];
-  code += v >= table.thresholds[code];
-  code += v >= table.thresholds[code];
-  return static_cast<std::uint8_t>(code);
+  // A bucket spans at most one threshold (SrgbTable): one step up at most, taken without a branch to mispredict.
+  const int code = table.start[static_cast<int>(v * kBuckets)];
+  return static_cast<std::uint8_t>(code + (v >= table.thresholds[code]));
 }
 
 template <ToneMap::Curve kCurve>

@@ -68,6 +68,13 @@ struct Guide {
   Plane cls, z, gx, gy, nx, ny, nz;  // cls: 1 surface, 0 sky, -1 padding
 };
 
+// fn(begin, end) over [0, n) in blocks of 64 Ki values, on threads: for filling and copying whole planes.
+template <typename Fn>
+void forBlocks(std::size_t n, const Fn& fn) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16),
+                    [&](const tbb::blocked_range<std::size_t>& range) { fn(range.begin(), range.end()); });
+}
+
 // Every plane of a call, kept from one frame to the next (per calling thread): a 720p frame needs about 25 planes
 // of 4 MB, and fresh memory costs a page fault per 4 KB and a zero fill. The padding is filled once, when the size
 // changes; each call writes every interior pixel it reads.
@@ -82,9 +89,8 @@ struct Workspace {
     padded = size;
     const auto fill = [&](Plane& plane, float value) {
       plane.v.resize(size);
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, size, 1 << 16), [&](const auto& range) {
-        std::fill(plane.v.begin() + std::ptrdiff_t(range.begin()), plane.v.begin() + std::ptrdiff_t(range.end()),
-                  value);
+      forBlocks(size, [&](std::size_t begin, std::size_t end) {
+        std::fill(plane.v.data() + begin, plane.v.data() + end, value);
       });
     };
     fill(guide.cls, -1), fill(guide.z, 0), fill(guide.gx, 0), fill(guide.gy, 0);
@@ -98,9 +104,8 @@ struct Workspace {
 // dst = src, plane by plane, on threads.
 void copySignal(const Signal& src, Signal& dst) {
   const auto copy = [](const Plane& from, Plane& to) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, from.v.size(), 1 << 16), [&](const auto& range) {
-      std::copy(from.v.begin() + std::ptrdiff_t(range.begin()), from.v.begin() + std::ptrdiff_t(range.end()),
-                to.v.begin() + std::ptrdiff_t(range.begin()));
+    forBlocks(from.v.size(), [&](std::size_t begin, std::size_t end) {
+      std::copy(from.v.data() + begin, from.v.data() + end, to.v.data() + begin);
     });
   };
   copy(src.r, dst.r), copy(src.g, dst.g), copy(src.b, dst.b), copy(src.var, dst.var);

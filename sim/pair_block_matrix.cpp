@@ -14,7 +14,7 @@ void PairBlockMatrix::diagonal(std::vector<Sym3>& out, bool parallel) const {
   out = self_;
   const int* a = pattern_->a().data();
   const int* b = pattern_->b().data();
-  const Sym3Columns w = columns(const_cast<double*>(pair_.data()));
+  const Sym3Columns w = columns();
   pattern_->run(parallel, [&](int begin, int end) {
     for (int e = begin; e < end; ++e) {
       const Sym3 m = w.get(e);
@@ -89,7 +89,7 @@ void addPairProducts(const int* a, const int* b, const Sym3Columns w, const doub
 void PairBlockMatrix::addPairProducts(const VecX& x, VecX& y, bool parallel) const {
   const int* a = pattern_->a().data();
   const int* b = pattern_->b().data();
-  const Sym3Columns w = columns(const_cast<double*>(pair_.data()));
+  const Sym3Columns w = columns();
   const double* xs = x.data();
   double* ys = y.data();
   pattern_->runByRuns(parallel, [=](std::span<const PairRun> runs) {

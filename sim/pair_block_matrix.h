@@ -17,14 +17,15 @@ class PairBlockMatrix {
   const PairSchedule* pattern() const { return pattern_; }
   // Whether the blocks are sized for pattern as it stands (a system may rebuild its schedule in place).
   bool fits(const PairSchedule& pattern) const {
-    return pattern_ == &pattern && self_.size() == std::size_t(pattern.particles()) && pair_.size() == 6 * pattern.size();
+    return pattern_ == &pattern && self_.size() == std::size_t(pattern.particles()) &&
+           pair_.size() == 6 * pattern.size();
   }
 
   std::vector<Sym3>& self() { return self_; }  // one block per particle
   // One block per pair, in schedule order, stored by value (Sym3Columns).
-  Sym3Columns pair() { return columns(pair_.data()); }
+  Sym3Columns pair() { return columns(); }
   const std::vector<Sym3>& self() const { return self_; }
-  Sym3 pair(std::size_t e) const { return columns(const_cast<double*>(pair_.data())).get(e); }
+  Sym3 pair(std::size_t e) const { return columns().get(e); }
 
   // The diagonal blocks A_pp = self_p + sum of W_e over the pairs at p (for block-Jacobi preconditioning).
   void diagonal(std::vector<Sym3>& out, bool parallel) const;
@@ -37,7 +38,9 @@ class PairBlockMatrix {
 
  private:
   const PairSchedule* pattern_ = nullptr;
-  Sym3Columns columns(double* data) const {
+  // The six arrays of pair_. Sym3Columns has no read-only form: const members only read through it.
+  Sym3Columns columns() const {
+    double* data = const_cast<double*>(pair_.data());
     const std::size_t n = pair_.size() / 6;
     return {{data, data + n, data + 2 * n, data + 3 * n, data + 4 * n, data + 5 * n}};
   }

@@ -38,15 +38,11 @@ void forEachChunk(int n, bool parallel, Fn&& fn) {
 // integrator's x += h v: each element sees the same operations whatever the chunk, so the bytes do not change.
 template <class Fn>
 void forEachSegment(Eigen::Index size, Fn&& fn) {
-  constexpr Eigen::Index kChunk = 3 * kParticleChunk;
-  const Eigen::Index chunks = (size + kChunk - 1) / kChunk;
-  const auto run = [&](Eigen::Index c) { fn(c * kChunk, std::min(kChunk, size - c * kChunk)); };
-  if (chunks > 1 && size >= 3 * Eigen::Index(parallelThreshold()))
-    tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, chunks, 1), [&](const tbb::blocked_range<Eigen::Index>& r) {
-      for (Eigen::Index c = r.begin(); c != r.end(); ++c) run(c);
-    });
-  else
-    for (Eigen::Index c = 0; c < chunks; ++c) run(c);
+  // The particle chunks of forEachChunk, as element ranges (a state that is not 3 values a particle ends in a part).
+  forEachChunk(int((size + 2) / 3), runsInParallel(int(size / 3)), [&](int begin, int end) {
+    const Eigen::Index first = 3 * Eigen::Index(begin);
+    fn(first, std::min(3 * Eigen::Index(end), size) - first);
+  });
 }
 
 // The sum of fn(begin, end) over the chunks of [0, n), added in chunk order; T is double or a fixed-size Eigen

@@ -63,6 +63,7 @@ std::vector<unsigned char> compressedImageData(const Image8& image) {
       compressor(libdeflate_alloc_compressor(kPngCompressionLevel), libdeflate_free_compressor);
   if (!compressor) throw std::bad_alloc();
   std::vector<unsigned char> zlib(libdeflate_zlib_compress_bound(compressor.get(), filtered.size()));
+  // 0 when it does not fit (it always fits its bound): an empty result, which writePng refuses.
   zlib.resize(libdeflate_zlib_compress(compressor.get(), filtered.data(), filtered.size(), zlib.data(), zlib.size()));
   return zlib;
 }
@@ -131,6 +132,7 @@ void writePng(const std::filesystem::path& file, const Image8& image, const std:
     chunk.text_length = value.size();
   }
   const std::vector<unsigned char> idat = compressedImageData(image);
+  if (idat.empty()) throw std::runtime_error(file.string() + ": cannot compress the PNG image data (libdeflate)");
   std::vector<unsigned char> bytes;
   bytes.reserve(idat.size() + 1024);
   if (!encodePng(image, chunks, idat, bytes))
