@@ -74,9 +74,10 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
     other += t_other.cwiseProduct(light);
   };
 
+  int leaving = -1;  // the surface the current ray starts on (none for the camera ray)
   for (int bounce = 0;; ++bounce) {
     ++result.rays;
-    auto hit = scene.intersect(ray);
+    auto hit = scene.intersect(ray, leaving);
     if (bounce > 0 && context.settings.mis) {  // a BSDF continuation may pass an area light before what it hits
       const float tmax = hit ? hit->t : ray.tfar;
       for (const RectLight& rect : lights.rects) {
@@ -144,7 +145,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
     const auto sampleLight = [&](const LightSample& s) {
       if (s.value.isZero() || ns.dot(s.wi) <= 0) return;
       ++result.rays;
-      if (!unoccluded(scene, s.shadow)) return;
+      if (!unoccluded(scene, s.shadow, hit->shape)) return;
       // With no continuation from here, light samples are the only strategy: full weight.
       const bool combined = continues && s.pdf > 0 && context.settings.mis;
       const float weight = combined ? powerHeuristic(s.pdf, q * bsdf.pdf(s.wi)) : 1.0f;
@@ -166,7 +167,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
       const Eigen::Vector3f wi = context.sky_distribution.sample(u.x(), u.y(), pdf);
       if (pdf > 0 && wi.dot(ng) > 0 && ns.dot(wi) > 0) {
         ++result.rays;
-        if (unoccluded(scene, Ray{origin, wi}))
+        if (unoccluded(scene, Ray{origin, wi}, hit->shape))
           reflect(wi, context.sky.eval(wi) * (powerHeuristic(pdf, q * bsdf.pdf(wi)) / pdf));
       }
     }
@@ -186,6 +187,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
     if (t_diffuse.isZero() && t_other.isZero()) break;
     previous_pdf = q * s->pdf;
     ray = Ray{origin, s->wi};
+    leaving = hit->shape;
   }
   result.diffuse = first_base.cwiseProduct(diffuse);
   result.diffuse_demodulated = luminance(diffuse);
@@ -193,6 +195,6 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
   return result;
 }
 
-bool unoccluded(const Scene& scene, const Ray& shadow) { return !scene.occluded(shadow); }
+bool unoccluded(const Scene& scene, const Ray& shadow, int leaving) { return !scene.occluded(shadow, leaving); }
 
 }  // namespace wobble::render

@@ -83,7 +83,8 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
 Eigen::Vector3f offsetFromSurface(const Eigen::Vector3f& p, const Eigen::Vector3f& n);
 
 // Whether nothing in the scene blocks the shadow ray of a light sample (LightSample::shadow) between its tnear and
-// tfar: the one visibility test of the path tracer (pbrt's Unoccluded). Lights only say where to look.
-bool unoccluded(const Scene& scene, const Ray& shadow);
+// tfar: the one visibility test of the path tracer (pbrt's Unoccluded). Lights only say where to look. `leaving`: the
+// shape the ray starts on (Scene::occluded), or -1.
+bool unoccluded(const Scene& scene, const Ray& shadow, int leaving = -1);
 
 }  // namespace wobble::render

@@ -23,7 +23,10 @@ struct Scene::Shape {
   std::string name;
   MaterialId material;
   TriangleMesh mesh;  // CPU copy for interpolation (Mesh, Quad, Box)
+  Quad quad;          // Quad
+  Box box;            // Box
   Sphere sphere;      // Sphere
+  Bounds bounds;      // set by commit()
   std::unique_ptr<EmbreeTriangleMesh> rtc_mesh;
   std::unique_ptr<EmbreeSphere> rtc_sphere;
 };
@@ -119,12 +122,14 @@ ShapeId Scene::addQuad(const std::string& name, const Quad& quad, MaterialId mat
   s->name = name;
   s->material = material;
   s->mesh = quadMesh(name, quad);
+  s->quad = quad;
   return attach(std::move(s));
 }
 
 void Scene::updateQuad(ShapeId id, const Quad& quad) {
   Shape& s = shape(id, "quad");
   s.mesh = quadMesh(s.name, quad);
+  s.quad = quad;
   s.rtc_mesh->setVertices(s.mesh.positions);
   committed_ = false;
 }
@@ -135,12 +140,14 @@ ShapeId Scene::addBox(const std::string& name, const Box& box, MaterialId materi
   s->name = name;
   s->material = material;
   s->mesh = boxMesh(name, box);
+  s->box = box;
   return attach(std::move(s));
 }
 
 void Scene::updateBox(ShapeId id, const Box& box) {
   Shape& s = shape(id, "box");
   s.mesh = boxMesh(s.name, box);
+  s.box = box;
   s.rtc_mesh->setVertices(s.mesh.positions);
   committed_ = false;
 }
@@ -167,12 +174,66 @@ void Scene::commit() {
   checkLights(lights);
   rtc_->commit();
   device_->check("scene: commit");
+  for (auto& s : shapes_) {
+    s->bounds = Bounds{};
+    if (s->kind == Shape::Kind::Sphere) {
+      s->bounds.add(s->sphere.center - Vector3f::Constant(s->sphere.radius));
+      s->bounds.add(s->sphere.center + Vector3f::Constant(s->sphere.radius));
+    } else {
+      for (const Vector3f& p : s->mesh.positions) s->bounds.add(p);
+    }
+    s->bounds = s->bounds.padded(1e-4f);
+  }
   committed_ = true;
 }
 
-bool Scene::occluded(const Ray& ray) const { return rtc_->occluded(ray); }
+namespace {
 
-std::optional<SurfaceHit> Scene::intersect(const Ray& ray) const {
+// Whether a ray from `o` along `d` stays on its side of the plane n . x = n . c, never reaching it. The origins of
+// leaving rays are offset from the surface by far more than this test's rounding (path_tracer.h).
+bool awayFromPlane(const Vector3f& n, const Vector3f& c, const Vector3f& o, const Vector3f& d) {
+  const float side = n.dot(o - c), heading = n.dot(d);
+  return (side > 0 && heading >= 0) || (side < 0 && heading <= 0);
+}
+
+}  // namespace
+
+bool Scene::provablyMisses(const Ray& ray, ShapeId leaving) const {
+  if (leaving < 0 || std::size_t(leaving) >= shapes_.size()) return false;
+  const Shape& s = *shapes_[leaving];
+  const Vector3f &o = ray.origin, &d = ray.direction;
+  bool away = false;
+  switch (s.kind) {
+    case Shape::Kind::Mesh:
+      return false;
+    case Shape::Kind::Quad:
+      away = awayFromPlane(s.quad.normal, s.quad.center, o, d);
+      break;
+    case Shape::Kind::Box:  // a convex body: beyond one of its face planes and heading further out
+      for (int a = 0; a < 3 && !away; ++a) {
+        const float half = 0.5f * s.box.size[a];
+        away = (o[a] > s.box.center[a] + half && d[a] >= 0) || (o[a] < s.box.center[a] - half && d[a] <= 0);
+      }
+      break;
+    case Shape::Kind::Sphere:  // outside, and getting further from the centre
+      away =
+          (o - s.sphere.center).squaredNorm() > s.sphere.radius * s.sphere.radius && (o - s.sphere.center).dot(d) >= 0;
+      break;
+  }
+  if (!away) return false;
+  // Each other shape's own box, not one box around them all: a ray leaving the elevator upwards misses the floor's
+  // flat box though the floor surrounds the elevator.
+  for (const auto& other : shapes_)
+    if (other.get() != &s && other->bounds.mayHit(ray)) return false;
+  return true;
+}
+
+bool Scene::occluded(const Ray& ray, ShapeId leaving) const {
+  return !provablyMisses(ray, leaving) && rtc_->occluded(ray);
+}
+
+std::optional<SurfaceHit> Scene::intersect(const Ray& ray, ShapeId leaving) const {
+  if (provablyMisses(ray, leaving)) return std::nullopt;
   const RTCRayHit rh = rtc_->intersect(ray);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
   const Shape& s = *shapes_[rh.hit.geomID];

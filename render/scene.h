@@ -17,6 +17,7 @@
 
 #include <embree3/rtcore.h>
 
+#include "render/bounds.h"
 #include "render/hit.h"
 #include "render/lights.h"
 #include "render/material.h"
@@ -63,10 +64,17 @@ class Scene {
 
   Lights lights;
 
-  std::optional<SurfaceHit> intersect(const Ray& ray) const;
+  // `leaving`: the shape the ray starts on, if any (a path's bounce and shadow rays). When the ray provably cannot
+  // meet that shape again and misses the bounds of all the others, the answer is known without Embree: on the
+  // slope scene that is most rays leaving the floor, which see only sky and sun past a small jelly.
+  std::optional<SurfaceHit> intersect(const Ray& ray, ShapeId leaving = -1) const;
+  bool occluded(const Ray& ray, ShapeId leaving = -1) const;
+  // Whether the ray, leaving shape `leaving`, provably hits nothing: it heads away from that shape's plane (quad),
+  // face planes (box) or centre (sphere, from outside), and misses every other shape's bounds. Always false for a
+  // mesh (a body may fold back onto itself) and for leaving = -1.
+  bool provablyMisses(const Ray& ray, ShapeId leaving) const;
   // Fills hit.dpdu and hit.dpdv (left zero by intersect(): only texture filtering needs them).
   void uvDerivatives(SurfaceHit& hit) const;
-  bool occluded(const Ray& ray) const;
 
   std::size_t shapeCount() const { return shapes_.size(); }
   const std::string& shapeName(ShapeId id) const;

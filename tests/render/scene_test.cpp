@@ -3,9 +3,11 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include <gtest/gtest.h>
 
+#include "render/path_tracer.h"
 #include "render/renderer.h"
 
 namespace wobble::render {
@@ -164,6 +166,60 @@ TEST(Scene, QuadAndBoxFaceOutwardsAndMove) {
   scene.updateBox(box, Box{{5, 2, 0}, {2, 0.5f, 2}});  // the elevator rises
   scene.commit();
   EXPECT_NEAR(scene.intersect(Ray{{5, 3, 0}, {0, -1, 0}})->p.y(), 2.25f, 1e-5);
+}
+
+// Rays leaving a shape (as the path tracer's bounce and shadow rays do) give the same answer with and without the
+// shortcut (Scene::provablyMisses), and the shortcut is taken where it should be: below the floor always, often above.
+TEST(Scene, RaysLeavingAShapeGetTheSameAnswerWithTheShortcut) {
+  Scene scene;
+  const auto mat = scene.addMaterial(Material::diffuse("grey", Color::Constant(0.5f)));
+  const auto floor = scene.addQuad("floor", Quad{{0, 0, 0}, {0, 1, 0}, 20, 1}, mat);
+  const auto box = scene.addBox("platform", Box{{5, 1, 0}, {2, 0.5f, 2}}, mat);
+  const auto ball = scene.addSphere("ball", Sphere{{-5, 2, 0}, 1}, mat);
+  TriangleMesh sheet = triangle();
+  for (Vector3f& p : sheet.positions) p += Vector3f(0, 3, 5);
+  const auto mesh = scene.addMesh(sheet, mat);
+  scene.commit();
+
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> uniform(-1, 1);
+  const auto direction = [&](const Vector3f& n) {  // uniform over the hemisphere around n
+    Vector3f d;
+    do d = Vector3f(uniform(rng), uniform(rng), uniform(rng));
+    while (d.squaredNorm() > 1 || d.squaredNorm() < 1e-4f);
+    d.normalize();
+    return d.dot(n) >= 0 ? d : Vector3f(-d);
+  };
+  const auto leave = [&](ShapeId shape, const Vector3f& p, const Vector3f& n) {
+    const Ray ray{offsetFromSurface(p, n), direction(n)};
+    const auto plain = scene.intersect(ray), shortcut = scene.intersect(ray, shape);
+    EXPECT_EQ(plain.has_value(), shortcut.has_value());
+    if (plain && shortcut) {
+      EXPECT_EQ(plain->shape, shortcut->shape);
+      EXPECT_EQ(plain->t, shortcut->t);
+    }
+    EXPECT_EQ(scene.occluded(ray), scene.occluded(ray, shape));
+    const bool skipped = scene.provablyMisses(ray, shape);
+    if (skipped) EXPECT_FALSE(plain) << "shape " << shape;
+    return skipped;
+  };
+  constexpr int kRays = 2000;
+  int above = 0, below = 0, from_box = 0, from_ball = 0, from_mesh = 0;
+  for (int i = 0; i < kRays; ++i) {
+    const Vector3f on_floor(9 * uniform(rng), 0, 9 * uniform(rng));
+    above += leave(floor, on_floor, Vector3f::UnitY());
+    below += leave(floor, on_floor, -Vector3f::UnitY());
+    from_box += leave(box, Vector3f(5 + uniform(rng), 1.25f, uniform(rng)), Vector3f::UnitY());
+    from_box += leave(box, Vector3f(6, 1 + 0.25f * uniform(rng), uniform(rng)), Vector3f::UnitX());
+    const Vector3f n = direction(Vector3f::UnitY());
+    from_ball += leave(ball, Vector3f(-5, 2, 0) + n, n);
+    from_mesh += leave(mesh, Vector3f(0.5f, 3.5f, 5), Vector3f::UnitZ());
+  }
+  EXPECT_EQ(below, kRays);  // nothing below the floor
+  EXPECT_GT(above, kRays / 4);
+  EXPECT_GT(from_box, kRays / 4);
+  EXPECT_GT(from_ball, kRays / 4);
+  EXPECT_EQ(from_mesh, 0);  // a mesh may fold back onto itself: never skipped
 }
 
 }  // namespace
