@@ -100,7 +100,11 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
   const int w = camera.width(), h = camera.height(), ts = settings.tile_size;
   const int tiles_x = (w + ts - 1) / ts, tiles_y = (h + ts - 1) / ts;
   Film film(w, h);
-  std::vector<PixelState> state(film.color.size());
+  // One sample per pixel (the default): a single pass, no moments to keep (a variance needs two samples: -1, as the
+  // film starts) and nothing to normalise. Skipping the per-pixel state and the final pass saves about 90 MB of
+  // memory traffic a 720p frame.
+  const bool single = spp == 1;
+  std::vector<PixelState> state(single ? 0 : film.color.size());
   std::vector<std::uint64_t> tile_rays(std::size_t(tiles_x) * tiles_y, 0);
 
   // A pixel's only sample is a uniform random point in every slot, whichever the pattern: hashing it directly
@@ -117,11 +121,11 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
         for (int y = y0; y < std::min(y0 + ts, h); ++y)
           for (int x = x0; x < std::min(x0 + ts, w); ++x) {
             const std::size_t i = film.index(x, y);
-            PixelState& p = state[i];
-            if (!p.active) continue;
+            PixelState* p = single ? nullptr : &state[i];
+            if (p && !p->active) continue;
             const PixelSampler sampler(sampler_kind, i, settings.frame);
             for (auto s = film.samples[i]; s < std::uint32_t(target); ++s) {
-              if (s == std::uint32_t(target / 2)) p.half = film.color[i];
+              if (p && s == std::uint32_t(target / 2)) p->half = film.color[i];
               const Eigen::Vector2f jitter = sampler.get2D(s, SampleLayout::kPixel);
               const Ray ray = camera.ray(static_cast<float>(x) + jitter.x(), static_cast<float>(y) + jitter.y());
               CameraSample cs;
@@ -131,8 +135,10 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
               if (r.radiance.allFinite()) {  // one bad sample must not blacken the pixel
                 film.color[i] += r.radiance;
                 film.diffuse[i] += r.diffuse;
-                const float d = r.diffuse_demodulated, o = luminance(r.radiance - r.diffuse);
-                p.diffuse_sum += d, p.diffuse_sq += d * d, p.other_sum += o, p.other_sq += o * o;
+                if (p) {
+                  const float d = r.diffuse_demodulated, o = luminance(r.radiance - r.diffuse);
+                  p->diffuse_sum += d, p->diffuse_sq += d * d, p->other_sum += o, p->other_sq += o * o;
+                }
               }
               film.albedo[i] += r.albedo;
               film.normal[i] += r.normal;
@@ -188,18 +194,19 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
     target = std::min(spp, 2 * target);
   }
 
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, film.color.size()), [&](const auto& pixels) {
-    for (std::size_t i = pixels.begin(); i != pixels.end(); ++i) {
-      const std::uint32_t n = film.samples[i];
-      const float inv = 1.0f / float(n);
-      film.color[i] *= inv;
-      film.diffuse[i] *= inv;
-      film.albedo[i] *= inv;
-      film.normal[i] *= inv;
-      film.variance_diffuse[i] = varianceOfMean(state[i].diffuse_sum, state[i].diffuse_sq, n);
-      film.variance_other[i] = varianceOfMean(state[i].other_sum, state[i].other_sq, n);
-    }
-  });
+  if (!single)
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, film.color.size()), [&](const auto& pixels) {
+      for (std::size_t i = pixels.begin(); i != pixels.end(); ++i) {
+        const std::uint32_t n = film.samples[i];
+        const float inv = 1.0f / float(n);
+        film.color[i] *= inv;
+        film.diffuse[i] *= inv;
+        film.albedo[i] *= inv;
+        film.normal[i] *= inv;
+        film.variance_diffuse[i] = varianceOfMean(state[i].diffuse_sum, state[i].diffuse_sq, n);
+        film.variance_other[i] = varianceOfMean(state[i].other_sum, state[i].other_sq, n);
+      }
+    });
   std::uint64_t samples_taken = 0;
   for (const std::uint32_t n : film.samples) samples_taken += n;
   if (stats) {
