@@ -79,8 +79,8 @@ std::optional<BsdfSample> Bsdf::sample(float u_lobe, float u1, float u2) const {
     const float a2 = alpha_ * alpha_;
     const float cos2 = (1.0f - u1) / (1.0f + (a2 - 1.0f) * u1);
     const float cos_h = std::sqrt(cos2), sin_h = std::sqrt(std::max(0.0f, 1.0f - cos2));
-    const float phi = 2.0f * kPi * u2;
-    const Eigen::Vector3f h(sin_h * std::cos(phi), sin_h * std::sin(phi), cos_h);
+    const Eigen::Vector2f phi = cosSin2Pi(u2);
+    const Eigen::Vector3f h(sin_h * phi.x(), sin_h * phi.y(), cos_h);
     wi = 2.0f * wo_.dot(h) * h - wo_;
   } else {
     wi = sampleCosineHemisphere(u1, u2);

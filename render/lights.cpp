@@ -122,10 +122,10 @@ Eigen::Vector3f SkyDistribution::sample(float u1, float u2, float& pdf) const {
   const float within = weight_[bin] > 0 ? std::clamp((target - cdf_[bin]) / weight_[bin], 0.0f, 1.0f) : 0.5f;
   const float z = std::clamp(-1.0f + 2.0f * (static_cast<float>(bin) + within) / kBins, -1.0f, 1.0f);
   const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
-  const float phi = 2.0f * std::numbers::pi_v<float> * u2;
+  const Eigen::Vector2f phi = cosSin2Pi(u2);
   // Density in z is weight / total per bin of width 2 / kBins; dw = dz dphi.
   pdf = weight_[bin] / total_ * (kBins / 2.0f) / (2.0f * std::numbers::pi_v<float>);
-  return z * up_ + r * (std::cos(phi) * a_ + std::sin(phi) * b_);
+  return z * up_ + r * (phi.x() * a_ + phi.y() * b_);
 }
 
 float SkyDistribution::pdf(const Eigen::Vector3f& d) const {

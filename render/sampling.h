@@ -24,19 +24,39 @@ struct Frame {
   Eigen::Vector3f toLocal(const Eigen::Vector3f& v) const { return {v.dot(s), v.dot(t), v.dot(n)}; }
 };
 
+// (cos, sin) of 2 pi u for u in [0, 1) (any finite u works), to within 3e-7: the quarter turn nearest u is taken
+// exactly, the rest (at most an eighth of a turn) by Taylor polynomials. The samplers call it once per sample; libm's
+// sincosf was 3.6% of a frame's render time.
+inline Eigen::Vector2f cosSin2Pi(float u) {
+  const float quarter = std::nearbyint(4.0f * u);  // the nearest quarter turn (round half to even)
+  const float x = 2.0f * std::numbers::pi_v<float> * (u - 0.25f * quarter), x2 = x * x;  // |x| <= pi / 4
+  const float s = x * (1.0f - x2 / 6.0f * (1.0f - x2 / 20.0f * (1.0f - x2 / 42.0f * (1.0f - x2 / 72.0f))));
+  const float c = 1.0f - x2 / 2.0f * (1.0f - x2 / 12.0f * (1.0f - x2 / 30.0f * (1.0f - x2 / 56.0f)));
+  switch (static_cast<int>(quarter) & 3) {  // rotate (c, s) by that many quarter turns
+    case 0:
+      return {c, s};
+    case 1:
+      return {-s, c};
+    case 2:
+      return {-c, -s};
+    default:
+      return {s, -c};
+  }
+}
+
 // Cosine-weighted hemisphere (Malley's method); pdf = cos(theta) / pi.
 inline Eigen::Vector3f sampleCosineHemisphere(float u1, float u2) {
   const float r = std::sqrt(u1);
-  const float phi = 2.0f * std::numbers::pi_v<float> * u2;
-  return {r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0f, 1.0f - u1))};
+  const Eigen::Vector2f phi = cosSin2Pi(u2);
+  return {r * phi.x(), r * phi.y(), std::sqrt(std::max(0.0f, 1.0f - u1))};
 }
 
 // Uniform over the cone of directions within acos(cos_max) of +z; pdf = 1 / (2 pi (1 - cos_max)).
 inline Eigen::Vector3f sampleUniformCone(float u1, float u2, float cos_max) {
   const float cos_theta = 1.0f - u1 * (1.0f - cos_max);
   const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
-  const float phi = 2.0f * std::numbers::pi_v<float> * u2;
-  return {sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta};
+  const Eigen::Vector2f phi = cosSin2Pi(u2);
+  return {sin_theta * phi.x(), sin_theta * phi.y(), cos_theta};
 }
 
 }  // namespace wobble::render
