@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -99,11 +100,11 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
                             PathSettings{settings.max_bounces, settings.sample_sky, settings.mis, settings.roulette});
   const int w = camera.width(), h = camera.height(), ts = settings.tile_size;
   const int tiles_x = (w + ts - 1) / ts, tiles_y = (h + ts - 1) / ts;
-  Film film(w, h);
-  // One sample per pixel (the default): a single pass, no moments to keep (a variance needs two samples: -1, as the
-  // film starts) and nothing to normalise. Skipping the per-pixel state and the final pass saves about 90 MB of
-  // memory traffic a 720p frame.
+  // One sample per pixel (the default): a single pass, no moments to keep (a variance needs two samples: -1) and
+  // nothing to normalise. The film is then set pixel by pixel as it is rendered, with no per-pixel state and no
+  // final pass: about 150 MB less memory traffic a 720p frame.
   const bool single = spp == 1;
+  Film film = single ? Film::unfilled(w, h) : Film(w, h);
   std::vector<PixelState> state(single ? 0 : film.color.size());
   std::vector<std::uint64_t> tile_rays(std::size_t(tiles_x) * tiles_y, 0);
 
@@ -123,6 +124,11 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
             const std::size_t i = film.index(x, y);
             PixelState* p = single ? nullptr : &state[i];
             if (p && !p->active) continue;
+            if (single) {  // as Film(w, h) starts
+              film.color[i] = film.diffuse[i] = film.albedo[i] = film.normal[i] = Color::Zero();
+              film.depth[i] = std::numeric_limits<float>::infinity();
+              film.variance_diffuse[i] = film.variance_other[i] = -1.0f;
+            }
             const PixelSampler sampler(sampler_kind, i, settings.frame);
             for (auto s = film.samples[i]; s < std::uint32_t(target); ++s) {
               if (p && s == std::uint32_t(target / 2)) p->half = film.color[i];

@@ -34,6 +34,9 @@ struct Film {
 
   Film() = default;
   Film(int w, int h);
+  // Sized, its colour, albedo, normal and diffuse values indeterminate (depth, variances and samples zero): for a
+  // writer that sets every pixel before it reads one (the renderer at one sample per pixel, on its own threads).
+  static Film unfilled(int w, int h);
   std::size_t index(int x, int y) const { return std::size_t(y) * width + x; }
 };
 
