@@ -1,5 +1,7 @@
 #include "sim/filtered_pcg.h"
 
+#include "sim/pcg_kernels.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -30,9 +32,10 @@ void FilteredPcg::setUpPreconditioner(const PairBlockMatrix& a, const ParticleFi
 }
 
 PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, const VecX& b, VecX& x,
-                             double tolerance, int max_iterations, bool parallel) {
+                             double tolerance, int max_iterations, bool parallel, bool two_level) {
   const int n = static_cast<int>(b.size() / 3);
   setUpPreconditioner(a, s, parallel);
+  if (two_level) coarse_.setUp(a, s);
   r_.resize(b.size());
   c_.resize(b.size());
   q_.resize(b.size());
@@ -69,63 +72,66 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
   // otherwise divide 0 by 0).
   const double threshold = std::max(tolerance * tolerance * b_norm2, std::numeric_limits<double>::min());
 
-  // r = S (b - A x), c = P^-1 r (filtered), delta = r.c; |r|^2 alongside.
-  a.multiply(x, q_, parallel);
-  Eigen::Vector2d sums = sumOverChunks(n, parallel, pair_sums_, [&](int begin, int end) {
-    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-    for (int p = begin; p < end; ++p) {
-      const Vec3 r = s.apply(p, particle(b, p) - particle(q_, p));
-      const Vec3 c = inverse_[p] * r;
-      particle(r_, p) = r;
-      particle(c_, p) = c;
-      sum += Eigen::Vector2d(r.squaredNorm(), r.dot(c));
-    }
-    return sum;
-  });
-  double r_norm2 = sums[0], delta = sums[1], beta = 0;
-  PcgResult result;
-  // Raw pointers in the loops: through the members, each store would make the compiler reload them.
+  // The particles S does not leave alone, in order: the vector loops run over plain arrays and fix these after.
+  constrained_.reserve(n);
+  constrained_.clear();
+  for (int p = 0; p < n; ++p)
+    if (s.kind(p) != ParticleFilter::Free) constrained_.push_back(p);
+  const auto filterChunk = [&](VecX& y, int begin, int end) {
+    const auto first = std::lower_bound(constrained_.begin(), constrained_.end(), begin);
+    for (auto it = first; it != constrained_.end() && *it < end; ++it)
+      particle(y, *it) = s.apply(*it, particle(y, *it));
+  };
   double *xs = x.data(), *rs = r_.data(), *cs = c_.data(), *qs = q_.data();
   const Sym3* inverse = inverse_.data();
-  const auto at = [](double* v, int p) { return Vec3::Map(v + 3 * p); };
+  // z = P^-1 r into z (filtered), after the coarse solve when two-level; returns r.z.
+  const auto precondition = [&](double* z) {
+    if (two_level) coarse_.solve(r_);
+    return sumOverChunks(n, parallel, sums_, [&](int begin, int end) {
+      const int m = end - begin;
+      if (two_level)
+        pcg::blockProductPlus(inverse + begin, rs + 3 * begin, coarse_.corrections(), coarse_.aggregates() + begin,
+                              z + 3 * begin, m);
+      else pcg::blockProduct(inverse + begin, rs + 3 * begin, z + 3 * begin, m);
+      if (two_level) filterChunk(z == cs ? c_ : q_, begin, end);  // S u; block-Jacobi's inverse is filtered already
+      return pcg::dot(rs + 3 * begin, z + 3 * begin, 3 * m);
+    });
+  };
+
+  // r = S (b - A x), c = P^-1 r (filtered), delta = r.c; |r|^2 alongside.
+  a.multiply(x, q_, parallel);
+  double r_norm2 = sumOverChunks(n, parallel, sums_, [&](int begin, int end) {
+    for (int p = begin; p < end; ++p) particle(r_, p) = s.apply(p, particle(b, p) - particle(q_, p));
+    return pcg::dot(rs + 3 * begin, rs + 3 * begin, 3 * (end - begin));
+  });
+  double delta = precondition(cs), beta = 0;
+  PcgResult result;
   while (r_norm2 >= threshold && result.iterations < max_iterations) {
     // q = A c, with the direction's update c = z + beta c (z in q) fused into the diagonal part of the product.
     if (result.iterations++ == 0) {
       a.multiply(c_, q_, parallel);
     } else {
       forEachChunk(n, parallel, [&](int begin, int end) {
-        for (int p = begin; p < end; ++p) at(cs, p) = at(qs, p) + beta * at(cs, p);
+        pcg::scaleAdd(cs + 3 * begin, qs + 3 * begin, beta, 3 * (end - begin));
         a.multiplySelf(c_, q_, begin, end);
       });
       a.addPairProducts(c_, q_, parallel);
     }
     // q = S A c, alpha = delta / c.q
     const double cq = sumOverChunks(n, parallel, sums_, [&](int begin, int end) {
-      double sum = 0;
-      for (int p = begin; p < end; ++p) {
-        const Vec3 q = s.apply(p, at(qs, p));
-        at(qs, p) = q;
-        sum += at(cs, p).dot(q);
-      }
-      return sum;
+      filterChunk(q_, begin, end);
+      return pcg::dot(cs + 3 * begin, qs + 3 * begin, 3 * (end - begin));
     });
     const double alpha = delta / cq;
-    // x += alpha c, r -= alpha q; the next preconditioned residual z = P^-1 r and its products.
-    sums = sumOverChunks(n, parallel, pair_sums_, [&](int begin, int end) {
-      Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-      for (int p = begin; p < end; ++p) {
-        at(xs, p) += alpha * at(cs, p);
-        const Vec3 r = at(rs, p) - alpha * at(qs, p);
-        const Vec3 z = inverse[p] * r;
-        at(rs, p) = r;
-        at(qs, p) = z;  // q is free until the next product: it holds z
-        sum += Eigen::Vector2d(r.squaredNorm(), r.dot(z));
-      }
-      return sum;
+    // x += alpha c, r -= alpha q; the next preconditioned residual z = P^-1 r (into q: it is free until the next
+    // product) and its products.
+    r_norm2 = sumOverChunks(n, parallel, sums_, [&](int begin, int end) {
+      const int i = 3 * begin;
+      return pcg::step(xs + i, rs + i, cs + i, qs + i, alpha, 3 * (end - begin));
     });
-    r_norm2 = sums[0];
-    beta = sums[1] / delta;
-    delta = sums[1];
+    const double rz = precondition(qs);
+    beta = rz / delta;
+    delta = rz;
   }
   result.relative_residual = std::sqrt(r_norm2 / b_norm2);
   return result;

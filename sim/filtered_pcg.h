@@ -1,12 +1,16 @@
 // Baraff & Witkin's modified preconditioned conjugate gradients: solves A x = b on the subspace a ParticleFilter S
 // leaves free, with x's removed part (I - S) x held at its starting value (a contact's prescribed normal velocity
-// change, 0 on pinned particles). Block-Jacobi (3x3) preconditioner on the filtered diagonal blocks. Stops when the
+// change, 0 on pinned particles). Preconditioner: block-Jacobi, the inverse of each particle's filtered 3x3 diagonal
+// block; two_level adds the coarse correction of coarse_correction.h (fewer iterations on large stiff systems, for a
+// setup per solve and a small sparse solve per iteration; the sum is symmetric positive definite). Stops when the
 // residual's 2-norm |S (b - A x)| is at most tolerance times that of the filtered right-hand side S (b - A (I - S) x0)
 // (Eigen's ConjugateGradient rule), or after max_iterations. Every vector operation runs over particle chunks and
-// every sum in chunk order (parallel.h): the same bytes whatever the thread count. Buffers are kept between solves.
+// every sum in chunk order (parallel.h), each chunk's in fixed lanes (pcg_kernels.h), the coarse solve serially: the
+// same bytes whatever the thread count. Buffers are kept between solves.
 #pragma once
 #include <vector>
 
+#include "sim/coarse_correction.h"
 #include "sim/pair_block_matrix.h"
 #include "sim/particle_filter.h"
 
@@ -21,15 +25,16 @@ class FilteredPcg {
  public:
   // x: the starting guess on input (its removed part is kept), the solution on output.
   PcgResult solve(const PairBlockMatrix& a, const ParticleFilter& s, const VecX& b, VecX& x, double tolerance,
-                  int max_iterations, bool parallel);
+                  int max_iterations, bool parallel, bool two_level);
 
  private:
   void setUpPreconditioner(const PairBlockMatrix& a, const ParticleFilter& s, bool parallel);
 
+  CoarseCorrection coarse_;
   std::vector<Sym3> diagonal_, inverse_;
+  std::vector<int> constrained_;  // the particles S filters (not free), in order
   VecX r_, c_, q_, z_;
   std::vector<double> sums_;
-  std::vector<Eigen::Vector2d> pair_sums_;
 };
 
 }  // namespace wobble

@@ -1,5 +1,6 @@
 #include "app/commands/run_command.h"
 
+#include <array>
 #include <chrono>
 #include <memory>
 #include <sstream>
@@ -55,7 +56,10 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
   if (const IntegratorStats& s = sim.integrator().stats(); s.jacobians > 0)  // backward-euler's linear solves
     j["linear_solver"] =
         {{"method",
-          "filtered PCG (Baraff-Witkin), 3x3 block-Jacobi; stops at |S(b - A dv)| <= cg_tolerance |S(b - A z)|"},
+          "filtered PCG (Baraff-Witkin), 3x3 block-Jacobi plus an aggregation coarse level (two-level; auto: from " +
+              std::to_string(kTwoLevelParticles) + " particles); stops at |S(b - A dv)| <= cg_tolerance |S(b - A z)|"},
+         {"cg_preconditioner",
+          std::array{"auto", "block-jacobi", "two-level"}[int(scene.integrator_options.cg_preconditioner)]},
          {"cg_tolerance", scene.integrator_options.cg_tolerance},
          {"cg_max_iterations", scene.integrator_options.cg_max_iterations},
          {"cg_iterations", s.cg_iterations},

@@ -1,5 +1,6 @@
 #include "app/scene/scene_file.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -46,6 +47,10 @@ void readSimulation(TableReader r, SceneFile& scene, Vec3& gravity) {
   o.newton = r.boolean("newton", o.newton);
   o.cg_tolerance = r.number("cg_tolerance", o.cg_tolerance, Range::positive());
   o.cg_max_iterations = r.integer("cg_max_iterations", o.cg_max_iterations, Range::atLeast(1));
+  const std::vector<std::string> preconditioners = {"auto", "block-jacobi", "two-level"};
+  const std::string preconditioner = r.string("cg_preconditioner", "auto", preconditioners);
+  o.cg_preconditioner = CgPreconditioner(std::find(preconditioners.begin(), preconditioners.end(), preconditioner) -
+                                         preconditioners.begin());
   r.finish();
 }
 

@@ -2,20 +2,21 @@
 // The step solves M dv = h F(x0 + h (v0 + dv), v0 + dv), x1 = x0 + h (v0 + dv). By default with one Newton step
 // linearized at the start state:
 //   (M - h dF/dv - h^2 dF/dx) dv = h (F0 + h dF/dx v0),
-// solved by Baraff & Witkin's modified conjugate gradients with a 3x3 block-Jacobi preconditioner (filtered_pcg.h),
-// warm-started from the previous step's dv. The matrix has the Jacobians' fixed pattern (one 3x3 block per particle
-// and per spring): sized once per topology, its values refilled in place every step; every loop runs over particle
-// chunks or the pattern's schedule, so the result is the same bytes whatever the thread count. First order; A-stable
-// and L-stable (unconditionally stable on linear springs, strongly damps the fast modes: amplitude factor 1/sqrt(1 +
-// (omega h)^2) per step on an undamped oscillator). Contact forces are explicit: they enter through F0 = M a(t, x0, v0)
-// and are held fixed over the step; the Jacobians (ForceJacobian, from the Dynamics) cover springs, dampers and drag.
-// Constraints use B&W's filter S = blockdiag(S_i) inside the CG (particle_filter.h), solving S (A dv - b) = 0 with (I -
-// S) dv = z: a pinned particle (inverse mass 0) has S_i = 0, dv_i = 0; a particle whose contact support is active at
-// the start (ForceJacobian::contactConstraints) has S_i = I - n n^T and its normal dv prescribed (the surface's normal
-// acceleration times h), which is what the explicit support force does instantaneously; friction stays explicit.
-// Without that, the support sized to cancel a stiff spring's push at the start would act for the whole step while the
-// spring relaxes and launch the body. Options: cg_tolerance (relative residual |S (b - A dv)| / |S (b - A z)|, default
-// in integrator.h) and cg_max_iterations of each linear solve (a solve that hits the limit is used as it stands, as
+// solved by Baraff & Witkin's modified conjugate gradients, preconditioned by 3x3 block-Jacobi plus, on large systems,
+// an aggregation coarse level (filtered_pcg.h, coarse_correction.h), warm-started from the previous step's dv. The
+// matrix has the Jacobians' fixed pattern (one 3x3 block per particle and per spring): sized once per topology, its
+// values refilled in place every step; every loop runs over particle chunks or the pattern's schedule, so the result is
+// the same bytes whatever the thread count. First order; A-stable and L-stable (unconditionally stable on linear
+// springs, strongly damps the fast modes: amplitude factor 1/sqrt(1 + (omega h)^2) per step on an undamped oscillator).
+// Contact forces are explicit: they enter through F0 = M a(t, x0, v0) and are held fixed over the step; the Jacobians
+// (ForceJacobian, from the Dynamics) cover springs, dampers and drag. Constraints use B&W's filter S = blockdiag(S_i)
+// inside the CG (particle_filter.h), solving S (A dv - b) = 0 with (I - S) dv = z: a pinned particle (inverse mass 0)
+// has S_i = 0, dv_i = 0; a particle whose contact support is active at the start (ForceJacobian::contactConstraints)
+// has S_i = I - n n^T and its normal dv prescribed (the surface's normal acceleration times h), which is what the
+// explicit support force does instantaneously; friction stays explicit. Without that, the support sized to cancel a
+// stiff spring's push at the start would act for the whole step while the spring relaxes and launch the body. Options:
+// cg_tolerance (relative residual |S (b - A dv)| / |S (b - A z)|, default in integrator.h), cg_preconditioner
+// (integrator.h) and cg_max_iterations of each linear solve (a solve that hits the limit is used as it stands, as
 // Blender's cloth solver does; the achieved residual is in the stats); newton: after that first step, iterate Newton on
 // the full nonlinear equations (contact still held at its start value) with a backtracking line search on the residual,
 // until max |M^-1 residual| <= newton_tolerance * max(1, max |v1|), at most newton_max_iterations linear solves
@@ -107,8 +108,11 @@ class BackwardEuler final : public Integrator {
 
   // Solves S (A y - b) = 0 from y (its filtered-out part kept).
   void solve(const VecX& b, VecX& y) {
+    const bool two_level = options_.cg_preconditioner == CgPreconditioner::Auto
+                               ? n_ >= kTwoLevelParticles
+                               : options_.cg_preconditioner == CgPreconditioner::TwoLevel;
     const PcgResult r =
-        pcg_.solve(matrix_, filter_, b, y, options_.cg_tolerance, options_.cg_max_iterations, parallel_);
+        pcg_.solve(matrix_, filter_, b, y, options_.cg_tolerance, options_.cg_max_iterations, parallel_, two_level);
     ++stats_.last_linear_solves;
     stats_.last_cg_iterations += r.iterations;
     stats_.cg_iterations += r.iterations;

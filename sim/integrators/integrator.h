@@ -10,6 +10,11 @@
 
 namespace wobble {
 
+// backward-euler's preconditioner (filtered_pcg.h): two-level on systems of at least kTwoLevelParticles particles
+// (measured: README, Integrators), block-Jacobi below; or either one always.
+enum class CgPreconditioner { Auto, BlockJacobi, TwoLevel };
+inline constexpr int kTwoLevelParticles = 2000;
+
 // Settings that only some methods read (adaptive and implicit ones); the defaults suit the shipped scenes.
 struct IntegratorOptions {
   double rtol = 1e-6, atol = 1e-9;  // rk45: relative and absolute error tolerances per step
@@ -21,6 +26,7 @@ struct IntegratorOptions {
   // (filtered_pcg.h); README, Integrators, for how the default was chosen.
   double cg_tolerance = 1e-3;
   int cg_max_iterations = 1000;
+  CgPreconditioner cg_preconditioner = CgPreconditioner::Auto;
 };
 
 // Work counters for the studies. Every method counts steps and evaluations; the others stay 0 where meaningless.

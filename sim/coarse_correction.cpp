@@ -1,0 +1,237 @@
+#include "sim/coarse_correction.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <map>
+#include <utility>
+
+namespace wobble {
+namespace {
+
+Eigen::Matrix3d filterMatrix(const ParticleFilter& s, int p) {
+  switch (s.kind(p)) {
+    case ParticleFilter::Free:
+      return Eigen::Matrix3d::Identity();
+    case ParticleFilter::Held:
+      return Eigen::Matrix3d::Zero();
+    default:
+      return Eigen::Matrix3d::Identity() - s.normal(p) * s.normal(p).transpose();
+  }
+}
+
+std::vector<int> aggregateGraph(const std::vector<int>& ea, const std::vector<int>& eb, int n, int& aggregates,
+                                bool matching) {
+  std::vector<int> start(n + 1, 0), neighbours(2 * ea.size());
+  for (std::size_t e = 0; e < ea.size(); ++e) ++start[ea[e] + 1], ++start[eb[e] + 1];
+  for (int p = 0; p < n; ++p) start[p + 1] += start[p];
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (std::size_t e = 0; e < ea.size(); ++e) {
+    neighbours[fill[ea[e]]++] = eb[e];
+    neighbours[fill[eb[e]]++] = ea[e];
+  }
+  std::vector<int> aggregate(n, -1);
+  aggregates = 0;
+  if (matching) {
+    for (int p = 0; p < n; ++p) {
+      if (aggregate[p] >= 0) continue;
+      std::map<int, int> counts;
+      for (int k = start[p]; k < start[p + 1]; ++k)
+        if (aggregate[neighbours[k]] < 0) ++counts[neighbours[k]];
+      int best = -1, most = 0;
+      for (const auto& [q, count] : counts)
+        if (count > most) best = q, most = count;
+      aggregate[p] = aggregates;
+      if (best >= 0) aggregate[best] = aggregates;
+      ++aggregates;
+    }
+    return aggregate;
+  }
+  for (int p = 0; p < n; ++p) {
+    if (aggregate[p] >= 0) continue;
+    bool free = true;
+    for (int k = start[p]; k < start[p + 1] && free; ++k) free = aggregate[neighbours[k]] < 0;
+    if (!free) continue;
+    aggregate[p] = aggregates;
+    for (int k = start[p]; k < start[p + 1]; ++k) aggregate[neighbours[k]] = aggregates;
+    ++aggregates;
+  }
+  std::vector<int> joined(aggregate);
+  for (int p = 0; p < n; ++p) {
+    if (aggregate[p] >= 0) continue;
+    std::map<int, int> counts;
+    for (int k = start[p]; k < start[p + 1]; ++k)
+      if (aggregate[neighbours[k]] >= 0) ++counts[aggregate[neighbours[k]]];
+    int best = -1, most = 0;
+    for (const auto& [agg, count] : counts)
+      if (count > most) best = agg, most = count;
+    joined[p] = best >= 0 ? best : aggregates++;
+  }
+  return joined;
+}
+
+// m += sign b.
+void add(Eigen::Matrix3d& m, const Sym3& b, double sign) {
+  m(0, 0) += sign * b.xx, m(1, 1) += sign * b.yy, m(2, 2) += sign * b.zz;
+  m(0, 1) += sign * b.xy, m(1, 0) += sign * b.xy;
+  m(0, 2) += sign * b.xz, m(2, 0) += sign * b.xz;
+  m(1, 2) += sign * b.yz, m(2, 1) += sign * b.yz;
+}
+
+}  // namespace
+
+void CoarseCorrection::buildPattern(const PairSchedule& pattern) {
+  ++pattern_setups_;
+  pattern_ = &pattern;
+  pattern_pairs_ = pattern.size();
+  const int n = pattern.particles();
+  std::vector<int> ea(pattern.a()), eb(pattern.b());
+  std::vector<int> composed(n);
+  for (int p = 0; p < n; ++p) composed[p] = p;
+  int nodes = n;
+  for (int round = 0; round < 2; ++round) {
+    const std::vector<int> agg = aggregateGraph(ea, eb, nodes, aggregates_, round > 0);
+    for (int p = 0; p < n; ++p) composed[p] = agg[composed[p]];
+    std::vector<int> na, nb;
+    for (std::size_t e = 0; e < ea.size(); ++e)
+      if (agg[ea[e]] != agg[eb[e]]) na.push_back(agg[ea[e]]), nb.push_back(agg[eb[e]]);
+    ea = std::move(na), eb = std::move(nb);
+    nodes = aggregates_;
+  }
+  aggregate_ = std::move(composed);
+  // Coarse blocks: one per aggregate, two per pair of neighbouring aggregates.
+  std::map<std::pair<int, int>, int> coarse_pairs;
+  pair_block_.assign(pattern.size(), -1);
+  pair_flipped_.assign(pattern.size(), 0);
+  int blocks = aggregates_;
+  for (std::size_t e = 0; e < pattern.size(); ++e) {
+    const int i = aggregate_[pattern.a()[e]], j = aggregate_[pattern.b()[e]];
+    if (i == j) continue;
+    const auto [it, added] = coarse_pairs.try_emplace({std::min(i, j), std::max(i, j)}, blocks);
+    if (added) blocks += 2;
+    pair_block_[e] = it->second;
+    pair_flipped_[e] = i > j;
+  }
+  std::vector<std::pair<int, int>> block_at(blocks);  // (row, column) aggregate of each block
+  for (int i = 0; i < aggregates_; ++i) block_at[i] = {i, i};
+  for (const auto& [ij, k] : coarse_pairs) block_at[k] = ij, block_at[k + 1] = {ij.second, ij.first};
+  // The sparse matrix, its unknowns relabelled once in a fill-reducing (AMD) order: the factorization then needs no
+  // permutation of its own, and neither it nor the solve allocates.
+  const auto patternOf = [&](const std::vector<int>& label) {
+    std::vector<Eigen::Triplet<double>> entries;
+    entries.reserve(9 * blocks);
+    for (const auto& [i, j] : block_at)
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) entries.emplace_back(label[3 * i + r], label[3 * j + c], 1.0);
+    Eigen::SparseMatrix<double> m(3 * aggregates_, 3 * aggregates_);
+    m.setFromTriplets(entries.begin(), entries.end());
+    m.makeCompressed();
+    return m;
+  };
+  dof_.resize(3 * aggregates_);
+  for (int d = 0; d < 3 * aggregates_; ++d) dof_[d] = d;
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> fill_order;
+  Eigen::AMDOrdering<int>()(patternOf(dof_).selfadjointView<Eigen::Upper>(), fill_order);
+  const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> relabel = fill_order.inverse();
+  for (int d = 0; d < 3 * aggregates_; ++d) dof_[d] = relabel.indices()[d];
+  matrix_ = patternOf(dof_);
+  block_entry_.resize(9 * blocks);
+  for (int k = 0; k < blocks; ++k)
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) {
+        const int row = dof_[3 * block_at[k].first + r], col = dof_[3 * block_at[k].second + c];
+        const int* rows = matrix_.innerIndexPtr();
+        const int* first = rows + matrix_.outerIndexPtr()[col];
+        const int* last = rows + matrix_.outerIndexPtr()[col + 1];
+        block_entry_[9 * k + 3 * r + c] = int(std::lower_bound(first, last, row) - rows);
+      }
+  blocks_.assign(blocks, Eigen::Matrix3d::Zero());
+  gram_.assign(aggregates_, Eigen::Matrix3d::Zero());
+  size_.assign(aggregates_, 0);
+  for (int p = 0; p < n; ++p) ++size_[aggregate_[p]];
+  ldlt_.analyzePattern(matrix_);
+  rc_.setZero(3 * aggregates_);
+  solution_.setZero(3 * aggregates_);
+  u_.setZero(3 * aggregates_);
+}
+
+void CoarseCorrection::setUp(const PairBlockMatrix& a, const ParticleFilter& s) {
+  const PairSchedule& pattern = *a.pattern();
+  if (pattern_ != &pattern || pattern_pairs_ != pattern.size() || int(aggregate_.size()) != pattern.particles())
+    buildPattern(pattern);
+  for (Eigen::Matrix3d& b : blocks_) b.setZero();
+  const int n = pattern.particles();
+  const auto filtered = [&](int p) { return s.kind(p) != ParticleFilter::Free; };
+  // Z^T S A S Z: each particle's self block, each pair's four blocks, filtered on both sides.
+  for (int p = 0; p < n; ++p) {
+    if (!filtered(p)) {
+      add(blocks_[aggregate_[p]], a.self()[p], 1);
+    } else if (s.kind(p) != ParticleFilter::Held) {
+      const Eigen::Matrix3d sp = filterMatrix(s, p);
+      blocks_[aggregate_[p]] += sp * a.self()[p].dense() * sp;
+    }
+  }
+  const int* pa = pattern.a().data();
+  const int* pb = pattern.b().data();
+  for (std::size_t e = 0; e < pattern.size(); ++e) {
+    const int pa_e = pa[e], pb_e = pb[e];
+    const int block = pair_block_[e];
+    if (!filtered(pa_e) && !filtered(pb_e)) {
+      if (block < 0) continue;  // a free pair inside an aggregate: the aggregate's translation does not strain it
+      const Sym3 w = a.pair(e);
+      add(blocks_[aggregate_[pa_e]], w, 1);
+      add(blocks_[aggregate_[pb_e]], w, 1);
+      add(blocks_[block], w, -1);
+      add(blocks_[block + 1], w, -1);
+      continue;
+    }
+    const Eigen::Matrix3d w = a.pair(e).dense();
+    const Eigen::Matrix3d sa = filterMatrix(s, pa_e), sb = filterMatrix(s, pb_e);
+    const Eigen::Matrix3d ab = sa * w * sb;
+    if (block < 0) {
+      blocks_[aggregate_[pa_e]] += sa * w * sa + sb * w * sb - ab - ab.transpose();
+      continue;
+    }
+    blocks_[aggregate_[pa_e]] += sa * w * sa;
+    blocks_[aggregate_[pb_e]] += sb * w * sb;
+    // Block (I, J) with I < J: (a, b)'s block when a is in I, else (b, a)'s.
+    blocks_[block] -= pair_flipped_[e] ? Eigen::Matrix3d(ab.transpose()) : ab;
+    blocks_[block + 1] -= pair_flipped_[e] ? ab : Eigen::Matrix3d(ab.transpose());
+  }
+  // An aggregate whose particles are all held, or all constrained along one normal, has coarse directions that S
+  // removes (Z^T S Z, the Gram matrix of its three columns, is singular there; so are its rows and columns of the
+  // matrix): the identity there keeps the matrix invertible and leaves those directions at 0.
+  for (int i = 0; i < aggregates_; ++i) gram_[i] = Eigen::Matrix3d::Identity() * size_[i];
+  bool any = false;
+  for (int p = 0; p < n; ++p)
+    if (filtered(p)) gram_[aggregate_[p]] += filterMatrix(s, p) - Eigen::Matrix3d::Identity(), any = true;
+  for (int i = 0; any && i < aggregates_; ++i) {
+    if (gram_[i].trace() > 3 * size_[i] - 0.5) continue;  // every particle free
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(gram_[i]);
+    for (int k = 0; k < 3; ++k)
+      if (eigen.eigenvalues()[k] < 1e-9) {
+        const Vec3 v = eigen.eigenvectors().col(k);
+        blocks_[i] += v * v.transpose();
+      }
+  }
+  double* values = matrix_.valuePtr();
+  for (std::size_t k = 0; k < blocks_.size(); ++k)
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) values[block_entry_[9 * k + 3 * r + c]] = blocks_[k](r, c);
+  ldlt_.factorize(matrix_);
+}
+
+void CoarseCorrection::solve(const VecX& r) {
+  u_.setZero();
+  const int n = int(aggregate_.size());
+  const double* rs = r.data();
+  double* us = u_.data();
+  for (int p = 0; p < n; ++p) {
+    double* u = us + 3 * aggregate_[p];
+    u[0] += rs[3 * p], u[1] += rs[3 * p + 1], u[2] += rs[3 * p + 2];
+  }
+  for (int d = 0; d < 3 * aggregates_; ++d) rc_[dof_[d]] = u_[d];
+  solution_ = ldlt_.solve(rc_);
+  for (int d = 0; d < 3 * aggregates_; ++d) u_[d] = solution_[dof_[d]];
+}
+
+}  // namespace wobble

@@ -1,0 +1,53 @@
+// The coarse level of the implicit solver's two-level preconditioner: particles grouped into aggregates (a particle
+// and its pair neighbours, greedily, once per topology), one 3-vector of unknowns per aggregate (Z: the aggregate's
+// particles move together), the Galerkin matrix Z^T S A S Z of the filtered system refilled every step on a fixed
+// pattern and factorized by a sparse LDLT. Added to block-Jacobi (filtered_pcg.h) it corrects the smooth modes that
+// block-Jacobi leaves to the conjugate gradients: S Z (Z^T S A S Z)^-1 Z^T S is symmetric positive semidefinite, so
+// the sum stays a valid PCG preconditioner. Everything here runs serially in a fixed order: the same bytes whatever
+// the thread count.
+#pragma once
+#include <vector>
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include "sim/pair_block_matrix.h"
+#include "sim/particle_filter.h"
+
+namespace wobble {
+
+class CoarseCorrection {
+ public:
+  // The aggregates (when the pattern is new) and the factorized coarse matrix of S A S.
+  void setUp(const PairBlockMatrix& a, const ParticleFilter& s);
+  // u = (Z^T S A S Z)^-1 Z^T r for a filtered r (S r = r); the correction of particle p is then S_p u(aggregate(p)).
+  void solve(const VecX& r);
+  const double* corrections() const { return u_.data(); }      // u, 3 values per aggregate
+  const int* aggregates() const { return aggregate_.data(); }  // per particle: its aggregate
+  int aggregateCount() const { return aggregates_; }
+  // How many times the aggregates and the coarse pattern were built (once per topology).
+  int patternSetups() const { return pattern_setups_; }
+
+ private:
+  void buildPattern(const PairSchedule& pattern);
+
+  const PairSchedule* pattern_ = nullptr;
+  std::size_t pattern_pairs_ = 0;
+  int pattern_setups_ = 0;
+  int aggregates_ = 0;
+  std::vector<int> aggregate_;  // per particle
+  // Per pair (schedule order): its block between two aggregates (I < J: index of (I, J); (J, I) follows), or -1
+  // when both particles are in one aggregate; whether its a is in J (the pair runs against the block's order).
+  std::vector<int> pair_block_;
+  std::vector<char> pair_flipped_;
+  std::vector<Eigen::Matrix3d> blocks_;  // aggregates' diagonal blocks, then (I, J) and (J, I) pairs
+  std::vector<int> block_entry_;         // 9 per block: the entry of the sparse matrix's values
+  std::vector<int> dof_;                 // coarse unknown 3 I + k -> its row of the matrix (fill-reducing order)
+  std::vector<Eigen::Matrix3d> gram_;    // per aggregate: Z^T S Z's block (filters only)
+  std::vector<int> size_;                // particles per aggregate
+  Eigen::SparseMatrix<double> matrix_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper, Eigen::NaturalOrdering<int>> ldlt_;
+  VecX rc_, solution_, u_;
+};
+
+}  // namespace wobble
