@@ -19,6 +19,7 @@
 #include <stdexcept>
 
 #include "sim/integrators/methods.h"
+#include "sim/parallel.h"
 
 namespace wobble {
 namespace {
@@ -128,24 +129,45 @@ class DormandPrince45 final : public Integrator {
   double attemptSubstep(const Dynamics& dyn, double t, double h, const VecX& x, const VecX& v) {
     auto& V = kx_;  // stage velocities: the x-part of each stage derivative
     auto& A = kv_;  // stage accelerations: the v-part
-    V[0] = v;
-    xs_ = x + h * (a21 * V[0]);
-    V[1] = v + h * (a21 * A[0]);
+    // The stage updates run elementwise over segments (forEachSegment): the same bytes on any number of threads.
+    const Eigen::Index size = x.size();
+    xs_.resize(size);
+    x1_.resize(size);
+    for (VecX& k : V) k.resize(size);
+    const auto update = [&](auto&& fn) {
+      forEachSegment(size, [&](Eigen::Index i, Eigen::Index n) { fn([&](auto& y) { return y.segment(i, n); }); });
+    };
+    // xs_ (x1_ last) = x + h sum a_j V[j], V[s] = v + h sum a_j A[j], on segments s(y) of the vectors.
+    update([&](auto s) {
+      s(V[0]) = s(v);
+      s(xs_) = s(x) + h * (a21 * s(V[0]));
+      s(V[1]) = s(v) + h * (a21 * s(A[0]));
+    });
     evaluate(dyn, t + c2 * h, xs_, V[1], A[1]);
-    xs_ = x + h * (a31 * V[0] + a32 * V[1]);
-    V[2] = v + h * (a31 * A[0] + a32 * A[1]);
+    update([&](auto s) {
+      s(xs_) = s(x) + h * (a31 * s(V[0]) + a32 * s(V[1]));
+      s(V[2]) = s(v) + h * (a31 * s(A[0]) + a32 * s(A[1]));
+    });
     evaluate(dyn, t + c3 * h, xs_, V[2], A[2]);
-    xs_ = x + h * (a41 * V[0] + a42 * V[1] + a43 * V[2]);
-    V[3] = v + h * (a41 * A[0] + a42 * A[1] + a43 * A[2]);
+    update([&](auto s) {
+      s(xs_) = s(x) + h * (a41 * s(V[0]) + a42 * s(V[1]) + a43 * s(V[2]));
+      s(V[3]) = s(v) + h * (a41 * s(A[0]) + a42 * s(A[1]) + a43 * s(A[2]));
+    });
     evaluate(dyn, t + c4 * h, xs_, V[3], A[3]);
-    xs_ = x + h * (a51 * V[0] + a52 * V[1] + a53 * V[2] + a54 * V[3]);
-    V[4] = v + h * (a51 * A[0] + a52 * A[1] + a53 * A[2] + a54 * A[3]);
+    update([&](auto s) {
+      s(xs_) = s(x) + h * (a51 * s(V[0]) + a52 * s(V[1]) + a53 * s(V[2]) + a54 * s(V[3]));
+      s(V[4]) = s(v) + h * (a51 * s(A[0]) + a52 * s(A[1]) + a53 * s(A[2]) + a54 * s(A[3]));
+    });
     evaluate(dyn, t + c5 * h, xs_, V[4], A[4]);
-    xs_ = x + h * (a61 * V[0] + a62 * V[1] + a63 * V[2] + a64 * V[3] + a65 * V[4]);
-    V[5] = v + h * (a61 * A[0] + a62 * A[1] + a63 * A[2] + a64 * A[3] + a65 * A[4]);
+    update([&](auto s) {
+      s(xs_) = s(x) + h * (a61 * s(V[0]) + a62 * s(V[1]) + a63 * s(V[2]) + a64 * s(V[3]) + a65 * s(V[4]));
+      s(V[5]) = s(v) + h * (a61 * s(A[0]) + a62 * s(A[1]) + a63 * s(A[2]) + a64 * s(A[3]) + a65 * s(A[4]));
+    });
     evaluate(dyn, t + h, xs_, V[5], A[5]);
-    x1_ = x + h * (a71 * V[0] + a73 * V[2] + a74 * V[3] + a75 * V[4] + a76 * V[5]);
-    V[6] = v + h * (a71 * A[0] + a73 * A[2] + a74 * A[3] + a75 * A[4] + a76 * A[5]);
+    update([&](auto s) {
+      s(x1_) = s(x) + h * (a71 * s(V[0]) + a73 * s(V[2]) + a74 * s(V[3]) + a75 * s(V[4]) + a76 * s(V[5]));
+      s(V[6]) = s(v) + h * (a71 * s(A[0]) + a73 * s(A[2]) + a74 * s(A[3]) + a75 * s(A[4]) + a76 * s(A[5]));
+    });
     evaluate(dyn, t + h, x1_, V[6], A[6]);
     // Local error estimate h sum e_i k_i, scaled per component.
     const auto scaled_square_sum = [&](const auto& err, const VecX& y0, const VecX& y1) {
