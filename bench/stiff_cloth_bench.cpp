@@ -1,6 +1,7 @@
 // The stiff cloth: 100 x 100 particles, ks 1e5 (kd 750, mass 1 per particle, 4 x 4 m, corners pinned), falling
 // under gravity for one simulated second, no colliders. Backward Euler at dt 1/60 against RK4 at its largest stable
-// dt, wall time side by side, with backward Euler's conjugate-gradient iterations per step. RK4's largest stable dt
+// dt, wall time side by side, with backward Euler's conjugate-gradient iterations per step (its default two-level
+// preconditioner, and block-Jacobi alone). RK4's largest stable dt
 // is found once, before timing: bisection in log dt (to 2%) on 0.25 s runs between a stable and a blowing-up step,
 // then shrunk by 2% until a whole second survives (the blow-up rule of sim/simulation.h).
 // Run: build/stiff_cloth_bench (about a minute: the search runs RK4 a dozen times).
@@ -58,13 +59,15 @@ void report(benchmark::State& state, const Simulation& sim, const MassSpringSyst
   state.counters["blew_up"] = blew_up ? 1 : 0;
 }
 
-void stiffCloth(benchmark::State& state, const char* method) {
+void stiffCloth(benchmark::State& state, const char* method, CgPreconditioner preconditioner) {
   const double dt = std::string_view(method) == "rk4" ? rk4LargestStableDt() : 1.0 / 60;
+  IntegratorOptions options;
+  options.cg_preconditioner = preconditioner;
   for (auto _ : state) {
     state.PauseTiming();
     MassSpringSystem system = makeCloth();
     state.ResumeTiming();
-    Simulation sim(system, makeIntegrator(method), dt);
+    Simulation sim(system, makeIntegrator(method, options), dt);
     const bool blew_up = sim.advanceTo(1.0).has_value();
     state.PauseTiming();
     report(state, sim, system, blew_up);
@@ -72,11 +75,15 @@ void stiffCloth(benchmark::State& state, const char* method) {
   }
 }
 
-BENCHMARK_CAPTURE(stiffCloth, backward_euler_dt_1_60, "backward-euler")
+BENCHMARK_CAPTURE(stiffCloth, backward_euler_dt_1_60, "backward-euler", CgPreconditioner::Auto)
     ->Iterations(1)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(stiffCloth, rk4_largest_stable_dt, "rk4")
+BENCHMARK_CAPTURE(stiffCloth, backward_euler_block_jacobi_dt_1_60, "backward-euler", CgPreconditioner::BlockJacobi)
+    ->Iterations(1)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(stiffCloth, rk4_largest_stable_dt, "rk4", CgPreconditioner::Auto)
     ->Iterations(1)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
