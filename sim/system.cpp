@@ -70,8 +70,9 @@ void MassSpringSystem::fillJacobian(double, const VecX& x, const VecX&, double c
   forEachChunk(n, threads, [&](int begin, int end) {
     for (int i = begin; i < end; ++i) a.self()[i] = Sym3::identity(cv * drag_[i]);
   });
-  schedule_.run(threads,
-                [&](int begin, int end) { fillSpringBlocks(springs_, begin, end, x, cx, cv, a.pair(), w, kw); });
+  schedule_.runByRuns(threads, [&](std::span<const PairRun> runs) {
+    fillSpringBlocks(springs_, runs, x, cx, cv, a.pair(), w, kw);
+  });
 }
 
 void MassSpringSystem::contactConstraints(double t, const VecX& x, const VecX& v,
