@@ -2,8 +2,9 @@
 // The step solves M dv = h F(x0 + h (v0 + dv), v0 + dv), x1 = x0 + h (v0 + dv). By default with one Newton step
 // linearized at the start state:
 //   (M - h dF/dv - h^2 dF/dx) dv = h (F0 + h dF/dx v0),
-// solved by Baraff & Witkin's modified conjugate gradients, preconditioned by 3x3 block-Jacobi plus, on large systems,
-// an aggregation coarse level (filtered_pcg.h, coarse_correction.h), warm-started from the previous step's dv. The
+// solved by Baraff & Witkin's modified conjugate gradients, preconditioned by 3x3 block-Jacobi plus, on large systems
+// that need many iterations, an aggregation coarse level (filtered_pcg.h, coarse_correction.h), warm-started from the
+// previous step's dv. The
 // matrix has the Jacobians' fixed pattern (one 3x3 block per particle and per spring): sized once per topology, its
 // values refilled in place every step; every loop runs over particle chunks or the pattern's schedule, so the result is
 // the same bytes whatever the thread count. First order; A-stable and L-stable (unconditionally stable on linear
@@ -109,10 +110,15 @@ class BackwardEuler final : public Integrator {
   // Solves S (A y - b) = 0 from y (its filtered-out part kept).
   void solve(const VecX& b, VecX& y) {
     const bool two_level = options_.cg_preconditioner == CgPreconditioner::Auto
-                               ? n_ >= kTwoLevelParticles
+                               ? two_level_
                                : options_.cg_preconditioner == CgPreconditioner::TwoLevel;
     const PcgResult r =
         pcg_.solve(matrix_, filter_, b, y, options_.cg_tolerance, options_.cg_max_iterations, parallel_, two_level);
+    // Auto: the coarse level pays when block-Jacobi needs many iterations, and is overhead when few are needed.
+    if (options_.cg_preconditioner == CgPreconditioner::Auto &&
+        (two_level ? r.iterations < kTwoLevelIterations / 4
+                   : r.iterations > kTwoLevelIterations && n_ >= kTwoLevelParticles))
+      two_level_ = !two_level;
     ++stats_.last_linear_solves;
     stats_.last_cg_iterations += r.iterations;
     stats_.cg_iterations += r.iterations;
@@ -174,6 +180,7 @@ class BackwardEuler final : public Integrator {
   std::vector<ContactConstraint> contacts_;
   int n_ = 0;
   bool parallel_ = false;
+  bool two_level_ = false;  // cg_preconditioner auto: the next solve's choice
   VecX f0_, kv_, rhs_, dv_;
   VecX fs_, fc_, r_, x1_, v1_, delta_, trial_, trial_r_;  // Newton only
 };

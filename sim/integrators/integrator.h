@@ -10,10 +10,12 @@
 
 namespace wobble {
 
-// backward-euler's preconditioner (filtered_pcg.h): two-level on systems of at least kTwoLevelParticles particles
-// (measured: README, Integrators), block-Jacobi below; or either one always.
+// backward-euler's preconditioner (filtered_pcg.h). Auto: block-Jacobi, and two-level on a system of at least
+// kTwoLevelParticles particles once a block-Jacobi solve has taken more than kTwoLevelIterations iterations, back to
+// block-Jacobi when a two-level solve takes fewer than a quarter of that (measured: README, Integrators).
 enum class CgPreconditioner { Auto, BlockJacobi, TwoLevel };
 inline constexpr int kTwoLevelParticles = 2000;
+inline constexpr int kTwoLevelIterations = 40;
 
 // Settings that only some methods read (adaptive and implicit ones); the defaults suit the shipped scenes.
 struct IntegratorOptions {

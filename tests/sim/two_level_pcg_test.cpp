@@ -5,11 +5,16 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <cstring>
 #include <random>
 
+#include <tbb/global_control.h>
+
 #include "sim/bodies/cloth.h"
+#include "sim/colliders/sphere.h"
 #include "sim/filtered_pcg.h"
 #include "sim/integrators/integrator.h"
+#include "sim/parallel.h"
 #include "sim/simulation.h"
 
 namespace wobble {
@@ -156,6 +161,35 @@ TEST(TwoLevelPcg, FewerIterationsThanBlockJacobiOnTheStiffCloth) {
   EXPECT_LE(two_level.residual, IntegratorOptions{}.cg_tolerance);
   // Both stop at a relative residual of 1e-3: positions agree far below the cloth's 8 cm spacing and its sag.
   EXPECT_LT((two_level.x - jacobi.x).lpNorm<Eigen::Infinity>(), 1e-3);
+}
+
+// Two-level on threads: a 64 x 64 cloth (two particle chunks) landing on a sphere (contact filters), the same bytes
+// with 1 and 2 threads (the coarse level runs serially; thread_count_test.cpp covers the integrators at large).
+TEST(TwoLevelPcg, SameBytesWithOneAndTwoThreads) {
+  const auto run = [](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    const int saved = parallelThreshold();
+    setParallelThreshold(0);
+    ClothParams p;
+    p.nx = p.ny = 64;
+    p.ks = 1e5;
+    p.center = Vec3(0, 1.005, 0);
+    p.pinned = clothPinSet("corners", p.nx, p.ny);
+    MassSpringSystem system;
+    system.addBody(buildCloth("cloth", p));
+    system.addCollider(
+        std::make_unique<SphereCollider>("sphere", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), 1.0, Vec3::Zero()));
+    IntegratorOptions options;
+    options.cg_preconditioner = CgPreconditioner::TwoLevel;
+    Simulation sim(system, makeIntegrator("backward-euler", options), 1.0 / 60);
+    EXPECT_FALSE(sim.advanceTo(3.0 / 60));
+    setParallelThreshold(saved);
+    EXPECT_GT(sim.integrator().stats().cg_iterations, 0);
+    return sim.x();
+  };
+  const VecX one = run(1), two = run(2);
+  ASSERT_EQ(one.size(), two.size());
+  EXPECT_EQ(std::memcmp(one.data(), two.data(), sizeof(double) * one.size()), 0);
 }
 
 }  // namespace
