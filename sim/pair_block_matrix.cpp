@@ -46,19 +46,8 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void addRunProducts
   for (int c = 0; c < length; c += kChunk) {
     const int n = std::min(kChunk, length - c);
     const double *x0 = xa + 3 * c, *x1 = xb + 3 * c;
-    const double* __restrict xx = w.v[0] + c;
-    const double* __restrict yy = w.v[1] + c;
-    const double* __restrict zz = w.v[2] + c;
-    const double* __restrict xy = w.v[3] + c;
-    const double* __restrict xz = w.v[4] + c;
-    const double* __restrict yz = w.v[5] + c;
     for (int j = 0; j < 3 * n; ++j) d[j] = x0[j] - x1[j];
-    for (int k = 0; k < n; ++k) {
-      const double dx = d[3 * k], dy = d[3 * k + 1], dz = d[3 * k + 2];
-      u[3 * k] = xx[k] * dx + xy[k] * dy + xz[k] * dz;
-      u[3 * k + 1] = xy[k] * dx + yy[k] * dy + yz[k] * dz;
-      u[3 * k + 2] = xz[k] * dx + yz[k] * dy + zz[k] * dz;
-    }
+    multiplyBlocks(w.shifted(c), n, d, u);
     double* y0 = ya + 3 * c;
     for (int j = 0; j < 3 * n; ++j) y0[j] += u[j];
     double* y1 = yb + 3 * c;
@@ -97,9 +86,7 @@ void PairBlockMatrix::addPairProducts(const VecX& x, VecX& y, bool parallel) con
         runs,
         [&](const PairRun& run) {
           const int ia = 3 * run.a, ib = 3 * (run.a + run.offset);
-          Sym3Columns from = w;
-          for (double*& v : from.v) v += run.first;
-          addRunProducts(from, xs + ia, xs + ib, run.length, ys + ia, ys + ib);
+          addRunProducts(w.shifted(run.first), xs + ia, xs + ib, run.length, ys + ia, ys + ib);
         },
         [&](int begin, int end) { wobble::addPairProducts(a, b, w, xs, ys, begin, end); });
   });

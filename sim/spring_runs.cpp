@@ -86,12 +86,7 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void fillRunBlocks(
     }
     if (!wa) continue;
     for (int j = 0; j < 3 * m; ++j) dw[j] = wa[3 * c + j] - wb[3 * c + j];
-    for (int k = 0; k < m; ++k) {
-      const double wx = dw[3 * k], wy = dw[3 * k + 1], wz = dw[3 * k + 2];
-      u[3 * k] = kxx[k] * wx + kxy[k] * wy + kxz[k] * wz;
-      u[3 * k + 1] = kxy[k] * wx + kyy[k] * wy + kyz[k] * wz;
-      u[3 * k + 2] = kxz[k] * wx + kyz[k] * wy + kzz[k] * wz;
-    }
+    multiplyBlocks(Sym3Columns{{kxx, kyy, kzz, kxy, kxz, kyz}}, m, dw, u);
     double* a = kwa + 3 * c;
     for (int j = 0; j < 3 * m; ++j) a[j] -= u[j];
     double* b = kwb + 3 * c;
@@ -125,11 +120,9 @@ void fillSpringBlocks(const Springs& s, std::span<const PairRun> runs, const Vec
       runs,
       [&](const PairRun& run) {
         const int a = 3 * run.a, b = 3 * (run.a + run.offset), e = run.first;
-        Sym3Columns from = blocks;
-        for (double*& v : from.v) v += e;
-        fillRunBlocks(xs + a, xs + b, s.rest.data() + e, s.ks.data() + e, s.kd.data() + e, run.length, cx, cv, from,
-                      w ? w->data() + a : nullptr, w ? w->data() + b : nullptr, kw ? kw->data() + a : nullptr,
-                      kw ? kw->data() + b : nullptr);
+        fillRunBlocks(xs + a, xs + b, s.rest.data() + e, s.ks.data() + e, s.kd.data() + e, run.length, cx, cv,
+                      blocks.shifted(e), w ? w->data() + a : nullptr, w ? w->data() + b : nullptr,
+                      kw ? kw->data() + a : nullptr, kw ? kw->data() + b : nullptr);
       },
       [&](int begin, int end) { fillSpringBlocks(s, begin, end, x, cx, cv, blocks, w, kw); });
 }

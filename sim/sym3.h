@@ -1,6 +1,8 @@
 // A symmetric 3x3 block, stored as its six distinct values: the unit of the implicit solver's matrices (a spring's
 // Jacobian block, a particle's diagonal block) at two thirds of a full block's memory traffic.
 #pragma once
+#include <cstddef>
+
 #include "sim/types.h"
 
 namespace wobble {
@@ -40,6 +42,29 @@ struct Sym3Columns {
   void set(std::size_t i, const Sym3& m) const {
     v[0][i] = m.xx, v[1][i] = m.yy, v[2][i] = m.zz, v[3][i] = m.xy, v[4][i] = m.xz, v[5][i] = m.yz;
   }
+  // The same columns from block `first` on.
+  Sym3Columns shifted(std::ptrdiff_t first) const {
+    Sym3Columns from = *this;
+    for (double*& column : from.v) column += first;
+    return from;
+  }
 };
+
+// u[k] = W_k d[k] for the first n blocks of w, d and u packed 3-vectors: the product of the run kernels
+// (spring_runs.cpp, pair_block_matrix.cpp), inlined into their vectorised loops.
+inline void multiplyBlocks(const Sym3Columns& w, int n, const double* __restrict d, double* __restrict u) {
+  const double* __restrict xx = w.v[0];
+  const double* __restrict yy = w.v[1];
+  const double* __restrict zz = w.v[2];
+  const double* __restrict xy = w.v[3];
+  const double* __restrict xz = w.v[4];
+  const double* __restrict yz = w.v[5];
+  for (int k = 0; k < n; ++k) {
+    const double dx = d[3 * k], dy = d[3 * k + 1], dz = d[3 * k + 2];
+    u[3 * k] = xx[k] * dx + xy[k] * dy + xz[k] * dz;
+    u[3 * k + 1] = xy[k] * dx + yy[k] * dy + yz[k] * dz;
+    u[3 * k + 2] = xz[k] * dx + yz[k] * dy + zz[k] * dz;
+  }
+}
 
 }  // namespace wobble
