@@ -6,9 +6,8 @@
 #include <atomic>
 #include <cstdlib>
 
-#include "sim/bodies/cloth.h"
-#include "sim/colliders/sphere.h"
 #include "sim/simulation.h"
+#include "tests/sim/cloth_on_sphere.h"
 
 #if defined(__SANITIZE_ADDRESS__)
 #define WOBBLE_COUNTS_MALLOC 0
@@ -29,17 +28,10 @@ namespace {
 
 TEST(Allocation, NoIntegratorAllocatesPerStep) {
   if (!WOBBLE_COUNTS_MALLOC) GTEST_SKIP() << "malloc is AddressSanitizer's here";
-  ClothParams p;
-  p.nx = p.ny = 12;
-  p.center = Vec3(0, 1.005, 0);
-  p.pinned = clothPinSet("corners", p.nx, p.ny);
-  MassSpringSystem system;
-  system.addBody(buildCloth("cloth", p));
-  system.addCollider(
-      std::make_unique<SphereCollider>("sphere", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), 1.0, Vec3::Zero()));
+  const auto system = testing::clothOnSphere(12);
   for (std::string_view name : integratorNames()) {
     const double dt = name == "backward-euler" ? 1.0 / 240 : 1e-4;
-    Simulation sim(system, makeIntegrator(name), dt);
+    Simulation sim(*system, makeIntegrator(name), dt);
     ASSERT_FALSE(sim.advanceTo(3 * dt));  // sizes every buffer
     const long before = mallocs.load();
     ASSERT_FALSE(sim.advanceTo(20 * dt));

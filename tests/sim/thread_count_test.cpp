@@ -9,12 +9,11 @@
 
 #include <tbb/global_control.h>
 
-#include "sim/bodies/cloth.h"
 #include "sim/bodies/jelly.h"
 #include "sim/colliders/plane.h"
-#include "sim/colliders/sphere.h"
 #include "sim/parallel.h"
 #include "sim/simulation.h"
+#include "tests/sim/cloth_on_sphere.h"
 
 namespace wobble {
 namespace {
@@ -32,19 +31,6 @@ std::unique_ptr<MassSpringSystem> jellyOnFloor() {
   auto system = std::make_unique<MassSpringSystem>();
   system->addBody(std::move(body));
   system->addCollider(std::make_unique<PlaneCollider>("floor", ContactParams{}, Vec3::Zero(), Vec3::UnitY()));
-  return system;
-}
-
-// A 100 x 100 cloth (10^4 particles, 5 blocks), corners pinned, 1 cm above a unit sphere's top.
-std::unique_ptr<MassSpringSystem> clothOnSphere() {
-  ClothParams p;
-  p.nx = p.ny = 100;
-  p.center = Vec3(0, 1.005, 0);
-  p.pinned = clothPinSet("corners", p.nx, p.ny);
-  auto system = std::make_unique<MassSpringSystem>();
-  system->addBody(buildCloth("cloth", p));
-  system->addCollider(
-      std::make_unique<SphereCollider>("sphere", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), 1.0, Vec3::Zero()));
   return system;
 }
 
@@ -86,7 +72,7 @@ TEST(ThreadCount, JellyOnAFloorGivesTheSameBytes) {
 }
 
 TEST(ThreadCount, ClothOnASphereGivesTheSameBytes) {
-  auto system = clothOnSphere();
+  auto system = testing::clothOnSphere(100);  // 10^4 particles, 5 blocks
   expectSameBytesForAnyThreadCount(*system, 1e-4, 10);
 }
 

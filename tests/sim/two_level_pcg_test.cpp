@@ -11,11 +11,11 @@
 #include <tbb/global_control.h>
 
 #include "sim/bodies/cloth.h"
-#include "sim/colliders/sphere.h"
 #include "sim/filtered_pcg.h"
 #include "sim/integrators/integrator.h"
 #include "sim/parallel.h"
 #include "sim/simulation.h"
+#include "tests/sim/cloth_on_sphere.h"
 
 namespace wobble {
 namespace {
@@ -170,18 +170,10 @@ TEST(TwoLevelPcg, SameBytesWithOneAndTwoThreads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     const int saved = parallelThreshold();
     setParallelThreshold(0);
-    ClothParams p;
-    p.nx = p.ny = 64;
-    p.ks = 1e5;
-    p.center = Vec3(0, 1.005, 0);
-    p.pinned = clothPinSet("corners", p.nx, p.ny);
-    MassSpringSystem system;
-    system.addBody(buildCloth("cloth", p));
-    system.addCollider(
-        std::make_unique<SphereCollider>("sphere", ContactParams{0, 0.5, 0.01}, Vec3::Zero(), 1.0, Vec3::Zero()));
+    const auto system = testing::clothOnSphere(64, 1e5);
     IntegratorOptions options;
     options.cg_preconditioner = CgPreconditioner::TwoLevel;
-    Simulation sim(system, makeIntegrator("backward-euler", options), 1.0 / 60);
+    Simulation sim(*system, makeIntegrator("backward-euler", options), 1.0 / 60);
     EXPECT_FALSE(sim.advanceTo(3.0 / 60));
     setParallelThreshold(saved);
     EXPECT_GT(sim.integrator().stats().cg_iterations, 0);
