@@ -1,19 +1,20 @@
-// The slab test of an axis-aligned box (see bounds.h).
+// Padding and the slab test of an axis-aligned box (see bounds.h).
 #include "render/bounds.h"
 
 #include <algorithm>
 
 namespace wobble::render {
 
-Bounds Bounds::padded(float relative) const {
-  if (empty()) return *this;
-  const float scale = std::max({1.0f, lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()});
+Bounds padded(const Bounds& box, float relative) {
+  if (box.isEmpty()) return box;
+  const float scale = std::max({1.0f, box.min().cwiseAbs().maxCoeff(), box.max().cwiseAbs().maxCoeff()});
   const Eigen::Vector3f pad = Eigen::Vector3f::Constant(relative * scale);
-  return Bounds{lo - pad, hi + pad};
+  return Bounds(box.min() - pad, box.max() + pad);
 }
 
-bool Bounds::mayHit(const Ray& ray) const {
-  if (empty()) return false;
+bool mayHit(const Bounds& box, const Ray& ray) {
+  if (box.isEmpty()) return false;
+  const Eigen::Vector3f &lo = box.min(), &hi = box.max();
   float t0 = ray.tnear, t1 = ray.tfar;
   for (int a = 0; a < 3; ++a) {
     if (ray.direction[a] == 0) {  // parallel to this slab's planes: within it everywhere or nowhere

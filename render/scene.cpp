@@ -175,14 +175,14 @@ void Scene::commit() {
   rtc_->commit();
   device_->check("scene: commit");
   for (auto& s : shapes_) {
-    s->bounds = Bounds{};
+    Bounds box;
     if (s->kind == Shape::Kind::Sphere) {
-      s->bounds.add(s->sphere.center - Vector3f::Constant(s->sphere.radius));
-      s->bounds.add(s->sphere.center + Vector3f::Constant(s->sphere.radius));
+      box.extend(s->sphere.center - Vector3f::Constant(s->sphere.radius));
+      box.extend(s->sphere.center + Vector3f::Constant(s->sphere.radius));
     } else {
-      for (const Vector3f& p : s->mesh.positions) s->bounds.add(p);
+      for (const Vector3f& p : s->mesh.positions) box.extend(p);
     }
-    s->bounds = s->bounds.padded(1e-4f);
+    s->bounds = padded(box, 1e-4f);
   }
   committed_ = true;
 }
@@ -224,7 +224,7 @@ bool Scene::provablyMisses(const Ray& ray, ShapeId leaving) const {
   // Each other shape's own box, not one box around them all: a ray leaving the elevator upwards misses the floor's
   // flat box though the floor surrounds the elevator.
   for (const auto& other : shapes_)
-    if (other.get() != &s && other->bounds.mayHit(ray)) return false;
+    if (other.get() != &s && mayHit(other->bounds, ray)) return false;
   return true;
 }
 
