@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -124,11 +123,7 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
             const std::size_t i = film.index(x, y);
             PixelState* p = single ? nullptr : &state[i];
             if (p && !p->active) continue;
-            if (single) {  // as Film(w, h) starts
-              film.color[i] = film.diffuse[i] = film.albedo[i] = film.normal[i] = Color::Zero();
-              film.depth[i] = std::numeric_limits<float>::infinity();
-              film.variance_diffuse[i] = film.variance_other[i] = -1.0f;
-            }
+            if (single) film.clearPixel(i);  // an unfilled film: set as Film(w, h) starts
             const PixelSampler sampler(sampler_kind, i, settings.frame);
             for (auto s = film.samples[i]; s < std::uint32_t(target); ++s) {
               if (p && s == std::uint32_t(target / 2)) p->half = film.color[i];

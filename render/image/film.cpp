@@ -1,7 +1,6 @@
 // Film storage and tone mapping to 8-bit sRGB (see film.h).
 #include "render/image/film.h"
 
-#include <limits>
 #include <stdexcept>
 
 #include <tbb/blocked_range.h>
@@ -23,11 +22,7 @@ Film::Film(int w, int h) : Film(unfilled(w, h)) {
   // Filled on threads: a 720p film is 59 MB.
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, color.size(), 1 << 14),
                     [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                        color[i] = albedo[i] = normal[i] = diffuse[i] = Eigen::Vector3f::Zero();
-                        depth[i] = std::numeric_limits<float>::infinity();
-                        variance_diffuse[i] = variance_other[i] = -1.0f;
-                      }
+                      for (std::size_t i = r.begin(); i != r.end(); ++i) clearPixel(i);
                     });
 }
 

@@ -13,6 +13,7 @@
 // Pixels are stored row-major, row 0 at the top.
 #pragma once
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -37,6 +38,13 @@ struct Film {
   // Sized, its colour, albedo, normal and diffuse values indeterminate (depth, variances and samples zero): for a
   // writer that sets every pixel before it reads one (the renderer at one sample per pixel, on its own threads).
   static Film unfilled(int w, int h);
+  // Sets pixel i's layers as a new film starts them: no light, no surface (depth +inf), no variance estimate (-1).
+  // Its sample count is the caller's.
+  void clearPixel(std::size_t i) {
+    color[i] = albedo[i] = normal[i] = diffuse[i] = Eigen::Vector3f::Zero();
+    depth[i] = std::numeric_limits<float>::infinity();
+    variance_diffuse[i] = variance_other[i] = -1.0f;
+  }
   std::size_t index(int x, int y) const { return std::size_t(y) * width + x; }
 };
 
