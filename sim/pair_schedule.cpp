@@ -9,7 +9,7 @@ PairSchedule::PairSchedule(std::span<const int> a, std::span<const int> b, int p
   if (a.size() != b.size()) throw std::invalid_argument("PairSchedule: a and b differ in length");
   int span = 1;
   for (std::size_t e = 0; e < a.size(); ++e) span = std::max(span, std::abs(a[e] - b[e]));
-  const int block = std::max(kParticleChunk, span);
+  const int block = std::max(particleChunk(particles), span);
   const int blocks = std::max(1, (particles + block - 1) / block);
   // Task of each pair: its block's own pairs (phase 0, tasks 0..blocks-1), or the pairs between blocks k and k + 1
   // (tasks blocks + k). Phases 1 and 2 take the even and the odd k.

@@ -11,8 +11,11 @@
 
 namespace wobble {
 
-// Particles per chunk of the particle loops and of the pair blocks in pair_schedule.h.
-inline constexpr int kParticleChunk = 2048;
+// Particles per chunk of the particle loops and of the pair blocks in pair_schedule.h, for a system of n particles:
+// about n / 16 (so two threads get equal shares of chunks within 1/16), a multiple of 64, between 512 and 2048
+// (larger chunks cost less to schedule; measured: README, Threads and determinism). It depends on n only, never on the thread
+// count, so the chunks and their sums are the same whatever the threads.
+constexpr int particleChunk(int n) { return std::clamp((n / 16 + 63) / 64 * 64, 512, 2048); }
 
 // Systems with fewer particles than this step on one thread (measured: README, Benchmarks). Tests lower it to 0
 // to run small systems on threads; results are the same bytes either way.
@@ -20,11 +23,11 @@ int parallelThreshold();
 void setParallelThreshold(int particles);
 inline bool runsInParallel(int particles) { return particles >= parallelThreshold(); }
 
-// fn(begin, end) over [0, n) in chunks of kParticleChunk, on threads when parallel.
+// fn(begin, end) over [0, n) in chunks of particleChunk(n), on threads when parallel.
 template <class Fn>
 void forEachChunk(int n, bool parallel, Fn&& fn) {
-  const int chunks = (n + kParticleChunk - 1) / kParticleChunk;
-  const auto run = [&](int c) { fn(c * kParticleChunk, std::min(n, (c + 1) * kParticleChunk)); };
+  const int chunk = particleChunk(n), chunks = (n + chunk - 1) / chunk;
+  const auto run = [&](int c) { fn(c * chunk, std::min(n, (c + 1) * chunk)); };
   if (parallel && chunks > 1)
     tbb::parallel_for(tbb::blocked_range<int>(0, chunks, 1), [&](const tbb::blocked_range<int>& r) {
       for (int c = r.begin(); c != r.end(); ++c) run(c);
@@ -33,7 +36,7 @@ void forEachChunk(int n, bool parallel, Fn&& fn) {
     for (int c = 0; c < chunks; ++c) run(c);
 }
 
-// fn(begin, size) over the element ranges of a flat vector of size values, in chunks of 3 kParticleChunk, on threads
+// fn(begin, size) over the element ranges of a flat vector of size values, in chunks of 3 particleChunk, on threads
 // when the vector is a large system's state (3 values a particle, runsInParallel). For elementwise work, such as an
 // integrator's x += h v: each element sees the same operations whatever the chunk, so the bytes do not change.
 template <class Fn>
@@ -49,8 +52,9 @@ void forEachSegment(Eigen::Index size, Fn&& fn) {
 // vector (several sums in one pass). partials is scratch, kept between calls so that a step allocates nothing.
 template <class T, class Fn>
 T sumOverChunks(int n, bool parallel, std::vector<T>& partials, Fn&& fn) {
-  partials.resize((n + kParticleChunk - 1) / kParticleChunk);
-  forEachChunk(n, parallel, [&](int begin, int end) { partials[begin / kParticleChunk] = fn(begin, end); });
+  const int chunk = particleChunk(n);
+  partials.resize((n + chunk - 1) / chunk);
+  forEachChunk(n, parallel, [&](int begin, int end) { partials[begin / chunk] = fn(begin, end); });
   if (partials.empty()) return fn(0, 0);  // no particles: the empty sum, of the right type
   T sum = partials[0];
   for (std::size_t c = 1; c < partials.size(); ++c) sum += partials[c];
