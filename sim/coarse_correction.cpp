@@ -154,10 +154,15 @@ void CoarseCorrection::buildPattern(const PairSchedule& pattern) {
   u_.setZero(3 * aggregates_);
 }
 
+bool CoarseCorrection::fits(const PairBlockMatrix& a) const {
+  const PairSchedule& pattern = *a.pattern();
+  return pattern_ == &pattern && pattern_pairs_ == pattern.size() && int(aggregate_.size()) == pattern.particles();
+}
+
 void CoarseCorrection::setUp(const PairBlockMatrix& a, const ParticleFilter& s) {
   const PairSchedule& pattern = *a.pattern();
-  if (pattern_ != &pattern || pattern_pairs_ != pattern.size() || int(aggregate_.size()) != pattern.particles())
-    buildPattern(pattern);
+  if (!fits(a)) buildPattern(pattern);
+  ++factorizations_;
   for (Eigen::Matrix3d& b : blocks_) b.setZero();
   const int n = pattern.particles();
   const auto filtered = [&](int p) { return s.kind(p) != ParticleFilter::Free; };

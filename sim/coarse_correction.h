@@ -20,6 +20,8 @@ class CoarseCorrection {
  public:
   // The aggregates (when the pattern is new) and the factorized coarse matrix of S A S.
   void setUp(const PairBlockMatrix& a, const ParticleFilter& s);
+  // Whether the aggregates were built for a's pattern (setUp has run on it), so that solve() may be used with it.
+  bool fits(const PairBlockMatrix& a) const;
   // u = (Z^T S A S Z)^-1 Z^T r for a filtered r (S r = r); the correction of particle p is then S_p u(aggregate(p)).
   void solve(const VecX& r);
   const double* corrections() const { return u_.data(); }      // u, 3 values per aggregate
@@ -27,13 +29,15 @@ class CoarseCorrection {
   int aggregateCount() const { return aggregates_; }
   // How many times the aggregates and the coarse pattern were built (once per topology).
   int patternSetups() const { return pattern_setups_; }
+  // How many times the coarse matrix was filled and factorized.
+  int factorizations() const { return factorizations_; }
 
  private:
   void buildPattern(const PairSchedule& pattern);
 
   const PairSchedule* pattern_ = nullptr;
   std::size_t pattern_pairs_ = 0;
-  int pattern_setups_ = 0;
+  int pattern_setups_ = 0, factorizations_ = 0;
   int aggregates_ = 0;
   std::vector<int> aggregate_;  // per particle
   // Per pair (schedule order): its block between two aggregates (I < J: index of (I, J); (J, I) follows), or -1

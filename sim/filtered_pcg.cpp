@@ -35,7 +35,15 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
                              double tolerance, int max_iterations, bool parallel, bool two_level) {
   const int n = static_cast<int>(b.size() / 3);
   setUpPreconditioner(a, s, parallel);
-  if (two_level) coarse_.setUp(a, s);
+  if (!two_level) {
+    coarse_uses_ = 0;
+  } else {
+    if (coarse_uses_ == 0 || coarse_uses_ >= kCoarseRefresh || !coarse_.fits(a)) {
+      coarse_.setUp(a, s);
+      coarse_uses_ = 0;
+    }
+    ++coarse_uses_;
+  }
   r_.resize(b.size());
   c_.resize(b.size());
   q_.resize(b.size());

@@ -98,6 +98,42 @@ TEST(TwoLevelPcg, MatchesADenseSolveOfTheFilteredSystem) {
   }
 }
 
+// The coarse level is set up afresh every kCoarseRefresh two-level solves and after a block-Jacobi one, and kept in
+// between: a kept factorization of an older matrix and filter is still a valid preconditioner, so a solve of a changed
+// system (heavier masses, one more contact, a new right-hand side) still matches the dense oracle of the new system.
+TEST(TwoLevelPcg, AKeptCoarseFactorizationStillSolvesAChangedSystem) {
+  static_assert(kCoarseRefresh == 2);
+  const auto sys = smallSystem();
+  const int n = sys->system.particleCount();
+  const auto expected = [&] {
+    const Eigen::MatrixXd a = dense(sys->a), s = filterMatrix(sys->s, n);
+    const Eigen::MatrixXd i = Eigen::MatrixXd::Identity(3 * n, 3 * n);
+    return VecX(sys->z + s * (s * a * s + i - s).ldlt().solve(s * (sys->b - a * sys->z)));
+  };
+  FilteredPcg pcg;
+  const auto solve = [&](bool two_level) {
+    VecX x = sys->z;
+    const PcgResult r = pcg.solve(sys->a, sys->s, sys->b, x, 1e-12, 1000, false, two_level);
+    EXPECT_LE(r.relative_residual, 1e-12);
+    EXPECT_LT((x - expected()).norm(), 1e-9 * expected().norm());
+  };
+  solve(true);
+  EXPECT_EQ(pcg.coarse().factorizations(), 1);
+  for (int i = 0; i < n; ++i) sys->a.self()[i] += Sym3::identity(2.0);  // the system changes
+  const Vec3 normal = Vec3(-0.2, 1, 0.1).normalized();
+  sys->s.constrain(60, normal);
+  particle(sys->z, 60) = -0.05 * normal;
+  sys->b *= -0.5;
+  solve(true);  // kept
+  EXPECT_EQ(pcg.coarse().factorizations(), 1);
+  solve(true);  // refreshed
+  EXPECT_EQ(pcg.coarse().factorizations(), 2);
+  solve(false);
+  solve(true);  // after a block-Jacobi solve: refreshed
+  EXPECT_EQ(pcg.coarse().factorizations(), 3);
+  EXPECT_EQ(pcg.coarse().patternSetups(), 1);
+}
+
 // Q = S Z (Z^T S A S Z)^-1 Z^T S, column by column: symmetric, positive semidefinite, and Q (S A S) v = v for every v
 // = S Z c of the coarse space (the coarse solve is exact there).
 TEST(TwoLevelPcg, CoarseCorrectionIsSymmetricAndExactOnTheCoarseSpace) {
