@@ -5,7 +5,7 @@
 namespace wobble {
 namespace {
 
-std::atomic<int> threshold{10000};
+std::atomic<int> threshold{4096};
 
 }  // namespace
 
