@@ -1,8 +1,11 @@
 #include "sim/coarse_correction.h"
 
+#include "sim/parallel.h"
+
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <map>
+#include <stdexcept>
 #include <utility>
 
 namespace wobble {
@@ -69,6 +72,42 @@ std::vector<int> aggregateGraph(const std::vector<int>& ea, const std::vector<in
   return joined;
 }
 
+// One level of nested dissection of a graph of n nodes: part 0 and part 1 with no edge between them, and the
+// separator (2) between. Breadth-first levels from a far node (the last one reached from node 0): edges join nodes of
+// one level or of neighbouring levels, so the levels before a middle one and those after it share no edge. Nodes that
+// the search does not reach (other components) go to part 1.
+std::vector<int> dissect(int n, const std::vector<std::pair<int, int>>& edges) {
+  std::vector<int> start(n + 1, 0), neighbours(2 * edges.size());
+  for (const auto& [i, j] : edges) ++start[i + 1], ++start[j + 1];
+  for (int i = 0; i < n; ++i) start[i + 1] += start[i];
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (const auto& [i, j] : edges) neighbours[fill[i]++] = j, neighbours[fill[j]++] = i;
+  std::vector<int> level(n), queue;
+  const auto search = [&](int root) {
+    std::fill(level.begin(), level.end(), -1);
+    queue.assign(1, root);
+    level[root] = 0;
+    for (std::size_t k = 0; k < queue.size(); ++k)
+      for (int e = start[queue[k]]; e < start[queue[k] + 1]; ++e)
+        if (level[neighbours[e]] < 0) level[neighbours[e]] = level[queue[k]] + 1, queue.push_back(neighbours[e]);
+  };
+  std::vector<int> part(n, 1);
+  if (n == 0) return part;
+  search(0);
+  search(queue.back());
+  std::vector<int> count(level[queue.back()] + 1, 0);
+  for (int node : queue) ++count[level[node]];
+  // The separator: the smallest level that leaves at least a third of the graph on either side (the first such one
+  // on ties), or the middle level when none does.
+  int middle = 0;
+  for (int before = 0; middle + 1 < int(count.size()) && 2 * (before + count[middle]) < n; ++middle)
+    before += count[middle];
+  for (int l = 0, before = 0; l < int(count.size()); before += count[l++])
+    if (3 * before >= n && 3 * (n - before - count[l]) >= n && count[l] < count[middle]) middle = l;
+  for (int node : queue) part[node] = level[node] < middle ? 0 : level[node] == middle ? 2 : 1;
+  return part;
+}
+
 // m += sign b.
 void add(Eigen::Matrix3d& m, const Sym3& b, double sign) {
   m(0, 0) += sign * b.xx, m(1, 1) += sign * b.yy, m(2, 2) += sign * b.zz;
@@ -114,26 +153,51 @@ void CoarseCorrection::buildPattern(const PairSchedule& pattern) {
   std::vector<std::pair<int, int>> block_at(blocks);  // (row, column) aggregate of each block
   for (int i = 0; i < aggregates_; ++i) block_at[i] = {i, i};
   for (const auto& [ij, k] : coarse_pairs) block_at[k] = ij, block_at[k + 1] = {ij.second, ij.first};
-  // The sparse matrix, its unknowns relabelled once in a fill-reducing (AMD) order: the factorization then needs no
-  // permutation of its own, and neither it nor the solve allocates.
-  const auto patternOf = [&](const std::vector<int>& label) {
+  // The sparse matrix, its unknowns relabelled once: part 0, part 1, the separator (dissect), each in a fill-reducing
+  // (AMD) order of its own. The factorization then needs no permutation of its own, neither it nor the solve
+  // allocates, and the factor has no entry between the parts.
+  std::vector<std::pair<int, int>> edges;
+  edges.reserve(coarse_pairs.size());
+  for (const auto& [ij, k] : coarse_pairs) edges.push_back(ij);
+  const std::vector<int> part = dissect(aggregates_, edges);
+  for (const auto& [i, j] : edges)  // the two parts' solves run at the same time: they must share no entry
+    if (part[i] + part[j] == 1) throw std::logic_error("CoarseCorrection: an edge between the dissected parts");
+  dof_.assign(3 * aggregates_, -1);
+  int next = 0;
+  for (int k = 0; k < 3; ++k) {
+    part_begin_[k] = next;
+    part_aggregates_[k].clear();
+    for (int i = 0; i < aggregates_; ++i)
+      if (part[i] == k) part_aggregates_[k].push_back(i);
+    // AMD on the part with the separator (whose unknowns come after it: their order here is dropped).
+    const auto inGraph = [&](int i) { return part[i] == k || part[i] == 2; };
+    std::vector<int> local(aggregates_, -1), nodes;
+    for (int i = 0; i < aggregates_; ++i)
+      if (inGraph(i)) local[i] = int(nodes.size()), nodes.push_back(i);
+    const int m = int(nodes.size());
     std::vector<Eigen::Triplet<double>> entries;
-    entries.reserve(9 * blocks);
     for (const auto& [i, j] : block_at)
-      for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) entries.emplace_back(label[3 * i + r], label[3 * j + c], 1.0);
-    Eigen::SparseMatrix<double> m(3 * aggregates_, 3 * aggregates_);
-    m.setFromTriplets(entries.begin(), entries.end());
-    m.makeCompressed();
-    return m;
-  };
-  dof_.resize(3 * aggregates_);
-  for (int d = 0; d < 3 * aggregates_; ++d) dof_[d] = d;
-  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> fill_order;
-  Eigen::AMDOrdering<int>()(patternOf(dof_).selfadjointView<Eigen::Upper>(), fill_order);
-  const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> relabel = fill_order.inverse();
-  for (int d = 0; d < 3 * aggregates_; ++d) dof_[d] = relabel.indices()[d];
-  matrix_ = patternOf(dof_);
+      if (inGraph(i) && inGraph(j))
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c) entries.emplace_back(3 * local[i] + r, 3 * local[j] + c, 1.0);
+    Eigen::SparseMatrix<double> sub(3 * m, 3 * m);
+    sub.setFromTriplets(entries.begin(), entries.end());
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> fill_order;
+    Eigen::AMDOrdering<int>()(sub.selfadjointView<Eigen::Upper>(), fill_order);
+    for (int position = 0; position < 3 * m; ++position) {
+      const int d = fill_order.indices()[position];
+      if (part[nodes[d / 3]] == k) dof_[3 * nodes[d / 3] + d % 3] = next++;
+    }
+  }
+  part_begin_[3] = next;
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(9 * blocks);
+  for (const auto& [i, j] : block_at)
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) entries.emplace_back(dof_[3 * i + r], dof_[3 * j + c], 1.0);
+  matrix_.resize(3 * aggregates_, 3 * aggregates_);
+  matrix_.setFromTriplets(entries.begin(), entries.end());
+  matrix_.makeCompressed();
   block_entry_.resize(9 * blocks);
   for (int k = 0; k < blocks; ++k)
     for (int r = 0; r < 3; ++r)
@@ -148,10 +212,17 @@ void CoarseCorrection::buildPattern(const PairSchedule& pattern) {
   gram_.assign(aggregates_, Eigen::Matrix3d::Zero());
   size_.assign(aggregates_, 0);
   for (int p = 0; p < n; ++p) ++size_[aggregate_[p]];
+  member_start_.assign(aggregates_ + 1, 0);
+  for (int i = 0; i < aggregates_; ++i) member_start_[i + 1] = member_start_[i] + size_[i];
+  members_.resize(n);
+  std::vector<int> filled(member_start_.begin(), member_start_.end() - 1);
+  for (int p = 0; p < n; ++p) members_[filled[aggregate_[p]]++] = p;
   ldlt_.analyzePattern(matrix_);
-  rc_.setZero(3 * aggregates_);
-  solution_.setZero(3 * aggregates_);
+  y_.setZero(3 * aggregates_);
   u_.setZero(3 * aggregates_);
+  const int separator = part_begin_[3] - part_begin_[2];
+  separator_terms_[0].setZero(separator);
+  separator_terms_[1].setZero(separator);
 }
 
 bool CoarseCorrection::fits(const PairBlockMatrix& a) const {
@@ -225,18 +296,68 @@ void CoarseCorrection::setUp(const PairBlockMatrix& a, const ParticleFilter& s) 
   ldlt_.factorize(matrix_);
 }
 
-void CoarseCorrection::solve(const VecX& r) {
-  u_.setZero();
-  const int n = int(aggregate_.size());
-  const double* rs = r.data();
-  double* us = u_.data();
-  for (int p = 0; p < n; ++p) {
-    double* u = us + 3 * aggregate_[p];
-    u[0] += rs[3 * p], u[1] += rs[3 * p + 1], u[2] += rs[3 * p + 2];
+void CoarseCorrection::restrictAndSolveForward(const VecX& r, int k) {
+  for (int i : part_aggregates_[k]) {
+    Vec3 sum = Vec3::Zero();
+    for (int m = member_start_[i]; m < member_start_[i + 1]; ++m) sum += particle(r, members_[m]);
+    for (int c = 0; c < 3; ++c) y_[dof_[3 * i + c]] = sum[c];
   }
-  for (int d = 0; d < 3 * aggregates_; ++d) rc_[dof_[d]] = u_[d];
-  solution_ = ldlt_.solve(rc_);
-  for (int d = 0; d < 3 * aggregates_; ++d) u_[d] = solution_[dof_[d]];
+  if (k == 2) return;
+  // L y = b over the part's columns (L unit lower, stored without its diagonal, column by column as Eigen's
+  // SimplicialLDLT keeps it): rows in the part are updated in place, those in the separator summed aside.
+  const auto& l = ldlt_.matrixL().nestedExpression();
+  const int* outer = l.outerIndexPtr();
+  const int* rows = l.innerIndexPtr();
+  const double* values = l.valuePtr();
+  const int separator = part_begin_[2];
+  double* terms = separator_terms_[k].data();
+  std::fill(terms, terms + separator_terms_[k].size(), 0.0);
+  for (int j = part_begin_[k]; j < part_begin_[k + 1]; ++j) {
+    const double yj = y_[j];
+    for (int e = outer[j]; e < outer[j + 1]; ++e) {
+      if (rows[e] < separator) y_[rows[e]] -= values[e] * yj;
+      else terms[rows[e] - separator] += values[e] * yj;
+    }
+  }
+}
+
+void CoarseCorrection::solveBackward(int k) {
+  // L^T x = y over part k's columns, last to first: each column reads rows below it (its part and the separator).
+  const auto& l = ldlt_.matrixL().nestedExpression();
+  const int* outer = l.outerIndexPtr();
+  const int* rows = l.innerIndexPtr();
+  const double* values = l.valuePtr();
+  for (int j = part_begin_[k + 1] - 1; j >= part_begin_[k]; --j) {
+    double yj = y_[j];
+    for (int e = outer[j]; e < outer[j + 1]; ++e) yj -= values[e] * y_[rows[e]];
+    y_[j] = yj;
+  }
+}
+
+void CoarseCorrection::solve(const VecX& r, bool parallel) {
+  if (ldlt_.info() != Eigen::Success) {  // not positive definite (it is by construction): no correction
+    u_.setZero();
+    return;
+  }
+  // The two parts' restriction and forward solve, at the same time when parallel; then the separator's.
+  runBoth(
+      parallel, [&] { restrictAndSolveForward(r, 0); }, [&] { restrictAndSolveForward(r, 1); });
+  restrictAndSolveForward(r, 2);
+  const int separator = part_begin_[2];
+  for (int j = separator; j < part_begin_[3]; ++j)
+    y_[j] = y_[j] - separator_terms_[0][j - separator] - separator_terms_[1][j - separator];
+  const auto& l = ldlt_.matrixL().nestedExpression();
+  const int* outer = l.outerIndexPtr();
+  const int* rows = l.innerIndexPtr();
+  const double* values = l.valuePtr();
+  for (int j = separator; j < part_begin_[3]; ++j)  // the separator's forward solve: its rows only
+    for (int e = outer[j]; e < outer[j + 1]; ++e) y_[rows[e]] -= values[e] * y_[j];
+  const auto& d = ldlt_.vectorD();
+  for (int j = 0; j < part_begin_[3]; ++j) y_[j] /= d[j];
+  solveBackward(2);
+  runBoth(
+      parallel, [&] { solveBackward(0); }, [&] { solveBackward(1); });
+  for (int c = 0; c < 3 * aggregates_; ++c) u_[c] = y_[dof_[c]];
 }
 
 }  // namespace wobble

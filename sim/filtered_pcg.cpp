@@ -94,7 +94,7 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
   const Sym3* inverse = inverse_.data();
   // z = P^-1 r into z (filtered), after the coarse solve when two-level; returns r.z.
   const auto precondition = [&](double* z) {
-    if (two_level) coarse_.solve(r_);
+    if (two_level) coarse_.solve(r_, parallel);
     return sumOverChunks(n, parallel, sums_, [&](int begin, int end) {
       const int m = end - begin;
       if (two_level)

@@ -5,8 +5,9 @@
 // setup every kCoarseRefresh solves and a small sparse solve per iteration; the sum is symmetric positive definite).
 // Stops when the residual's 2-norm |S (b - A x)| is at most tolerance times that of the filtered right-hand side S (b -
 // A (I - S) x0) (Eigen's ConjugateGradient rule), or after max_iterations. Every vector operation runs over particle
-// chunks and every sum in chunk order (parallel.h), each chunk's in fixed lanes (pcg_kernels.h), the coarse solve
-// serially: the same bytes whatever the thread count. Buffers are kept between solves.
+// chunks and every sum in chunk order (parallel.h), each chunk's in fixed lanes (pcg_kernels.h), the coarse solve's
+// two dissected parts each in one order (coarse_correction.h): the same bytes whatever the thread count. Buffers are
+// kept between solves.
 #pragma once
 #include <vector>
 

@@ -7,6 +7,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <Eigen/Core>
 
 namespace wobble {
@@ -59,6 +60,18 @@ T sumOverChunks(int n, bool parallel, std::vector<T>& partials, Fn&& fn) {
   T sum = partials[0];
   for (std::size_t c = 1; c < partials.size(); ++c) sum += partials[c];
   return sum;
+}
+
+// first() and second() at the same time when parallel, one after the other otherwise. They must not touch the same
+// data, so their results do not depend on which runs where.
+template <class First, class Second>
+void runBoth(bool parallel, First&& first, Second&& second) {
+  if (parallel) {
+    tbb::parallel_invoke(first, second);
+  } else {
+    first();
+    second();
+  }
 }
 
 }  // namespace wobble
