@@ -1,5 +1,6 @@
 #include "sim/coarse_correction.h"
 
+#include "sim/graph_dissection.h"
 #include "sim/parallel.h"
 
 #include <Eigen/Eigenvalues>
@@ -70,42 +71,6 @@ std::vector<int> aggregateGraph(const std::vector<int>& ea, const std::vector<in
     joined[p] = best >= 0 ? best : aggregates++;
   }
   return joined;
-}
-
-// One level of nested dissection of a graph of n nodes: part 0 and part 1 with no edge between them, and the
-// separator (2) between. Breadth-first levels from a far node (the last one reached from node 0): edges join nodes of
-// one level or of neighbouring levels, so the levels before a middle one and those after it share no edge. Nodes that
-// the search does not reach (other components) go to part 1.
-std::vector<int> dissect(int n, const std::vector<std::pair<int, int>>& edges) {
-  std::vector<int> start(n + 1, 0), neighbours(2 * edges.size());
-  for (const auto& [i, j] : edges) ++start[i + 1], ++start[j + 1];
-  for (int i = 0; i < n; ++i) start[i + 1] += start[i];
-  std::vector<int> fill(start.begin(), start.end() - 1);
-  for (const auto& [i, j] : edges) neighbours[fill[i]++] = j, neighbours[fill[j]++] = i;
-  std::vector<int> level(n), queue;
-  const auto search = [&](int root) {
-    std::fill(level.begin(), level.end(), -1);
-    queue.assign(1, root);
-    level[root] = 0;
-    for (std::size_t k = 0; k < queue.size(); ++k)
-      for (int e = start[queue[k]]; e < start[queue[k] + 1]; ++e)
-        if (level[neighbours[e]] < 0) level[neighbours[e]] = level[queue[k]] + 1, queue.push_back(neighbours[e]);
-  };
-  std::vector<int> part(n, 1);
-  if (n == 0) return part;
-  search(0);
-  search(queue.back());
-  std::vector<int> count(level[queue.back()] + 1, 0);
-  for (int node : queue) ++count[level[node]];
-  // The separator: the smallest level that leaves at least a third of the graph on either side (the first such one
-  // on ties), or the middle level when none does.
-  int middle = 0;
-  for (int before = 0; middle + 1 < int(count.size()) && 2 * (before + count[middle]) < n; ++middle)
-    before += count[middle];
-  for (int l = 0, before = 0; l < int(count.size()); before += count[l++])
-    if (3 * before >= n && 3 * (n - before - count[l]) >= n && count[l] < count[middle]) middle = l;
-  for (int node : queue) part[node] = level[node] < middle ? 0 : level[node] == middle ? 2 : 1;
-  return part;
 }
 
 // m += sign b.
