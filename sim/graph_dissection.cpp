@@ -22,16 +22,21 @@ std::vector<int> dissect(int n, const std::vector<std::pair<int, int>>& edges) {
   std::vector<int> part(n, 1);
   if (n == 0) return part;
   search(0);
-  search(queue.back());
+  {
+    int root = queue.back();  // of the last level, a node of fewest neighbours (a grid's corner rather than a side)
+    for (auto it = queue.rbegin(); it != queue.rend() && level[*it] == level[queue.back()]; ++it)
+      if (start[*it + 1] - start[*it] < start[root + 1] - start[root]) root = *it;
+    search(root);
+  }
   std::vector<int> count(level[queue.back()] + 1, 0);
   for (int node : queue) ++count[level[node]];
-  // The separator: the smallest level that leaves at least a third of the graph on either side (the first such one
-  // on ties), or the middle level when none does.
+  // The separator: the smallest level that leaves at least 45% of the graph on either side (the first such one on
+  // ties), or the middle level when none does.
   int middle = 0;
   for (int before = 0; middle + 1 < int(count.size()) && 2 * (before + count[middle]) < n; ++middle)
     before += count[middle];
   for (int l = 0, before = 0; l < int(count.size()); before += count[l++])
-    if (3 * before >= n && 3 * (n - before - count[l]) >= n && count[l] < count[middle]) middle = l;
+    if (20 * before >= 9 * n && 20 * (n - before - count[l]) >= 9 * n && count[l] < count[middle]) middle = l;
   for (int node : queue) part[node] = level[node] < middle ? 0 : level[node] == middle ? 2 : 1;
   return part;
 }
