@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "render/bsdf.h"
+#include "render/camera.h"
 #include "render/scene.h"
 
 namespace wobble::render {
@@ -22,9 +23,11 @@ float powerHeuristic(float chosen, float other) {
 
 // The first hit's pixel footprint in UV space: where the camera's neighbouring pixel rays (differentials ddx, ddy)
 // meet the hit's tangent plane, mapped through the surface's UV parametrisation (least squares, as pbrt).
-TextureFootprint footprint(const Ray& ray, const Eigen::Vector3f& ddx, const Eigen::Vector3f& ddy,
-                           const SurfaceHit& hit) {
+TextureFootprint footprint(const Ray& ray, const Camera* camera, const SurfaceHit& hit) {
   TextureFootprint f;
+  if (!camera) return f;
+  Eigen::Vector3f ddx, ddy;
+  camera->differentials(ray.direction, ddx, ddy);
   const float a11 = hit.dpdu.squaredNorm(), a12 = hit.dpdu.dot(hit.dpdv), a22 = hit.dpdv.squaredNorm();
   const float det = a11 * a22 - a12 * a12;
   if (!(det > 1e-20f)) return f;
@@ -107,7 +110,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
     Color base;
     if (bounce == 0 && material.texture) {
       scene.uvDerivatives(*hit);
-      TextureFootprint f = footprint(ray, camera.ddx, camera.ddy, *hit);
+      TextureFootprint f = footprint(ray, camera.camera, *hit);
       f.jitter = sampler.get2D(sample, SampleLayout::kTexture);
       const Eigen::Vector2f centre = hit->uv - camera.offset.x() * f.duvdx - camera.offset.y() * f.duvdy;
       base = material.baseColor(centre.allFinite() ? centre : hit->uv, f);

@@ -130,7 +130,7 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
               const Eigen::Vector2f jitter = sampler.get2D(s, SampleLayout::kPixel);
               const Ray ray = camera.ray(static_cast<float>(x) + jitter.x(), static_cast<float>(y) + jitter.y());
               CameraSample cs;
-              camera.differentials(ray.direction, cs.ddx, cs.ddy);
+              cs.camera = &camera;
               cs.offset = jitter.array() - 0.5f;
               const PathResult r = tracePath(context, ray, cs, sampler, s);
               if (r.radiance.allFinite()) {  // one bad sample must not blacken the pixel

@@ -56,7 +56,7 @@ class PixelSampler {
   SlotSeeds seeds(int slot) const;
 
   SlotSeeds hashSeeds(int slot) const;
-  float independent(std::uint32_t sample, int slot, std::uint32_t coordinate) const;
+  Eigen::Vector2f independent(std::uint32_t sample, int slot) const;
   std::uint32_t shuffledIndex(std::uint32_t sample, std::uint32_t seed) const;
 
   SamplerKind kind_;

@@ -111,6 +111,44 @@ TEST(Sampler, IndependentPointsAreNotNets) {
       [&](std::uint32_t i, int b) { return interval(sampler.get2D(i, 2).y(), b); }));
 }
 
+// Pearson's chi-square of `points` over a 16 x 16 grid of the unit square (255 degrees of freedom: mean 255, standard
+// deviation 22.6).
+double chiSquare16(const std::vector<Eigen::Vector2f>& points) {
+  std::vector<int> count(256, 0);
+  for (const Eigen::Vector2f& p : points) ++count[interval(p.x(), 4) * 16 + interval(p.y(), 4)];
+  const double expected = double(points.size()) / 256;
+  double chi2 = 0;
+  for (const int c : count) chi2 += (c - expected) * (c - expected) / expected;
+  return chi2;
+}
+
+TEST(Sampler, IndependentPairsAreUniformAndUncorrelated) {
+  // 64 pixels x 64 samples x 8 slots: 32 768 points, 128 a cell. Each pair is uniform on the square only if its two
+  // numbers are uniform and independent: a slot's x and y, x of neighbouring slots, x of consecutive samples, x of
+  // neighbouring pixels. The seeds are fixed, so this is deterministic; a sound hash stays near 255, and the bound
+  // (255 + 6 standard deviations) fails a coordinate copied, offset or correlated with another.
+  std::vector<Eigen::Vector2f> within, slots, samples, pixels;
+  for (std::uint64_t pixel = 0; pixel < 64; ++pixel) {
+    const PixelSampler s(SamplerKind::Independent, pixel, 5), next(SamplerKind::Independent, pixel + 1, 5);
+    for (std::uint32_t i = 0; i < 64; ++i)
+      for (int slot = 0; slot < 8; ++slot) {
+        within.push_back(s.get2D(i, slot));
+        slots.emplace_back(s.get2D(i, slot).x(), s.get2D(i, slot + 1).x());
+        samples.emplace_back(s.get2D(i, slot).x(), s.get2D(i + 1, slot).x());
+        pixels.emplace_back(s.get2D(i, slot).x(), next.get2D(i, slot).x());
+        EXPECT_EQ(s.get1D(i, slot), s.get2D(i, slot).x());
+      }
+  }
+  EXPECT_LT(chiSquare16(within), 391);
+  EXPECT_LT(chiSquare16(slots), 391);
+  EXPECT_LT(chiSquare16(samples), 391);
+  EXPECT_LT(chiSquare16(pixels), 391);
+  // And the test can fail: the diagonal (x, x) leaves 240 of the 256 cells empty.
+  std::vector<Eigen::Vector2f> diagonal;
+  for (const Eigen::Vector2f& p : within) diagonal.emplace_back(p.x(), p.x());
+  EXPECT_GT(chiSquare16(diagonal), 391);
+}
+
 std::vector<Eigen::Vector2f> first16(const PixelSampler& sampler, int slot) {
   std::vector<Eigen::Vector2f> points;
   for (std::uint32_t i = 0; i < 16; ++i) points.push_back(sampler.get2D(i, slot));
