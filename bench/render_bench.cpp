@@ -2,6 +2,8 @@
 // triangles) resting on a 20 m quad, next to an analytic sphere, lit by a sun and the sky.
 //   BM_EmbreeIntersect1   raw Embree: rtcIntersect1 on the scene's RTCScene, one thread, camera rays of a 1280x720
 //                         view (first hits only, no shading): the ceiling for everything else
+//   BM_EmbreePathRays     raw Embree on the renderer's kind of rays: camera, cosine bounce and sun shadow rays of
+//                         BM_RendererRays' frame, made beforehand, replayed with rtcIntersect1 / rtcOccluded1
 //   BM_RendererRays       the renderer's rays per second (camera, bounce and shadow rays, with shading, texture
 //                         lookups and sampling) on a 320x180 frame at 4 samples per pixel; argument = threads
 //   BM_Frame720p          wall time of one 1280x720 frame at 16 samples per pixel, 2 bounces, all threads
@@ -18,7 +20,10 @@
 #include <tbb/global_control.h>
 
 #include "render/camera.h"
+#include "render/path_tracer.h"
 #include "render/renderer.h"
+#include "render/sampler.h"
+#include "render/sampling.h"
 #include "render/scene.h"
 #include "sim/bodies/jelly.h"
 #include "sim/surface.h"
@@ -139,6 +144,68 @@ void BM_EmbreeIntersect16(benchmark::State& state) {
       benchmark::Counter(16.0 * double(packets.size()) * double(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_EmbreeIntersect16)->Unit(benchmark::kMillisecond);
+
+// Raw Embree on rays shaped like the renderer's: the camera rays of BM_RendererRays' frame (320 x 180, 4 jittered
+// samples a pixel) and, from every hit, a shadow ray towards the sun and a cosine-distributed bounce, two bounces deep
+// (what the path tracer traces, without its bounds shortcut). The rays are made once, outside the timing; the loop
+// only calls rtcIntersect1 and rtcOccluded1 on them. Its rate is what a renderer of rtc*1 calls could reach on these
+// rays with shading, sampling and hit records free: the ceiling BM_RendererRays is measured against.
+void BM_EmbreePathRays(benchmark::State& state) {
+  const RTCScene rtc = benchScene().scene.embreeScene();
+  const Camera camera(view(320, 180));
+  const Eigen::Vector3f sun = SunLight{}.direction.normalized();
+  const auto toRay = [](const Ray& r, float tfar) {
+    RTCRay ray{};
+    ray.org_x = r.origin.x(), ray.org_y = r.origin.y(), ray.org_z = r.origin.z();
+    ray.dir_x = r.direction.x(), ray.dir_y = r.direction.y(), ray.dir_z = r.direction.z();
+    ray.tfar = tfar;
+    ray.mask = 0xFFFFFFFFu;
+    return ray;
+  };
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  std::vector<RTCRayHit> rays;
+  std::vector<RTCRay> shadows;
+  for (int y = 0; y < 180; ++y)
+    for (int x = 0; x < 320; ++x) {
+      const PixelSampler sampler(SamplerKind::Independent, std::uint64_t(y) * 320 + x, 0);
+      for (std::uint32_t s = 0; s < 4; ++s) {
+        const Eigen::Vector2f jitter = sampler.get2D(s, 0);
+        Ray ray = camera.ray(float(x) + jitter.x(), float(y) + jitter.y());
+        for (int bounce = 0; bounce <= 2; ++bounce) {
+          RTCRayHit rh{};
+          rh.ray = toRay(ray, INFINITY);
+          rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+          rays.push_back(rh);
+          rtcIntersect1(rtc, &context, &rh);
+          if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
+          Eigen::Vector3f n = Eigen::Vector3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
+          if (n.dot(ray.direction) > 0) n = -n;
+          const Eigen::Vector3f origin = offsetFromSurface(ray.at(rh.ray.tfar), n);
+          if (sun.dot(n) > 0) shadows.push_back(toRay(Ray{origin, sun}, INFINITY));
+          if (bounce == 2) break;
+          const Eigen::Vector2f u = sampler.get2D(s, 2 + bounce);
+          ray = Ray{origin, Frame(n).toWorld(sampleCosineHemisphere(u.x(), u.y())).normalized()};
+        }
+      }
+    }
+  std::size_t hits = 0;
+  for (auto _ : state) {
+    for (RTCRayHit rh : rays) {
+      rtcIntersect1(rtc, &context, &rh);
+      hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+    }
+    for (RTCRay ray : shadows) {
+      rtcOccluded1(rtc, &context, &ray);
+      hits += ray.tfar < 0;
+    }
+  }
+  benchmark::DoNotOptimize(hits);
+  state.counters["rays_per_s"] = benchmark::Counter(double(rays.size() + shadows.size()) * double(state.iterations()),
+                                                    benchmark::Counter::kIsRate);
+  state.counters["shadow_share"] = double(shadows.size()) / double(rays.size() + shadows.size());
+}
+BENCHMARK(BM_EmbreePathRays)->Unit(benchmark::kMillisecond);
 
 void BM_RendererRays(benchmark::State& state) {
   const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, std::size_t(state.range(0)));
