@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # One setup step for a Debian 12 machine: installs the Debian packages wobble needs that are missing,
 # then configures and builds the release tree in build/. Idempotent: quick when everything is there.
-# Blender is left out (large: about 115 MB to fetch with its libraries, 450 MB installed): the tests that need it
-# skip, saying so (tests/app/blender_test.cpp).
+# `./setup.sh tests` (the README's test command, and CI's) adds Blender, which only the Blender tests need (about
+# 115 MB to fetch with its libraries, 450 MB installed); without it they skip, saying so (tests/app/blender_test.cpp).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")"
 
@@ -20,6 +20,11 @@ packages=(
   openimageio-tools                                     # idiff: wobble diff's conformance test (~60 MB to fetch)
   parallel                                              # GNU parallel: the split-render test (README)
 )
+case "${1:-}" in
+  "") ;;
+  tests) packages+=(blender) ;;                         # wobble blend's tests (tests/app/blender_test.cpp)
+  *) echo "setup: unknown argument '$1' (allowed: none, or 'tests' to add Blender for the whole test suite)" >&2; exit 2 ;;
+esac
 
 missing=()
 for p in "${packages[@]}"; do

@@ -82,7 +82,7 @@ look_at = [0, 2, 0]
 
 TEST_F(Blender, ObjSequenceImports) {
   if (!blender_)
-    GTEST_SKIP() << "blender is not on PATH (apt-get install blender; setup.sh leaves it out: it is large)";
+    GTEST_SKIP() << "blender is not on PATH (./setup.sh tests installs it; plain setup.sh leaves it out: it is large)";
   const fs::path out = dir() / "out", log = dir() / "log.txt";
   ASSERT_EQ(runWobble("run " + (testing::sourceDir() / "scenes/cat_jelly.toml").string() +
                           " --frames 1:4 --set simulation.duration=0.2 --render none --out " + out.string(),
@@ -98,7 +98,7 @@ TEST_F(Blender, ObjSequenceImports) {
 
 TEST_F(Blender, PointCacheByHandPlaysTheObjFrames) {
   if (!blender_)
-    GTEST_SKIP() << "blender is not on PATH (apt-get install blender; setup.sh leaves it out: it is large)";
+    GTEST_SKIP() << "blender is not on PATH (./setup.sh tests installs it; plain setup.sh leaves it out: it is large)";
   const fs::path out = dir() / "out", log = dir() / "log.txt";
   ASSERT_EQ(runWobble("run " + scene().string() + " --frames 3:12 --render none --pc2 --out " + out.string(), log), 0)
       << slurpFile(log);
@@ -112,7 +112,7 @@ TEST_F(Blender, PointCacheByHandPlaysTheObjFrames) {
 
 TEST_F(Blender, BlendFileReopensAndPlays) {
   if (!blender_)
-    GTEST_SKIP() << "blender is not on PATH (apt-get install blender; setup.sh leaves it out: it is large)";
+    GTEST_SKIP() << "blender is not on PATH (./setup.sh tests installs it; plain setup.sh leaves it out: it is large)";
   const fs::path out = dir() / "out", log = dir() / "log.txt";
   ASSERT_EQ(runWobble("run " + scene().string() + " --render none --pc2 --out " + out.string(), log), 0)
       << slurpFile(log);
