@@ -47,7 +47,7 @@ struct PathSettings {
 // whole pixel's footprint (the neighbouring pixels' rays met on the hit's tangent plane), centred on the pixel's
 // centre rather than on the sample: every sample of a pixel then sees the same box-filtered texture, so texture
 // detail adds no noise at any sample count, and its mean is the pixel's box filter, as the reference's.
-// The ray differentials are asked of the camera only when the first hit is textured (most samples never need them).
+// The ray differentials are asked of the camera only when the first hit is textured (sky and plain surfaces skip them).
 struct CameraSample {
   const Camera* camera = nullptr;  // its ray differentials (camera.h); none: the texture is point-sampled
   Eigen::Vector2f offset = Eigen::Vector2f::Zero();  // the sample's position in its pixel minus the centre (pixels)
