@@ -48,15 +48,19 @@ void addDragJacobian(const VecX& drag, Triplets& dfdv) {
       for (int k = 0; k < 3; ++k) dfdv.emplace_back(3 * i + k, 3 * i + k, -drag[i]);
 }
 
-void fillSpringBlocks(const Springs& s, int begin, int end, const VecX& x, double cx, double cv, Sym3Columns blocks,
-                      const VecX* w, VecX* kw) {
+void fillSpringBlocks(const Springs& s, int begin, int end, const VecX& x, double cx, double cv,
+                      PairBlockColumns blocks, const VecX* w, VecX* kw) {
   for (int i = begin; i < end; ++i) {
     Sym3 kx, kv;
     if (!springBlocks(s, i, x, kx, kv)) {
-      blocks.set(i, Sym3{});
+      blocks.set(i, 0.0, Vec3::Zero());
       continue;
     }
-    blocks.set(i, cx * kx + cv * kv);
+    const Vec3 delta = particle(x, s.a[i]) - particle(x, s.b[i]);
+    const double len = delta.norm();
+    const double transverse = std::max(0.0, 1.0 - s.rest[i] / len);
+    blocks.set(i, cx * (s.ks[i] * transverse),
+               std::sqrt(cx * (s.ks[i] * (1.0 - transverse)) + cv * s.kd[i]) * (delta / len));
     if (kw) {  // dF/dx w: -Kx (wa - wb) on a, the opposite on b
       const Vec3 u = kx * (particle(*w, s.a[i]) - particle(*w, s.b[i]));
       particle(*kw, s.a[i]) -= u;

@@ -18,8 +18,10 @@ void addSpringJacobians(const Springs& s, const VecX& x, Triplets& dfdx, Triplet
 void addDragJacobian(const VecX& drag, Triplets& dfdv);
 
 // The same spring blocks on the fixed pattern, for springs [begin, end): blocks[i] = cx Kx + cv Kv with
-// Kx = -dFa/dxa, Kv = -dFa/dva of spring i; with w, also kw += dF/dx w (kw's a and b entries of each spring).
-void fillSpringBlocks(const Springs& s, int begin, int end, const VecX& x, double cx, double cv, Sym3Columns blocks,
-                      const VecX* w, VecX* kw);
+// Kx = -dFa/dxa, Kv = -dFa/dva of spring i, stored as a I + w w^T (cx, cv, ks, kd >= 0): Kx = ks (t I + (1 - t) d d^T)
+// with t = max(0, 1 - rest / length) and Kv = kd d d^T, so a = cx ks t and w = sqrt(cx ks (1 - t) + cv kd) d. With w,
+// also kw += dF/dx w (kw's a and b entries of each spring).
+void fillSpringBlocks(const Springs& s, int begin, int end, const VecX& x, double cx, double cv,
+                      PairBlockColumns blocks, const VecX* w, VecX* kw);
 
 }  // namespace wobble

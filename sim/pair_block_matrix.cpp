@@ -7,14 +7,14 @@ namespace wobble {
 void PairBlockMatrix::reset(const PairSchedule& pattern) {
   pattern_ = &pattern;
   self_.assign(pattern.particles(), Sym3{});
-  pair_.assign(6 * pattern.size(), 0.0);
+  pair_.assign(4 * pattern.size(), 0.0);
 }
 
 void PairBlockMatrix::diagonal(std::vector<Sym3>& out, bool parallel) const {
   out = self_;
   const int* a = pattern_->a().data();
   const int* b = pattern_->b().data();
-  const Sym3Columns w = columns();
+  const PairBlockColumns w = columns();
   pattern_->run(parallel, [&](int begin, int end) {
     for (int e = begin; e < end; ++e) {
       const Sym3 m = w.get(e);
@@ -37,7 +37,7 @@ namespace {
 // The pairs (xa + k, xb + k), k < length, with blocks w (by value, from its first pair on): u = w_k (xa[k] - xb[k]) is
 // added to ya[k] and subtracted from yb[k] (which may overlap: all of ya's adds come first). Clones for AVX-512, AVX2
 // and the baseline, compiled without FMA contraction (CMakeLists.txt): every clone gives the same bits.
-__attribute__((target_clones("avx512f", "avx2", "default"))) void addRunProducts(const Sym3Columns w,
+__attribute__((target_clones("avx512f", "avx2", "default"))) void addRunProducts(const PairBlockColumns w,
                                                                                  const double* __restrict xa,
                                                                                  const double* __restrict xb,
                                                                                  int length, double* ya, double* yb) {
@@ -56,16 +56,17 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void addRunProducts
 }
 
 // The same product for pairs [begin, end), one at a time: the short runs.
-void addPairProducts(const int* a, const int* b, const Sym3Columns w, const double* xs, double* ys, int begin,
+void addPairProducts(const int* a, const int* b, const PairBlockColumns w, const double* xs, double* ys, int begin,
                      int end) {
   for (int e = begin; e < end; ++e) {  // plain scalars: Eigen's 3-vectors mix packets and scalars here
     const double* xa = xs + 3 * a[e];
     const double* xb = xs + 3 * b[e];
     const double dx = xa[0] - xb[0], dy = xa[1] - xb[1], dz = xa[2] - xb[2];
-    const Sym3 m = w.get(e);
-    const double ux = m.xx * dx + m.xy * dy + m.xz * dz;
-    const double uy = m.xy * dx + m.yy * dy + m.yz * dz;
-    const double uz = m.xz * dx + m.yz * dy + m.zz * dz;
+    const double s = w.v[0][e], wx = w.v[1][e], wy = w.v[2][e], wz = w.v[3][e];
+    const double t = wx * dx + wy * dy + wz * dz;  // the same operations as multiplyBlocks (sym3.h)
+    const double ux = s * dx + t * wx;
+    const double uy = s * dy + t * wy;
+    const double uz = s * dz + t * wz;
     double* ya = ys + 3 * a[e];
     double* yb = ys + 3 * b[e];
     ya[0] += ux, ya[1] += uy, ya[2] += uz;
@@ -78,7 +79,7 @@ void addPairProducts(const int* a, const int* b, const Sym3Columns w, const doub
 void PairBlockMatrix::addPairProducts(const VecX& x, VecX& y, bool parallel) const {
   const int* a = pattern_->a().data();
   const int* b = pattern_->b().data();
-  const Sym3Columns w = columns();
+  const PairBlockColumns w = columns();
   const double* xs = x.data();
   double* ys = y.data();
   pattern_->runByRuns(parallel, [=](std::span<const PairRun> runs) {

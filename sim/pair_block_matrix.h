@@ -1,7 +1,7 @@
 // The implicit solver's matrix, in the shape of pairwise forces' Jacobians: A = blockdiag(self_p) plus, for every
 // pair e = (a, b) of a PairSchedule, W_e on the diagonal blocks (a, a) and (b, b) and -W_e on (a, b) and (b, a).
 // The pattern is the schedule's, fixed per topology; each step refills the values in place (symmetric 3x3 blocks;
-// the W_e by value in six arrays, so that the product reads a run of pairs contiguously).
+// the W_e = a_e I + w_e w_e^T by value in four arrays, so that the product reads a run of pairs contiguously).
 #pragma once
 #include <vector>
 
@@ -18,12 +18,12 @@ class PairBlockMatrix {
   // Whether the blocks are sized for pattern as it stands (a system may rebuild its schedule in place).
   bool fits(const PairSchedule& pattern) const {
     return pattern_ == &pattern && self_.size() == std::size_t(pattern.particles()) &&
-           pair_.size() == 6 * pattern.size();
+           pair_.size() == 4 * pattern.size();
   }
 
   std::vector<Sym3>& self() { return self_; }  // one block per particle
-  // One block per pair, in schedule order, stored by value (Sym3Columns).
-  Sym3Columns pair() { return columns(); }
+  // One block per pair, in schedule order, stored by value as a I + w w^T (PairBlockColumns).
+  PairBlockColumns pair() { return columns(); }
   const std::vector<Sym3>& self() const { return self_; }
   Sym3 pair(std::size_t e) const { return columns().get(e); }
 
@@ -38,15 +38,15 @@ class PairBlockMatrix {
 
  private:
   const PairSchedule* pattern_ = nullptr;
-  // The six arrays of pair_. Sym3Columns has no read-only form: const members only read through it.
-  Sym3Columns columns() const {
+  // The four arrays of pair_. PairBlockColumns has no read-only form: const members only read through it.
+  PairBlockColumns columns() const {
     double* data = const_cast<double*>(pair_.data());
-    const std::size_t n = pair_.size() / 6;
-    return {{data, data + n, data + 2 * n, data + 3 * n, data + 4 * n, data + 5 * n}};
+    const std::size_t n = pair_.size() / 4;
+    return {{data, data + n, data + 2 * n, data + 3 * n}};
   }
 
   std::vector<Sym3> self_;
-  std::vector<double> pair_;  // six arrays of pattern size (Sym3Columns)
+  std::vector<double> pair_;  // four arrays of pattern size (PairBlockColumns)
 };
 
 }  // namespace wobble

@@ -44,25 +44,24 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void addRunForces(
   }
 }
 
-// The Jacobian blocks of the springs (xa + k, xb + k), k < length (force_jacobian.h): blocks[k] = cx Kx + cv Kv into
-// the six columns from their first pair on; with wa, wb (not null), u = Kx (wa[k] - wb[k]) is subtracted from kwa[k]
-// and added to kwb[k] (all of kwa's first, as the forces). The same clones and bits rule as addRunForces.
+// The Jacobian blocks of the springs (xa + k, xb + k), k < length (force_jacobian.h): blocks[k] = cx Kx + cv Kv as
+// a I + w w^T in the four columns from their first pair on; with wa, wb (not null), u = Kx (wa[k] - wb[k]) is
+// subtracted from kwa[k] and added to kwb[k] (all of kwa's first, as the forces). The same clones and bits rule as
+// addRunForces.
 __attribute__((target_clones("avx512f", "avx2", "default"))) void fillRunBlocks(
     const double* __restrict xa, const double* __restrict xb, const double* __restrict rest,
     const double* __restrict ks, const double* __restrict kd, int length, double cx, double cv,
-    const Sym3Columns blocks, const double* __restrict wa, const double* __restrict wb, double* kwa, double* kwb) {
+    const PairBlockColumns blocks, const double* __restrict wa, const double* __restrict wb, double* kwa, double* kwb) {
   constexpr int kChunk = 128;
   alignas(64) double dx[3 * kChunk], dw[3 * kChunk], u[3 * kChunk];
-  alignas(64) double kxx[kChunk], kyy[kChunk], kzz[kChunk], kxy[kChunk], kxz[kChunk], kyz[kChunk];
+  alignas(64) double ka[kChunk], kwx[kChunk], kwy[kChunk], kwz[kChunk];  // Kx as a I + w w^T
   for (int c = 0; c < length; c += kChunk) {
     const int m = std::min(kChunk, length - c);
     const double *x0 = xa + 3 * c, *x1 = xb + 3 * c, *r = rest + c, *s = ks + c, *d = kd + c;
-    double* __restrict bxx = blocks.v[0] + c;
-    double* __restrict byy = blocks.v[1] + c;
-    double* __restrict bzz = blocks.v[2] + c;
-    double* __restrict bxy = blocks.v[3] + c;
-    double* __restrict bxz = blocks.v[4] + c;
-    double* __restrict byz = blocks.v[5] + c;
+    double* __restrict ba = blocks.v[0] + c;
+    double* __restrict bwx = blocks.v[1] + c;
+    double* __restrict bwy = blocks.v[2] + c;
+    double* __restrict bwz = blocks.v[3] + c;
     for (int j = 0; j < 3 * m; ++j) dx[j] = x0[j] - x1[j];
     for (int k = 0; k < m; ++k) {
       const double len =
@@ -71,22 +70,22 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void fillRunBlocks(
       const double inv = len > 0 ? 1.0 / len : 0.0, live = len > 0 ? 1.0 : 0.0;
       const double ux = dx[3 * k] * inv, uy = dx[3 * k + 1] * inv, uz = dx[3 * k + 2] * inv;
       const double transverse = std::max(0.0, 1.0 - r[k] * inv);
-      // Kx = along d d^T + across I
+      // Kx = across I + along d d^T; cx Kx + cv Kv = (cx across) I + (cx along + cv kd) d d^T. Both are stored as
+      // a I + w w^T (force_jacobian.h).
       const double along = s[k] * (1.0 - transverse), across = live * (s[k] * transverse);
-      const double xx = along * (ux * ux) + across, yy = along * (uy * uy) + across, zz = along * (uz * uz) + across;
-      const double xy = along * (ux * uy), xz = along * (ux * uz), yz = along * (uy * uz);
-      const double damp = cv * d[k];
-      bxx[k] = cx * xx + damp * (ux * ux);
-      byy[k] = cx * yy + damp * (uy * uy);
-      bzz[k] = cx * zz + damp * (uz * uz);
-      bxy[k] = cx * xy + damp * (ux * uy);
-      bxz[k] = cx * xz + damp * (ux * uz);
-      byz[k] = cx * yz + damp * (uy * uz);
-      kxx[k] = xx, kyy[k] = yy, kzz[k] = zz, kxy[k] = xy, kxz[k] = xz, kyz[k] = yz;
+      const double root = std::sqrt(cx * along + cv * d[k]), k_root = std::sqrt(along);
+      ba[k] = cx * across;
+      bwx[k] = root * ux;
+      bwy[k] = root * uy;
+      bwz[k] = root * uz;
+      ka[k] = across;
+      kwx[k] = k_root * ux;
+      kwy[k] = k_root * uy;
+      kwz[k] = k_root * uz;
     }
     if (!wa) continue;
     for (int j = 0; j < 3 * m; ++j) dw[j] = wa[3 * c + j] - wb[3 * c + j];
-    multiplyBlocks(Sym3Columns{{kxx, kyy, kzz, kxy, kxz, kyz}}, m, dw, u);
+    multiplyBlocks(PairBlockColumns{{ka, kwx, kwy, kwz}}, m, dw, u);
     double* a = kwa + 3 * c;
     for (int j = 0; j < 3 * m; ++j) a[j] -= u[j];
     double* b = kwb + 3 * c;
@@ -114,7 +113,7 @@ void addSpringForces(const Springs& s, std::span<const PairRun> runs, const VecX
 namespace wobble {
 
 void fillSpringBlocks(const Springs& s, std::span<const PairRun> runs, const VecX& x, double cx, double cv,
-                      Sym3Columns blocks, const VecX* w, VecX* kw) {
+                      PairBlockColumns blocks, const VecX* w, VecX* kw) {
   const double* xs = x.data();
   splitRuns(
       runs,

@@ -18,6 +18,6 @@ void addSpringForces(const Springs& s, std::span<const PairRun> runs, const VecX
 
 // The springs' Jacobian blocks of the runs (fillSpringBlocks of force_jacobian.h, the same values to round-off).
 void fillSpringBlocks(const Springs& s, std::span<const PairRun> runs, const VecX& x, double cx, double cv,
-                      Sym3Columns blocks, const VecX* w, VecX* kw);
+                      PairBlockColumns blocks, const VecX* w, VecX* kw);
 
 }  // namespace wobble

@@ -1,5 +1,6 @@
-// A symmetric 3x3 block, stored as its six distinct values: the unit of the implicit solver's matrices (a spring's
-// Jacobian block, a particle's diagonal block) at two thirds of a full block's memory traffic.
+// A symmetric 3x3 block, stored as its six distinct values: the unit of the implicit solver's matrices (a particle's
+// diagonal block, a spring's Jacobian block when read out) at two thirds of a full block's memory traffic. The pair
+// blocks themselves are stored as a I + w w^T in four values (PairBlockColumns, below).
 #pragma once
 #include <cstddef>
 
@@ -34,36 +35,41 @@ struct Sym3 {
   friend Sym3 operator+(Sym3 a, const Sym3& b) { return a += b; }
 };
 
-// Many Sym3 stored as six arrays, one per value (xx, yy, zz, xy, xz, yz): a loop over consecutive blocks reads each
-// value contiguously, which vectorises (an array of Sym3 would be read with a stride of six).
-struct Sym3Columns {
-  double* v[6] = {};
-  Sym3 get(std::size_t i) const { return {v[0][i], v[1][i], v[2][i], v[3][i], v[4][i], v[5][i]}; }
-  void set(std::size_t i, const Sym3& m) const {
-    v[0][i] = m.xx, v[1][i] = m.yy, v[2][i] = m.zz, v[3][i] = m.xy, v[4][i] = m.xz, v[5][i] = m.yz;
+// Many blocks of the form a I + w w^T (a >= 0), stored as four arrays (a, wx, wy, wz), one per value: a loop over
+// consecutive blocks reads each value contiguously and vectorises. Every pair block of the implicit solver's matrix
+// has this form, since a spring's stiffness and damping act along its direction or equally in all directions
+// (force_jacobian.h); four values instead of a Sym3's six cut the memory traffic of the solver's product, which
+// streams the pair blocks from cache every CG iteration, by a third.
+struct PairBlockColumns {
+  double* v[4] = {};
+  Sym3 get(std::size_t i) const {
+    const double a = v[0][i], x = v[1][i], y = v[2][i], z = v[3][i];
+    return {a + x * x, a + y * y, a + z * z, x * y, x * z, y * z};
+  }
+  void set(std::size_t i, double a, const Vec3& w) const {
+    v[0][i] = a, v[1][i] = w.x(), v[2][i] = w.y(), v[3][i] = w.z();
   }
   // The same columns from block `first` on.
-  Sym3Columns shifted(std::ptrdiff_t first) const {
-    Sym3Columns from = *this;
+  PairBlockColumns shifted(std::ptrdiff_t first) const {
+    PairBlockColumns from = *this;
     for (double*& column : from.v) column += first;
     return from;
   }
 };
 
-// u[k] = W_k d[k] for the first n blocks of w, d and u packed 3-vectors: the product of the run kernels
-// (spring_runs.cpp, pair_block_matrix.cpp), inlined into their vectorised loops.
-inline void multiplyBlocks(const Sym3Columns& w, int n, const double* __restrict d, double* __restrict u) {
-  const double* __restrict xx = w.v[0];
-  const double* __restrict yy = w.v[1];
-  const double* __restrict zz = w.v[2];
-  const double* __restrict xy = w.v[3];
-  const double* __restrict xz = w.v[4];
-  const double* __restrict yz = w.v[5];
+// u[k] = (a_k I + w_k w_k^T) d[k] for the first n blocks of b, d and u packed 3-vectors: the product's run kernel
+// (pair_block_matrix.cpp), inlined into its vectorised loop.
+inline void multiplyBlocks(const PairBlockColumns& b, int n, const double* __restrict d, double* __restrict u) {
+  const double* __restrict a = b.v[0];
+  const double* __restrict wx = b.v[1];
+  const double* __restrict wy = b.v[2];
+  const double* __restrict wz = b.v[3];
   for (int k = 0; k < n; ++k) {
     const double dx = d[3 * k], dy = d[3 * k + 1], dz = d[3 * k + 2];
-    u[3 * k] = xx[k] * dx + xy[k] * dy + xz[k] * dz;
-    u[3 * k + 1] = xy[k] * dx + yy[k] * dy + yz[k] * dz;
-    u[3 * k + 2] = xz[k] * dx + yz[k] * dy + zz[k] * dz;
+    const double t = wx[k] * dx + wy[k] * dy + wz[k] * dz;
+    u[3 * k] = a[k] * dx + t * wx[k];
+    u[3 * k + 1] = a[k] * dy + t * wy[k];
+    u[3 * k + 2] = a[k] * dz + t * wz[k];
   }
 }
 
