@@ -48,7 +48,7 @@ FilteredSystem stiffCloth(int side, double t, std::vector<int>& aggregates_out) 
   blocks.reset(jacobian.jacobianPattern());
   jacobian.fillJacobian(0, sim.x(), sim.v(), h * h, h, blocks, nullptr, nullptr);
   const int n = system.particleCount();
-  for (int i = 0; i < n; ++i) blocks.self()[i] += Sym3::identity(jacobian.mass()[i]);
+  for (int i = 0; i < n; ++i) blocks.self()[i] += jacobian.mass()[i];
   ParticleFilter filter;
   filter.reset(jacobian.inverseMass());
   CoarseCorrection coarse;
@@ -63,7 +63,7 @@ FilteredSystem stiffCloth(int side, double t, std::vector<int>& aggregates_out) 
       for (int c = 0; c < 3; ++c) entries.emplace_back(3 * i + r, 3 * j + c, m(r, c));
   };
   for (int i = 0; i < n; ++i) {
-    add(i, i, blocks.self()[i].dense());
+    add(i, i, blocks.self()[i] * Eigen::Matrix3d::Identity());
     if (!free(i))
       for (int k = 0; k < 3; ++k) entries.emplace_back(3 * i + k, 3 * i + k, 1.0);  // I - S
   }

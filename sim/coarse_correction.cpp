@@ -143,10 +143,10 @@ void CoarseCorrection::setUp(const PairBlockMatrix& a, const ParticleFilter& s) 
   // Z^T S A S Z: each particle's self block, each pair's four blocks, filtered on both sides.
   for (int p = 0; p < n; ++p) {
     if (!filtered(p)) {
-      add(blocks_[aggregate_[p]], a.self()[p], 1);
+      add(blocks_[aggregate_[p]], Sym3::identity(a.self()[p]), 1);
     } else if (s.kind(p) != ParticleFilter::Held) {
       const Eigen::Matrix3d sp = filterMatrix(s, p);
-      blocks_[aggregate_[p]] += sp * a.self()[p].dense() * sp;
+      blocks_[aggregate_[p]] += a.self()[p] * (sp * sp);
     }
   }
   const int* pa = pattern.a().data();

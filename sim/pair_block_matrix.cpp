@@ -6,12 +6,13 @@ namespace wobble {
 
 void PairBlockMatrix::reset(const PairSchedule& pattern) {
   pattern_ = &pattern;
-  self_.assign(pattern.particles(), Sym3{});
+  self_.assign(pattern.particles(), 0.0);
   pair_.assign(4 * pattern.size(), 0.0);
 }
 
 void PairBlockMatrix::diagonal(std::vector<Sym3>& out, bool parallel) const {
-  out = self_;
+  out.resize(self_.size());
+  for (std::size_t p = 0; p < self_.size(); ++p) out[p] = Sym3::identity(self_[p]);
   const int* a = pattern_->a().data();
   const int* b = pattern_->b().data();
   const PairBlockColumns w = columns();
@@ -28,8 +29,12 @@ void PairBlockMatrix::diagonal(std::vector<Sym3>& out, bool parallel) const {
 void PairBlockMatrix::multiplySelf(const VecX& x, VecX& y, int begin, int end) const {
   const double* xs = x.data();
   double* ys = y.data();
-  const Sym3* self = self_.data();
-  for (int p = begin; p < end; ++p) Vec3::Map(ys + 3 * p) = self[p] * Vec3::Map(xs + 3 * p);
+  const double* self = self_.data();
+  for (int p = begin; p < end; ++p) {
+    ys[3 * p] = self[p] * xs[3 * p];
+    ys[3 * p + 1] = self[p] * xs[3 * p + 1];
+    ys[3 * p + 2] = self[p] * xs[3 * p + 2];
+  }
 }
 
 namespace {

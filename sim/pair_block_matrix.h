@@ -1,4 +1,4 @@
-// The implicit solver's matrix, in the shape of pairwise forces' Jacobians: A = blockdiag(self_p) plus, for every
+// The implicit solver's matrix, in the shape of pairwise forces' Jacobians: A = blockdiag(self_p I) plus, for every
 // pair e = (a, b) of a PairSchedule, W_e on the diagonal blocks (a, a) and (b, b) and -W_e on (a, b) and (b, a).
 // The pattern is the schedule's, fixed per topology; each step refills the values in place (symmetric 3x3 blocks;
 // the W_e = a_e I + w_e w_e^T by value in four arrays, so that the product reads a run of pairs contiguously).
@@ -21,13 +21,15 @@ class PairBlockMatrix {
            pair_.size() == 4 * pattern.size();
   }
 
-  std::vector<Sym3>& self() { return self_; }  // one block per particle
+  // Per particle its own block's weight: self_p I (mass and drag act equally in all directions; one number, not a
+  // block, so the product reads a sixth of the bytes).
+  std::vector<double>& self() { return self_; }
   // One block per pair, in schedule order, stored by value as a I + w w^T (PairBlockColumns).
   PairBlockColumns pair() { return columns(); }
-  const std::vector<Sym3>& self() const { return self_; }
+  const std::vector<double>& self() const { return self_; }
   Sym3 pair(std::size_t e) const { return columns().get(e); }
 
-  // The diagonal blocks A_pp = self_p + sum of W_e over the pairs at p (for block-Jacobi preconditioning).
+  // The diagonal blocks A_pp = self_p I + sum of W_e over the pairs at p (for block-Jacobi preconditioning).
   void diagonal(std::vector<Sym3>& out, bool parallel) const;
   // y = A x.
   void multiply(const VecX& x, VecX& y, bool parallel) const;
@@ -45,7 +47,7 @@ class PairBlockMatrix {
     return {{data, data + n, data + 2 * n, data + 3 * n}};
   }
 
-  std::vector<Sym3> self_;
+  std::vector<double> self_;
   std::vector<double> pair_;  // four arrays of pattern size (PairBlockColumns)
 };
 

@@ -68,7 +68,7 @@ void MassSpringSystem::fillJacobian(double, const VecX& x, const VecX&, double c
   const bool threads = parallel();
   if (kw) kw->setZero(3 * n);
   forEachChunk(n, threads, [&](int begin, int end) {
-    for (int i = begin; i < end; ++i) a.self()[i] = Sym3::identity(cv * drag_[i]);
+    for (int i = begin; i < end; ++i) a.self()[i] = cv * drag_[i];
   });
   schedule_.runByRuns(threads, [&](std::span<const PairRun> runs) {
     fillSpringBlocks(springs_, runs, x, cx, cv, a.pair(), w, kw);

@@ -103,7 +103,7 @@ class BackwardEuler final : public Integrator {
     jacobian.fillJacobian(t, x, v, h * h, h, matrix_, w, kw);
     const VecX& mass = jacobian.mass();
     forEachChunk(n_, parallel_, [&](int begin, int end) {
-      for (int p = begin; p < end; ++p) matrix_.self()[p] += Sym3::identity(mass[p]);
+      for (int p = begin; p < end; ++p) matrix_.self()[p] += mass[p];
     });
   }
 
