@@ -154,11 +154,11 @@ void BM_EmbreePathRays(benchmark::State& state) {
   const RTCScene rtc = benchScene().scene.embreeScene();
   const Camera camera(view(320, 180));
   const Eigen::Vector3f sun = SunLight{}.direction.normalized();
-  const auto toRay = [](const Ray& r, float tfar) {
+  const auto toRay = [](const Ray& r) {
     RTCRay ray{};
     ray.org_x = r.origin.x(), ray.org_y = r.origin.y(), ray.org_z = r.origin.z();
     ray.dir_x = r.direction.x(), ray.dir_y = r.direction.y(), ray.dir_z = r.direction.z();
-    ray.tfar = tfar;
+    ray.tfar = INFINITY;
     ray.mask = 0xFFFFFFFFu;
     return ray;
   };
@@ -174,7 +174,7 @@ void BM_EmbreePathRays(benchmark::State& state) {
         Ray ray = camera.ray(float(x) + jitter.x(), float(y) + jitter.y());
         for (int bounce = 0; bounce <= 2; ++bounce) {
           RTCRayHit rh{};
-          rh.ray = toRay(ray, INFINITY);
+          rh.ray = toRay(ray);
           rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
           rays.push_back(rh);
           rtcIntersect1(rtc, &context, &rh);
@@ -182,7 +182,7 @@ void BM_EmbreePathRays(benchmark::State& state) {
           Eigen::Vector3f n = Eigen::Vector3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
           if (n.dot(ray.direction) > 0) n = -n;
           const Eigen::Vector3f origin = offsetFromSurface(ray.at(rh.ray.tfar), n);
-          if (sun.dot(n) > 0) shadows.push_back(toRay(Ray{origin, sun}, INFINITY));
+          if (sun.dot(n) > 0) shadows.push_back(toRay(Ray{origin, sun}));
           if (bounce == 2) break;
           const Eigen::Vector2f u = sampler.get2D(s, 2 + bounce);
           ray = Ray{origin, Frame(n).toWorld(sampleCosineHemisphere(u.x(), u.y())).normalized()};

@@ -1,21 +1,25 @@
 #include "sim/force_jacobian.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace wobble {
 namespace {
 
-// The stiffness and damping blocks of spring i at x, Kx = -dFa/dxa and Kv = -dFa/dva (header); false when its
+// Spring i's unit direction d (from b to a) and transverse share t = max(0, 1 - rest / length) at x; false when its
 // endpoints coincide (no direction: no force, no derivative).
-bool springBlocks(const Springs& s, std::size_t i, const VecX& x, Sym3& kx, Sym3& kv) {
+bool springGeometry(const Springs& s, std::size_t i, const VecX& x, Vec3& d, double& transverse) {
   const Vec3 delta = particle(x, s.a[i]) - particle(x, s.b[i]);
   const double len = delta.norm();
   if (len == 0.0) return false;
-  const Sym3 ddt = Sym3::outer(delta / len);
-  const double transverse = std::max(0.0, 1.0 - s.rest[i] / len);
-  kx = s.ks[i] * ((1.0 - transverse) * ddt + Sym3::identity(transverse));
-  kv = s.kd[i] * ddt;
+  d = delta / len;
+  transverse = std::max(0.0, 1.0 - s.rest[i] / len);
   return true;
+}
+
+// Kx = -dFa/dxa = ks (t I + (1 - t) d d^T) (header).
+Sym3 stiffnessBlock(double ks, const Vec3& d, double transverse) {
+  return ks * ((1.0 - transverse) * Sym3::outer(d) + Sym3::identity(transverse));
 }
 
 // The four 3x3 blocks of one spring: +B on (a, a) and (b, b), -B on (a, b) and (b, a).
@@ -35,10 +39,11 @@ void addPairBlocks(int a, int b, const Eigen::Matrix3d& block, Triplets& out) {
 
 void addSpringJacobians(const Springs& s, const VecX& x, Triplets& dfdx, Triplets& dfdv) {
   for (std::size_t i = 0; i < s.size(); ++i) {
-    Sym3 kx, kv;
-    if (!springBlocks(s, i, x, kx, kv)) continue;
-    addPairBlocks(s.a[i], s.b[i], -kx.dense(), dfdx);
-    if (s.kd[i] != 0.0) addPairBlocks(s.a[i], s.b[i], -kv.dense(), dfdv);
+    Vec3 d;
+    double transverse;
+    if (!springGeometry(s, i, x, d, transverse)) continue;
+    addPairBlocks(s.a[i], s.b[i], -stiffnessBlock(s.ks[i], d, transverse).dense(), dfdx);
+    if (s.kd[i] != 0.0) addPairBlocks(s.a[i], s.b[i], -(s.kd[i] * Sym3::outer(d)).dense(), dfdv);  // Kv = kd d d^T
   }
 }
 
@@ -51,18 +56,15 @@ void addDragJacobian(const VecX& drag, Triplets& dfdv) {
 void fillSpringBlocks(const Springs& s, int begin, int end, const VecX& x, double cx, double cv,
                       PairBlockColumns blocks, const VecX* w, VecX* kw) {
   for (int i = begin; i < end; ++i) {
-    Sym3 kx, kv;
-    if (!springBlocks(s, i, x, kx, kv)) {
+    Vec3 d;
+    double transverse;
+    if (!springGeometry(s, i, x, d, transverse)) {
       blocks.set(i, 0.0, Vec3::Zero());
       continue;
     }
-    const Vec3 delta = particle(x, s.a[i]) - particle(x, s.b[i]);
-    const double len = delta.norm();
-    const double transverse = std::max(0.0, 1.0 - s.rest[i] / len);
-    blocks.set(i, cx * (s.ks[i] * transverse),
-               std::sqrt(cx * (s.ks[i] * (1.0 - transverse)) + cv * s.kd[i]) * (delta / len));
+    blocks.set(i, cx * (s.ks[i] * transverse), std::sqrt(cx * (s.ks[i] * (1.0 - transverse)) + cv * s.kd[i]) * d);
     if (kw) {  // dF/dx w: -Kx (wa - wb) on a, the opposite on b
-      const Vec3 u = kx * (particle(*w, s.a[i]) - particle(*w, s.b[i]));
+      const Vec3 u = stiffnessBlock(s.ks[i], d, transverse) * (particle(*w, s.a[i]) - particle(*w, s.b[i]));
       particle(*kw, s.a[i]) -= u;
       particle(*kw, s.b[i]) += u;
     }

@@ -57,8 +57,8 @@ struct PairBlockColumns {
   }
 };
 
-// u[k] = (a_k I + w_k w_k^T) d[k] for the first n blocks of b, d and u packed 3-vectors: the product's run kernel
-// (pair_block_matrix.cpp), inlined into its vectorised loop.
+// u[k] = (a_k I + w_k w_k^T) d[k] for the first n blocks of b, d and u packed 3-vectors: the product of the run kernels
+// (the matrix product in pair_block_matrix.cpp, dF/dx w in spring_runs.cpp), inlined into their vectorised loops.
 inline void multiplyBlocks(const PairBlockColumns& b, int n, const double* __restrict d, double* __restrict u) {
   const double* __restrict a = b.v[0];
   const double* __restrict wx = b.v[1];
