@@ -199,10 +199,12 @@ void CoarseCorrection::setUp(const PairBlockMatrix& a, const ParticleFilter& s) 
   ldlt_.factorize(matrix_);
 }
 
-void CoarseCorrection::restrictAndSolveForward(const VecX& r, int k) {
+template <class T>
+void CoarseCorrection::restrictAndSolveForward(const T* r, int k) {
   for (int i : part_aggregates_[k]) {
-    Vec3 sum = Vec3::Zero();
-    for (int m = member_start_[i]; m < member_start_[i + 1]; ++m) sum += particle(r, members_[m]);
+    double sum[3] = {0, 0, 0};
+    for (int m = member_start_[i]; m < member_start_[i + 1]; ++m)
+      for (int c = 0; c < 3; ++c) sum[c] += r[3 * members_[m] + c];
     for (int c = 0; c < 3; ++c) y_[dof_[3 * i + c]] = sum[c];
   }
   if (k == 2) return;
@@ -247,7 +249,11 @@ void CoarseCorrection::solveBackward(int k) {
   }
 }
 
-void CoarseCorrection::solve(const VecX& r, bool parallel) {
+void CoarseCorrection::solve(const double* r, bool parallel) { solveFor(r, parallel); }
+void CoarseCorrection::solve(const float* r, bool parallel) { solveFor(r, parallel); }
+
+template <class T>
+void CoarseCorrection::solveFor(const T* r, bool parallel) {
   if (ldlt_.info() != Eigen::Success) {  // not positive definite (it is by construction): no correction
     u_.setZero();
     return;

@@ -25,8 +25,11 @@ class CoarseCorrection {
   void setUp(const PairBlockMatrix& a, const ParticleFilter& s);
   // Whether the aggregates were built for a's pattern (setUp has run on it), so that solve() may be used with it.
   bool fits(const PairBlockMatrix& a) const;
-  // u = (Z^T S A S Z)^-1 Z^T r for a filtered r (S r = r); the correction of particle p is then S_p u(aggregate(p)).
-  void solve(const VecX& r, bool parallel = false);
+  // u = (Z^T S A S Z)^-1 Z^T r for a filtered r (S r = r, 3 values a particle); the correction of particle p is then
+  // S_p u(aggregate(p)). A float r (the CG's inner iterations) is restricted into doubles; the solve is in double.
+  void solve(const double* r, bool parallel = false);
+  void solve(const float* r, bool parallel = false);
+  void solve(const VecX& r, bool parallel = false) { solve(r.data(), parallel); }
   const double* corrections() const { return u_.data(); }      // u, 3 values per aggregate
   const int* aggregates() const { return aggregate_.data(); }  // per particle: its aggregate
   int aggregateCount() const { return aggregates_; }
@@ -39,7 +42,10 @@ class CoarseCorrection {
   void buildPattern(const PairSchedule& pattern);
   // The restriction Z^T r of part k's aggregates into y (matrix order), then the forward solve of its columns; their
   // terms in separator rows go to separator_terms_[k] (k = 2: the separator's restriction only).
-  void restrictAndSolveForward(const VecX& r, int k);
+  template <class T>
+  void solveFor(const T* r, bool parallel);
+  template <class T>
+  void restrictAndSolveForward(const T* r, int k);
   void solveBackward(int k);  // part k's columns of L^T y = D^-1 y
 
   const PairSchedule* pattern_ = nullptr;

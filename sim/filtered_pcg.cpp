@@ -7,28 +7,111 @@
 #include <limits>
 
 namespace wobble {
+namespace {
+
+// Stores a symmetric block as 6 values (pcg_kernels.h).
+template <class T>
+void storeBlock(const Sym3& m, T* out) {
+  out[0] = T(m.xx), out[1] = T(m.yy), out[2] = T(m.zz), out[3] = T(m.xy), out[4] = T(m.xz), out[5] = T(m.yz);
+}
+
+}  // namespace
 
 void FilteredPcg::setUpPreconditioner(const PairBlockMatrix& a, const ParticleFilter& s, bool parallel) {
   a.diagonal(diagonal_, parallel);
-  inverse_.resize(diagonal_.size());
-  forEachChunk(static_cast<int>(diagonal_.size()), parallel, [&](int begin, int end) {
+  const int n = static_cast<int>(diagonal_.size());
+  double_.inverse.resize(6 * std::size_t(n));
+  forEachChunk(n, parallel, [&](int begin, int end) {
     for (int p = begin; p < end; ++p) {
+      Sym3 inverse;
       switch (s.kind(p)) {
         case ParticleFilter::Free:
-          inverse_[p] = Sym3::fromDense(diagonal_[p].dense().inverse());
+          inverse = Sym3::fromDense(diagonal_[p].dense().inverse());
           break;
         case ParticleFilter::Held:
-          inverse_[p] = Sym3{};
           break;
         case ParticleFilter::Normal: {
           // The filtered block S D S + n n^T, inverted; S applied after it keeps only its tangential part.
           const Eigen::Matrix3d proj = Eigen::Matrix3d::Identity() - Sym3::outer(s.normal(p)).dense();
           const Eigen::Matrix3d filtered = proj * diagonal_[p].dense() * proj + Sym3::outer(s.normal(p)).dense();
-          inverse_[p] = Sym3::fromDense(proj * filtered.inverse() * proj);
+          inverse = Sym3::fromDense(proj * filtered.inverse() * proj);
         }
       }
+      storeBlock(inverse, double_.inverse.data() + 6 * p);
     }
   });
+}
+
+double FilteredPcg::residual(const PairBlockMatrix& a, const ParticleFilter& s, const VecX& b, const VecX& x,
+                             bool parallel) {
+  const int n = static_cast<int>(b.size() / 3);
+  a.multiply(x, q_, parallel);
+  r_.resize(b.size());
+  return sumOverChunks(n, parallel, sums_, [&](int begin, int end) {
+    for (int p = begin; p < end; ++p) particle(r_, p) = s.apply(p, particle(b, p) - particle(q_, p));
+    return pcg::dot(r_.data() + 3 * begin, r_.data() + 3 * begin, 3 * (end - begin));
+  });
+}
+
+template <class T, class Matrix>
+int FilteredPcg::iterate(const Matrix& a, const ParticleFilter& s, T* xs, T* rs, Iterates<T>& it, double& r_norm2,
+                         double threshold, int max_iterations, bool parallel, bool two_level) {
+  const int n = static_cast<int>(it.inverse.size() / 6);
+  it.c.resize(3 * std::size_t(n));
+  it.q.resize(3 * std::size_t(n));
+  // S y on the constrained particles of chunk [begin, end) (the vector loops run over plain arrays and fix these
+  // after).
+  const auto filterChunk = [&](T* y, int begin, int end) {
+    const auto first = std::lower_bound(constrained_.begin(), constrained_.end(), begin);
+    for (auto i = first; i != constrained_.end() && *i < end; ++i) {
+      T* yp = y + 3 * *i;
+      const Vec3 f = s.apply(*i, Vec3(yp[0], yp[1], yp[2]));
+      yp[0] = T(f.x()), yp[1] = T(f.y()), yp[2] = T(f.z());
+    }
+  };
+  T *cs = it.c.data(), *qs = it.q.data();
+  const T* inverse = it.inverse.data();
+  // z = P^-1 r into z (filtered), after the coarse solve when two-level; returns r.z.
+  const auto precondition = [&](T* z) {
+    if (two_level) coarse_.solve(rs, parallel);
+    return sumOverChunks(n, parallel, sums_, [&](int begin, int end) {
+      const int m = end - begin;
+      if (two_level)
+        pcg::blockProductPlus(inverse + 6 * begin, rs + 3 * begin, coarse_.corrections(), coarse_.aggregates() + begin,
+                              z + 3 * begin, m);
+      else pcg::blockProduct(inverse + 6 * begin, rs + 3 * begin, z + 3 * begin, m);
+      if (two_level) filterChunk(z, begin, end);  // S u; block-Jacobi's inverse is filtered already
+      return pcg::dot(rs + 3 * begin, z + 3 * begin, 3 * m);
+    });
+  };
+
+  double delta = precondition(cs), beta = 0;
+  int iterations = 0;
+  while (r_norm2 >= threshold && iterations < max_iterations) {
+    // q = A c, with the direction's update c = z + beta c (z in q) fused into the diagonal part of the product.
+    forEachChunk(n, parallel, [&](int begin, int end) {
+      if (iterations > 0) pcg::scaleAdd(cs + 3 * begin, qs + 3 * begin, beta, 3 * (end - begin));
+      a.multiplySelf(cs, qs, begin, end);
+    });
+    a.addPairProducts(cs, qs, parallel);
+    ++iterations;
+    // q = S A c, alpha = delta / c.q
+    const double cq = sumOverChunks(n, parallel, sums_, [&](int begin, int end) {
+      filterChunk(qs, begin, end);
+      return pcg::dot(cs + 3 * begin, qs + 3 * begin, 3 * (end - begin));
+    });
+    const double alpha = delta / cq;
+    // x += alpha c, r -= alpha q; the next preconditioned residual z = P^-1 r (into q: it is free until the next
+    // product) and its products.
+    r_norm2 = sumOverChunks(n, parallel, sums_, [&](int begin, int end) {
+      const int i = 3 * begin;
+      return pcg::step(xs + i, rs + i, cs + i, qs + i, alpha, 3 * (end - begin));
+    });
+    const double rz = precondition(qs);
+    beta = rz / delta;
+    delta = rz;
+  }
+  return iterations;
 }
 
 PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, const VecX& b, VecX& x,
@@ -44,25 +127,14 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
     }
     ++coarse_uses_;
   }
-  r_.resize(b.size());
-  c_.resize(b.size());
-  q_.resize(b.size());
-  z_.resize(b.size());
   // The filtered right-hand side's norm, S (b - A z) with z = (I - S) x: only contacts make z nonzero.
   double b_norm2 = 0;
-  const auto filteredResidualNorm2 = [&](const VecX& y) {
-    a.multiply(y, q_, parallel);
-    return sumOverChunks(n, parallel, sums_, [&](int begin, int end) {
-      double sum = 0;
-      for (int p = begin; p < end; ++p) sum += s.apply(p, particle(b, p) - particle(q_, p)).squaredNorm();
-      return sum;
-    });
-  };
+  z_.resize(b.size());  // sized on every solve: a step that meets its first contact allocates nothing
   if (s.anyConstrained()) {
     forEachChunk(n, parallel, [&](int begin, int end) {
       for (int p = begin; p < end; ++p) particle(z_, p) = s.removed(p, particle(x, p));
     });
-    b_norm2 = filteredResidualNorm2(z_);
+    b_norm2 = residual(a, s, b, z_, parallel);
   } else {
     b_norm2 = sumOverChunks(n, parallel, sums_, [&](int begin, int end) {
       double sum = 0;
@@ -79,68 +151,50 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
   // As Eigen's CG: a residual below the smallest normal double counts as 0 (a state decaying into denormals would
   // otherwise divide 0 by 0).
   const double threshold = std::max(tolerance * tolerance * b_norm2, std::numeric_limits<double>::min());
-
-  // The particles S does not leave alone, in order: the vector loops run over plain arrays and fix these after.
   constrained_.reserve(n);
   constrained_.clear();
   for (int p = 0; p < n; ++p)
     if (s.kind(p) != ParticleFilter::Free) constrained_.push_back(p);
-  const auto filterChunk = [&](VecX& y, int begin, int end) {
-    const auto first = std::lower_bound(constrained_.begin(), constrained_.end(), begin);
-    for (auto it = first; it != constrained_.end() && *it < end; ++it)
-      particle(y, *it) = s.apply(*it, particle(y, *it));
-  };
-  double *xs = x.data(), *rs = r_.data(), *cs = c_.data(), *qs = q_.data();
-  const Sym3* inverse = inverse_.data();
-  // z = P^-1 r into z (filtered), after the coarse solve when two-level; returns r.z.
-  const auto precondition = [&](double* z) {
-    if (two_level) coarse_.solve(r_, parallel);
-    return sumOverChunks(n, parallel, sums_, [&](int begin, int end) {
-      const int m = end - begin;
-      if (two_level)
-        pcg::blockProductPlus(inverse + begin, rs + 3 * begin, coarse_.corrections(), coarse_.aggregates() + begin,
-                              z + 3 * begin, m);
-      else pcg::blockProduct(inverse + begin, rs + 3 * begin, z + 3 * begin, m);
-      if (two_level) filterChunk(z == cs ? c_ : q_, begin, end);  // S u; block-Jacobi's inverse is filtered already
-      return pcg::dot(rs + 3 * begin, z + 3 * begin, 3 * m);
-    });
-  };
 
-  // r = S (b - A x), c = P^-1 r (filtered), delta = r.c; |r|^2 alongside.
-  a.multiply(x, q_, parallel);
-  double r_norm2 = sumOverChunks(n, parallel, sums_, [&](int begin, int end) {
-    for (int p = begin; p < end; ++p) particle(r_, p) = s.apply(p, particle(b, p) - particle(q_, p));
-    return pcg::dot(rs + 3 * begin, rs + 3 * begin, 3 * (end - begin));
-  });
-  double delta = precondition(cs), beta = 0;
+  // r = S (b - A x).
+  double r_norm2 = residual(a, s, b, x, parallel);
   PcgResult result;
-  while (r_norm2 >= threshold && result.iterations < max_iterations) {
-    // q = A c, with the direction's update c = z + beta c (z in q) fused into the diagonal part of the product.
-    if (result.iterations++ == 0) {
-      a.multiply(c_, q_, parallel);
-    } else {
+  if (tolerance < kSingleTolerance || !single_pays_) {
+    result.iterations =
+        iterate(a, s, x.data(), r_.data(), double_, r_norm2, threshold, max_iterations, parallel, two_level);
+  } else {
+    single_.x.resize(x.size());
+    single_.r.resize(x.size());
+    while (r_norm2 >= threshold && result.iterations < max_iterations) {
+      if (result.rounds == 0) {
+        single_matrix_.assign(a, parallel);
+        single_.inverse.assign(double_.inverse.begin(), double_.inverse.end());
+      }
+      // A e = r in float, r scaled by a power of two to a largest entry near 1 (float's range is narrow; a power of
+      // two scales exactly), to the threshold on the same scale; then x += e and r again in double.
+      int exponent = 0;
+      std::frexp(r_.cwiseAbs().maxCoeff(), &exponent);
+      const double scale = std::ldexp(1.0, -exponent);
       forEachChunk(n, parallel, [&](int begin, int end) {
-        pcg::scaleAdd(cs + 3 * begin, qs + 3 * begin, beta, 3 * (end - begin));
-        a.multiplySelf(c_, q_, begin, end);
+        std::fill(single_.x.begin() + 3 * begin, single_.x.begin() + 3 * end, 0.0f);
+        for (int j = 3 * begin; j < 3 * end; ++j) single_.r[j] = static_cast<float>(scale * r_[j]);
       });
-      a.addPairProducts(c_, q_, parallel);
+      double round_norm2 = scale * scale * r_norm2;
+      result.iterations += iterate(single_matrix_, s, single_.x.data(), single_.r.data(), single_, round_norm2,
+                                   scale * scale * threshold, max_iterations - result.iterations, parallel, two_level);
+      ++result.rounds;
+      // x += e, filtered again in double on the constrained particles: float's S e keeps a trace (1e-8) of the
+      // normal part, which must stay as prescribed.
+      forEachChunk(n, parallel, [&](int begin, int end) {
+        for (int p = begin; p < end; ++p) {
+          const Vec3 e(single_.x[3 * p], single_.x[3 * p + 1], single_.x[3 * p + 2]);
+          particle(x, p) += s.apply(p, e / scale);
+        }
+      });
+      r_norm2 = residual(a, s, b, x, parallel);
     }
-    // q = S A c, alpha = delta / c.q
-    const double cq = sumOverChunks(n, parallel, sums_, [&](int begin, int end) {
-      filterChunk(q_, begin, end);
-      return pcg::dot(cs + 3 * begin, qs + 3 * begin, 3 * (end - begin));
-    });
-    const double alpha = delta / cq;
-    // x += alpha c, r -= alpha q; the next preconditioned residual z = P^-1 r (into q: it is free until the next
-    // product) and its products.
-    r_norm2 = sumOverChunks(n, parallel, sums_, [&](int begin, int end) {
-      const int i = 3 * begin;
-      return pcg::step(xs + i, rs + i, cs + i, qs + i, alpha, 3 * (end - begin));
-    });
-    const double rz = precondition(qs);
-    beta = rz / delta;
-    delta = rz;
   }
+  single_pays_ = result.iterations >= kSingleIterations;
   result.relative_residual = std::sqrt(r_norm2 / b_norm2);
   return result;
 }

@@ -8,6 +8,13 @@
 // chunks and every sum in chunk order (parallel.h), each chunk's in fixed lanes (pcg_kernels.h), the coarse solve's
 // two dissected parts each in one order (coarse_correction.h): the same bytes whatever the thread count. Buffers are
 // kept between solves.
+// Mixed precision: for a tolerance of at least kSingleTolerance (the default 1e-3 is), when the solve before took at
+// least kSingleIterations iterations, the iterations run in float
+// on the matrix's float copy (SinglePairBlockMatrix), solving for the correction of x from the double residual S (b -
+// A x), and that residual is then recomputed in double; while it is above the tolerance, another round of float
+// iterations follows (iterative refinement). The tolerance thus holds for the double system, and the float rounds
+// read half the bytes of a double iteration (the solve is bound by memory traffic). Tighter tolerances iterate in
+// double throughout.
 #pragma once
 #include <vector>
 
@@ -19,6 +26,7 @@ namespace wobble {
 
 struct PcgResult {
   int iterations = 0;
+  int rounds = 0;  // rounds of float iterations (iterative refinement); 0 when the iterations ran in double
   double relative_residual = 0;  // |S (b - A x)| / |S (b - A (I - S) x0)| at the end; 0 when that rhs is 0
 };
 
@@ -29,6 +37,14 @@ struct PcgResult {
 // coarse fills and factorizations, 9% of the step; every fourth, 24.7 iterations.
 inline constexpr int kCoarseRefresh = 2;
 
+// Tolerances at least this loose run their iterations in float (iterative refinement); tighter ones in double. Float
+// iterations reduce the residual by about 1e-5 a round before rounding stalls them.
+inline constexpr double kSingleTolerance = 1e-5;
+// ... when the solve before took at least this many iterations: the float copy of the matrix and the residual's
+// recomputation cost about three double iterations, which a float iteration repays at about 0.4 each (a 256 x 256
+// cloth at dt 1e-4 needs 0 or 1 iterations a step; the stiff cloth 23). The first solve iterates in double.
+inline constexpr int kSingleIterations = 8;
+
 class FilteredPcg {
  public:
   // x: the starting guess on input (its removed part is kept), the solution on output.
@@ -37,13 +53,31 @@ class FilteredPcg {
   const CoarseCorrection& coarse() const { return coarse_; }
 
  private:
+  // One precision's buffers: the direction c, the product q, the block-Jacobi inverse (6 values a particle: Sym3's
+  // xx, yy, zz, xy, xz, yz); in float also x (the correction) and r.
+  template <class T>
+  struct Iterates {
+    std::vector<T> x, r, c, q, inverse;
+  };
+
   void setUpPreconditioner(const PairBlockMatrix& a, const ParticleFilter& s, bool parallel);
+  // r = S (b - A x) in double into r_; returns |r|^2.
+  double residual(const PairBlockMatrix& a, const ParticleFilter& s, const VecX& b, const VecX& x, bool parallel);
+  // CG iterations from x (3 n values) with its filtered residual in r (|r|^2 = r_norm2, updated) until |r|^2 <
+  // threshold or max_iterations; returns the iterations.
+  template <class T, class Matrix>
+  int iterate(const Matrix& a, const ParticleFilter& s, T* x, T* r, Iterates<T>& it, double& r_norm2, double threshold,
+              int max_iterations, bool parallel, bool two_level);
 
   CoarseCorrection coarse_;
-  int coarse_uses_ = 0;  // two-level solves since the coarse level was set up; 0 when the last solve had none
-  std::vector<Sym3> diagonal_, inverse_;
+  bool single_pays_ = false;  // the last solve took at least kSingleIterations
+  int coarse_uses_ = 0;       // two-level solves since the coarse level was set up; 0 when the last solve had none
+  std::vector<Sym3> diagonal_;
   std::vector<int> constrained_;  // the particles S filters (not free), in order
-  VecX r_, c_, q_, z_;
+  Iterates<double> double_;
+  Iterates<float> single_;
+  SinglePairBlockMatrix single_matrix_;
+  VecX r_, q_, z_;
   std::vector<double> sums_;
 };
 

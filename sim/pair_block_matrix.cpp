@@ -25,83 +25,116 @@ void PairBlockMatrix::diagonal(std::vector<Sym3>& out, bool parallel) const {
   });
 }
 
-// The loops take raw pointers first: through the vectors, every store into y would make the compiler reload them.
-void PairBlockMatrix::multiplySelf(const VecX& x, VecX& y, int begin, int end) const {
-  const double* xs = x.data();
-  double* ys = y.data();
-  const double* self = self_.data();
+namespace {
+
+// y = self x on particles [begin, end). Raw pointers: through the vectors, every store into y would make the compiler
+// reload them.
+template <class T>
+void multiplySelfOf(const T* self, const T* x, T* y, int begin, int end) {
   for (int p = begin; p < end; ++p) {
-    ys[3 * p] = self[p] * xs[3 * p];
-    ys[3 * p + 1] = self[p] * xs[3 * p + 1];
-    ys[3 * p + 2] = self[p] * xs[3 * p + 2];
+    y[3 * p] = self[p] * x[3 * p];
+    y[3 * p + 1] = self[p] * x[3 * p + 1];
+    y[3 * p + 2] = self[p] * x[3 * p + 2];
   }
 }
-
-namespace {
 
 // The pairs (xa + k, xb + k), k < length, with blocks w (by value, from its first pair on): u = w_k (xa[k] - xb[k]) is
 // added to ya[k] and subtracted from yb[k] (which may overlap: all of ya's adds come first). Clones for AVX-512, AVX2
 // and the baseline, compiled without FMA contraction (CMakeLists.txt): every clone gives the same bits.
-__attribute__((target_clones("avx512f", "avx2", "default"))) void addRunProducts(const PairBlockColumns w,
-                                                                                 const double* __restrict xa,
-                                                                                 const double* __restrict xb,
-                                                                                 int length, double* ya, double* yb) {
-  constexpr int kChunk = 128;  // 3 KB a buffer: they stay in L1 between the passes
-  alignas(64) double d[3 * kChunk], u[3 * kChunk];
+template <class T>
+__attribute__((target_clones("avx512f", "avx2", "default"))) void addRunProducts(const BlockColumns<T> w,
+                                                                                 const T* __restrict xa,
+                                                                                 const T* __restrict xb, int length,
+                                                                                 T* ya, T* yb) {
+  constexpr int kChunk = 128;  // at most 3 KB a buffer: they stay in L1 between the passes
+  alignas(64) T d[3 * kChunk], u[3 * kChunk];
   for (int c = 0; c < length; c += kChunk) {
     const int n = std::min(kChunk, length - c);
-    const double *x0 = xa + 3 * c, *x1 = xb + 3 * c;
+    const T *x0 = xa + 3 * c, *x1 = xb + 3 * c;
     for (int j = 0; j < 3 * n; ++j) d[j] = x0[j] - x1[j];
     multiplyBlocks(w.shifted(c), n, d, u);
-    double* y0 = ya + 3 * c;
+    T* y0 = ya + 3 * c;
     for (int j = 0; j < 3 * n; ++j) y0[j] += u[j];
-    double* y1 = yb + 3 * c;
+    T* y1 = yb + 3 * c;
     for (int j = 0; j < 3 * n; ++j) y1[j] -= u[j];
   }
 }
 
 // The same product for pairs [begin, end), one at a time: the short runs.
-void addPairProducts(const int* a, const int* b, const PairBlockColumns w, const double* xs, double* ys, int begin,
-                     int end) {
+template <class T>
+void addPairProducts(const int* a, const int* b, const BlockColumns<T> w, const T* xs, T* ys, int begin, int end) {
   for (int e = begin; e < end; ++e) {  // plain scalars: Eigen's 3-vectors mix packets and scalars here
-    const double* xa = xs + 3 * a[e];
-    const double* xb = xs + 3 * b[e];
-    const double dx = xa[0] - xb[0], dy = xa[1] - xb[1], dz = xa[2] - xb[2];
-    const double s = w.v[0][e], wx = w.v[1][e], wy = w.v[2][e], wz = w.v[3][e];
-    const double t = wx * dx + wy * dy + wz * dz;  // the same operations as multiplyBlocks (sym3.h)
-    const double ux = s * dx + t * wx;
-    const double uy = s * dy + t * wy;
-    const double uz = s * dz + t * wz;
-    double* ya = ys + 3 * a[e];
-    double* yb = ys + 3 * b[e];
+    const T* xa = xs + 3 * a[e];
+    const T* xb = xs + 3 * b[e];
+    const T dx = xa[0] - xb[0], dy = xa[1] - xb[1], dz = xa[2] - xb[2];
+    const T s = w.v[0][e], wx = w.v[1][e], wy = w.v[2][e], wz = w.v[3][e];
+    const T t = wx * dx + wy * dy + wz * dz;  // the same operations as multiplyBlocks (sym3.h)
+    const T ux = s * dx + t * wx;
+    const T uy = s * dy + t * wy;
+    const T uz = s * dz + t * wz;
+    T* ya = ys + 3 * a[e];
+    T* yb = ys + 3 * b[e];
     ya[0] += ux, ya[1] += uy, ya[2] += uz;
     yb[0] -= ux, yb[1] -= uy, yb[2] -= uz;
   }
 }
 
-}  // namespace
-
-void PairBlockMatrix::addPairProducts(const VecX& x, VecX& y, bool parallel) const {
-  const int* a = pattern_->a().data();
-  const int* b = pattern_->b().data();
-  const PairBlockColumns w = columns();
-  const double* xs = x.data();
-  double* ys = y.data();
-  pattern_->runByRuns(parallel, [=](std::span<const PairRun> runs) {
+// y += the pair blocks' part of A x over the schedule: long runs by the vectorised kernel, the rest pair by pair.
+template <class T>
+void addScheduleProducts(const PairSchedule& pattern, const BlockColumns<T> w, const T* xs, T* ys, bool parallel) {
+  const int* a = pattern.a().data();
+  const int* b = pattern.b().data();
+  pattern.runByRuns(parallel, [=](std::span<const PairRun> runs) {
     splitRuns(
         runs,
         [&](const PairRun& run) {
           const int ia = 3 * run.a, ib = 3 * (run.a + run.offset);
           addRunProducts(w.shifted(run.first), xs + ia, xs + ib, run.length, ys + ia, ys + ib);
         },
-        [&](int begin, int end) { wobble::addPairProducts(a, b, w, xs, ys, begin, end); });
+        [&](int begin, int end) { addPairProducts(a, b, w, xs, ys, begin, end); });
   });
+}
+
+}  // namespace
+
+void PairBlockMatrix::multiplySelf(const double* x, double* y, int begin, int end) const {
+  multiplySelfOf(self_.data(), x, y, begin, end);
+}
+
+void PairBlockMatrix::addPairProducts(const double* x, double* y, bool parallel) const {
+  addScheduleProducts(*pattern_, columns(), x, y, parallel);
 }
 
 void PairBlockMatrix::multiply(const VecX& x, VecX& y, bool parallel) const {
   y.resize(x.size());
-  forEachChunk(pattern_->particles(), parallel, [&](int begin, int end) { multiplySelf(x, y, begin, end); });
-  addPairProducts(x, y, parallel);
+  forEachChunk(pattern_->particles(), parallel,
+               [&](int begin, int end) { multiplySelf(x.data(), y.data(), begin, end); });
+  addPairProducts(x.data(), y.data(), parallel);
+}
+
+void SinglePairBlockMatrix::assign(const PairBlockMatrix& a, bool parallel) {
+  pattern_ = a.pattern_;
+  self_.resize(a.self_.size());
+  pair_.resize(a.pair_.size());
+  const int n = static_cast<int>(self_.size());
+  const std::size_t pairs = pair_.size() / 4;
+  forEachChunk(n, parallel, [&](int begin, int end) {
+    for (int p = begin; p < end; ++p) self_[p] = static_cast<float>(a.self_[p]);
+    // The pair values in the same share: pairs [pairs * begin / n, pairs * end / n) of each column.
+    const std::size_t first = pairs * begin / n, last = pairs * end / n;
+    for (std::size_t c = 0; c < 4; ++c)
+      for (std::size_t e = first; e < last; ++e) pair_[c * pairs + e] = static_cast<float>(a.pair_[c * pairs + e]);
+  });
+}
+
+void SinglePairBlockMatrix::multiplySelf(const float* x, float* y, int begin, int end) const {
+  multiplySelfOf(self_.data(), x, y, begin, end);
+}
+
+void SinglePairBlockMatrix::addPairProducts(const float* x, float* y, bool parallel) const {
+  float* data = const_cast<float*>(pair_.data());
+  const std::size_t n = pair_.size() / 4;
+  addScheduleProducts(*pattern_, BlockColumns<float>{{data, data + n, data + 2 * n, data + 3 * n}}, x, y, parallel);
 }
 
 }  // namespace wobble

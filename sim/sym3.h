@@ -39,9 +39,11 @@ struct Sym3 {
 // consecutive blocks reads each value contiguously and vectorises. Every pair block of the implicit solver's matrix
 // has this form, since a spring's stiffness and damping act along its direction or equally in all directions
 // (force_jacobian.h); four values instead of a Sym3's six cut the memory traffic of the solver's product, which
-// streams the pair blocks from cache every CG iteration, by a third.
-struct PairBlockColumns {
-  double* v[4] = {};
+// streams the pair blocks from cache every CG iteration, by a third. T = float: the matrix's single-precision copy for
+// the CG's inner iterations (filtered_pcg.h).
+template <class T>
+struct BlockColumns {
+  T* v[4] = {};
   Sym3 get(std::size_t i) const {
     const double a = v[0][i], x = v[1][i], y = v[2][i], z = v[3][i];
     return {a + x * x, a + y * y, a + z * z, x * y, x * z, y * z};
@@ -50,23 +52,25 @@ struct PairBlockColumns {
     v[0][i] = a, v[1][i] = w.x(), v[2][i] = w.y(), v[3][i] = w.z();
   }
   // The same columns from block `first` on.
-  PairBlockColumns shifted(std::ptrdiff_t first) const {
-    PairBlockColumns from = *this;
-    for (double*& column : from.v) column += first;
+  BlockColumns shifted(std::ptrdiff_t first) const {
+    BlockColumns from = *this;
+    for (T*& column : from.v) column += first;
     return from;
   }
 };
+using PairBlockColumns = BlockColumns<double>;
 
 // u[k] = (a_k I + w_k w_k^T) d[k] for the first n blocks of b, d and u packed 3-vectors: the product of the run kernels
 // (the matrix product in pair_block_matrix.cpp, dF/dx w in spring_runs.cpp), inlined into their vectorised loops.
-inline void multiplyBlocks(const PairBlockColumns& b, int n, const double* __restrict d, double* __restrict u) {
-  const double* __restrict a = b.v[0];
-  const double* __restrict wx = b.v[1];
-  const double* __restrict wy = b.v[2];
-  const double* __restrict wz = b.v[3];
+template <class T>
+inline void multiplyBlocks(const BlockColumns<T>& b, int n, const T* __restrict d, T* __restrict u) {
+  const T* __restrict a = b.v[0];
+  const T* __restrict wx = b.v[1];
+  const T* __restrict wy = b.v[2];
+  const T* __restrict wz = b.v[3];
   for (int k = 0; k < n; ++k) {
-    const double dx = d[3 * k], dy = d[3 * k + 1], dz = d[3 * k + 2];
-    const double t = wx[k] * dx + wy[k] * dy + wz[k] * dz;
+    const T dx = d[3 * k], dy = d[3 * k + 1], dz = d[3 * k + 2];
+    const T t = wx[k] * dx + wy[k] * dy + wz[k] * dz;
     u[3 * k] = a[k] * dx + t * wx[k];
     u[3 * k + 1] = a[k] * dy + t * wy[k];
     u[3 * k + 2] = a[k] * dz + t * wz[k];

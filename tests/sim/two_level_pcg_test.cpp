@@ -99,6 +99,42 @@ TEST(TwoLevelPcg, MatchesADenseSolveOfTheFilteredSystem) {
   }
 }
 
+// Tolerances from kSingleTolerance up iterate in float (iterative refinement) once a solve has taken
+// kSingleIterations: the tolerance must still hold for the double system, measured here on the dense matrix, and the
+// answer must be as close to the dense solve as the residual allows (|x - x*| <= |r| / smallest eigenvalue of the
+// filtered system).
+TEST(TwoLevelPcg, FloatIterationsMeetTheToleranceOfTheDoubleSystem) {
+  const auto sys = smallSystem();
+  const int n = sys->system.particleCount();
+  const Eigen::MatrixXd a = dense(sys->a), s = filterMatrix(sys->s, n);
+  const Eigen::MatrixXd i = Eigen::MatrixXd::Identity(3 * n, 3 * n);
+  const Eigen::MatrixXd filtered = s * a * s + i - s;
+  const VecX rhs = s * (sys->b - a * sys->z);
+  const VecX expected = sys->z + s * filtered.ldlt().solve(rhs);
+  const double smallest = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(filtered).eigenvalues().minCoeff();
+  ASSERT_GT(smallest, 0);
+  const VecX start = sys->z + s * VecX::Constant(3 * n, 0.01);  // a free part besides the prescribed z
+  for (const double tolerance : {1e-3, kSingleTolerance})
+    for (const bool two_level : {false, true}) {
+      FilteredPcg pcg;
+      VecX x = start;
+      const PcgResult first = pcg.solve(sys->a, sys->s, sys->b, x, tolerance, 1000, false, two_level);
+      EXPECT_EQ(first.rounds, 0);  // the first solve iterates in double
+      ASSERT_GE(first.iterations, kSingleIterations);
+      x = start;
+      const PcgResult r = pcg.solve(sys->a, sys->s, sys->b, x, tolerance, 1000, false, two_level);
+      const double residual = (s * (sys->b - a * x)).norm() / rhs.norm();
+      EXPECT_GE(r.rounds, 1);
+      EXPECT_LE(residual, tolerance) << "tolerance " << tolerance << ", two_level " << two_level;
+      EXPECT_NEAR(r.relative_residual, residual, 1e-6 * tolerance);
+      EXPECT_LE((x - expected).norm(), residual * rhs.norm() / smallest * (1 + 1e-9));
+      EXPECT_LT(((i - s) * (x - sys->z)).norm(), 1e-15);  // the prescribed part kept
+      // Tighter tolerances iterate in double.
+      x = start;
+      EXPECT_EQ(pcg.solve(sys->a, sys->s, sys->b, x, kSingleTolerance / 2, 1000, false, two_level).rounds, 0);
+    }
+}
+
 // The coarse level is set up afresh every kCoarseRefresh two-level solves and after a block-Jacobi one, and kept in
 // between: a kept factorization of an older matrix and filter is still a valid preconditioner, so a solve of a changed
 // system (heavier masses, one more contact, a new right-hand side) still matches the dense oracle of the new system.
