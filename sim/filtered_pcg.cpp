@@ -117,31 +117,45 @@ int FilteredPcg::iterate(const Matrix& a, const ParticleFilter& s, T* xs, T* rs,
 PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, const VecX& b, VecX& x,
                              double tolerance, int max_iterations, bool parallel, bool two_level) {
   const int n = static_cast<int>(b.size() / 3);
-  setUpPreconditioner(a, s, parallel);
+  bool set_up_coarse = false;
   if (!two_level) {
     coarse_uses_ = 0;
   } else {
-    if (coarse_uses_ == 0 || coarse_uses_ >= kCoarseRefresh || !coarse_.fits(a)) {
-      coarse_.setUp(a, s);
-      coarse_uses_ = 0;
+    set_up_coarse = coarse_uses_ == 0 || coarse_uses_ >= kCoarseRefresh || !coarse_.fits(a);
+    coarse_uses_ = set_up_coarse ? 1 : coarse_uses_ + 1;
+  }
+  const bool single = tolerance >= kSingleTolerance && single_pays_;
+  // The fine level's setup: block-Jacobi, the filtered right-hand side's norm S (b - A z) with z = (I - S) x (only
+  // contacts make z nonzero), the residual r = S (b - A x), and for float iterations the matrix's float copy.
+  double b_norm2 = 0, r_norm2 = 0;
+  const auto setUpFine = [&] {
+    setUpPreconditioner(a, s, parallel);
+    z_.resize(b.size());  // sized on every solve: a step that meets its first contact allocates nothing
+    if (s.anyConstrained()) {
+      forEachChunk(n, parallel, [&](int begin, int end) {
+        for (int p = begin; p < end; ++p) particle(z_, p) = s.removed(p, particle(x, p));
+      });
+      b_norm2 = residual(a, s, b, z_, parallel);
+    } else {
+      b_norm2 = sumOverChunks(n, parallel, sums_, [&](int begin, int end) {
+        double sum = 0;
+        for (int p = begin; p < end; ++p) sum += s.apply(p, particle(b, p)).squaredNorm();
+        return sum;
+      });
     }
-    ++coarse_uses_;
-  }
-  // The filtered right-hand side's norm, S (b - A z) with z = (I - S) x: only contacts make z nonzero.
-  double b_norm2 = 0;
-  z_.resize(b.size());  // sized on every solve: a step that meets its first contact allocates nothing
-  if (s.anyConstrained()) {
-    forEachChunk(n, parallel, [&](int begin, int end) {
-      for (int p = begin; p < end; ++p) particle(z_, p) = s.removed(p, particle(x, p));
-    });
-    b_norm2 = residual(a, s, b, z_, parallel);
-  } else {
-    b_norm2 = sumOverChunks(n, parallel, sums_, [&](int begin, int end) {
-      double sum = 0;
-      for (int p = begin; p < end; ++p) sum += s.apply(p, particle(b, p)).squaredNorm();
-      return sum;
-    });
-  }
+    if (b_norm2 == 0) return;
+    r_norm2 = residual(a, s, b, x, parallel);
+    if (single && r_norm2 >= tolerance * tolerance * b_norm2) {
+      single_matrix_.assign(a, parallel);
+      single_.inverse.assign(double_.inverse.begin(), double_.inverse.end());
+    }
+  };
+  // The coarse level's setup (its fill and factorization run on one thread) at the same time as the fine level's.
+  runBoth(
+      parallel && set_up_coarse, [&] { setUpFine(); },
+      [&] {
+        if (set_up_coarse) coarse_.setUp(a, s);
+      });
   if (b_norm2 == 0) {  // the free part's solution is 0
     forEachChunk(n, parallel, [&](int begin, int end) {
       for (int p = begin; p < end; ++p) particle(x, p) = s.removed(p, particle(x, p));
@@ -156,20 +170,14 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
   for (int p = 0; p < n; ++p)
     if (s.kind(p) != ParticleFilter::Free) constrained_.push_back(p);
 
-  // r = S (b - A x).
-  double r_norm2 = residual(a, s, b, x, parallel);
   PcgResult result;
-  if (tolerance < kSingleTolerance || !single_pays_) {
+  if (!single) {
     result.iterations =
         iterate(a, s, x.data(), r_.data(), double_, r_norm2, threshold, max_iterations, parallel, two_level);
   } else {
     single_.x.resize(x.size());
     single_.r.resize(x.size());
     while (r_norm2 >= threshold && result.iterations < max_iterations) {
-      if (result.rounds == 0) {
-        single_matrix_.assign(a, parallel);
-        single_.inverse.assign(double_.inverse.begin(), double_.inverse.end());
-      }
       // A e = r in float, r scaled by a power of two to a largest entry near 1 (float's range is narrow; a power of
       // two scales exactly), to the threshold on the same scale; then x += e and r again in double.
       int exponent = 0;
