@@ -1,7 +1,7 @@
 // The stiff cloth: 100 x 100 particles, ks 1e5 (kd 750, mass 1 per particle, 4 x 4 m, corners pinned), falling
 // under gravity for one simulated second, no colliders. Backward Euler at dt 1/60 against RK4 at its largest stable
-// dt, wall time side by side, with backward Euler's conjugate-gradient iterations per step (its default two-level
-// preconditioner, and block-Jacobi alone). RK4's largest stable dt
+// dt, wall time side by side, with backward Euler's conjugate-gradient iterations per step (its defaults; the
+// tolerance alone, without the error rule (cg_error_fraction 0); block-Jacobi alone). RK4's largest stable dt
 // is found once, before timing: bisection in log dt (to 2%) on 0.25 s runs between a stable and a blowing-up step,
 // then shrunk by 2% until a whole second survives (the blow-up rule of sim/simulation.h).
 // Run: build/stiff_cloth_bench (about a minute: the search runs RK4 a dozen times).
@@ -55,14 +55,17 @@ void report(benchmark::State& state, const Simulation& sim, const MassSpringSyst
   state.counters["evals"] = double(s.evaluations);
   state.counters["cg_per_step"] = s.steps ? double(s.cg_iterations) / double(s.steps) : 0;
   state.counters["cg_max_residual"] = s.max_cg_residual;
+  state.counters["error_rule_stops"] = double(s.error_rule_stops);
   state.counters["max_strain"] = maxStrain(system.springs(), sim.x());
   state.counters["blew_up"] = blew_up ? 1 : 0;
 }
 
-void stiffCloth(benchmark::State& state, const char* method, CgPreconditioner preconditioner) {
+// error_rule: backward Euler's cg_error_fraction at its default (true) or 0, cg_tolerance alone (false).
+void stiffCloth(benchmark::State& state, const char* method, CgPreconditioner preconditioner, bool error_rule) {
   const double dt = std::string_view(method) == "rk4" ? rk4LargestStableDt() : 1.0 / 60;
   IntegratorOptions options;
   options.cg_preconditioner = preconditioner;
+  if (!error_rule) options.cg_error_fraction = 0;
   for (auto _ : state) {
     state.PauseTiming();
     MassSpringSystem system = makeCloth();
@@ -75,15 +78,20 @@ void stiffCloth(benchmark::State& state, const char* method, CgPreconditioner pr
   }
 }
 
-BENCHMARK_CAPTURE(stiffCloth, backward_euler_dt_1_60, "backward-euler", CgPreconditioner::Auto)
+BENCHMARK_CAPTURE(stiffCloth, backward_euler_dt_1_60, "backward-euler", CgPreconditioner::Auto, true)
     ->Iterations(1)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(stiffCloth, backward_euler_block_jacobi_dt_1_60, "backward-euler", CgPreconditioner::BlockJacobi)
+BENCHMARK_CAPTURE(stiffCloth, backward_euler_tolerance_only_dt_1_60, "backward-euler", CgPreconditioner::Auto, false)
     ->Iterations(1)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(stiffCloth, rk4_largest_stable_dt, "rk4", CgPreconditioner::Auto)
+BENCHMARK_CAPTURE(stiffCloth, backward_euler_block_jacobi_dt_1_60, "backward-euler", CgPreconditioner::BlockJacobi,
+                  true)
+    ->Iterations(1)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(stiffCloth, rk4_largest_stable_dt, "rk4", CgPreconditioner::Auto, true)
     ->Iterations(1)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);

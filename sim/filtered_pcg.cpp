@@ -115,7 +115,8 @@ int FilteredPcg::iterate(const Matrix& a, const ParticleFilter& s, T* xs, T* rs,
 }
 
 PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, const VecX& b, VecX& x,
-                             double tolerance, int max_iterations, bool parallel, bool two_level) {
+                             double tolerance, int max_iterations, bool parallel, bool two_level,
+                             double absolute_tolerance) {
   const int n = static_cast<int>(b.size() / 3);
   bool set_up_coarse = false;
   if (!two_level) {
@@ -125,6 +126,11 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
     coarse_uses_ = set_up_coarse ? 1 : coarse_uses_ + 1;
   }
   const bool single = tolerance >= kSingleTolerance && single_pays_;
+  // Every buffer sized on every solve, whichever precision runs: a switch of precision allocates nothing.
+  single_matrix_.reserve(a);
+  for (std::vector<float>* v : {&single_.x, &single_.r, &single_.c, &single_.q}) v->resize(b.size());
+  for (std::vector<double>* v : {&double_.c, &double_.q}) v->resize(b.size());
+  single_.inverse.resize(2 * b.size());
   // The fine level's setup: block-Jacobi, the filtered right-hand side's norm S (b - A z) with z = (I - S) x (only
   // contacts make z nonzero), the residual r = S (b - A x), and for float iterations the matrix's float copy.
   double b_norm2 = 0, r_norm2 = 0;
@@ -164,7 +170,9 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
   }
   // As Eigen's CG: a residual below the smallest normal double counts as 0 (a state decaying into denormals would
   // otherwise divide 0 by 0).
-  const double threshold = std::max(tolerance * tolerance * b_norm2, std::numeric_limits<double>::min());
+  const double threshold = std::max(
+      {tolerance * tolerance * b_norm2, absolute_tolerance * absolute_tolerance, std::numeric_limits<double>::min()});
+  const bool by_absolute = absolute_tolerance * absolute_tolerance > tolerance * tolerance * b_norm2;
   constrained_.reserve(n);
   constrained_.clear();
   for (int p = 0; p < n; ++p)
@@ -175,8 +183,6 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
     result.iterations =
         iterate(a, s, x.data(), r_.data(), double_, r_norm2, threshold, max_iterations, parallel, two_level);
   } else {
-    single_.x.resize(x.size());
-    single_.r.resize(x.size());
     while (r_norm2 >= threshold && result.iterations < max_iterations) {
       // A e = r in float, r scaled by a power of two to a largest entry near 1 (float's range is narrow; a power of
       // two scales exactly), to the threshold on the same scale; then x += e and r again in double.
@@ -203,6 +209,7 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
     }
   }
   single_pays_ = result.iterations >= kSingleIterations;
+  result.by_absolute = by_absolute;
   result.relative_residual = std::sqrt(r_norm2 / b_norm2);
   return result;
 }

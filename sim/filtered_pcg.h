@@ -26,7 +26,8 @@ namespace wobble {
 
 struct PcgResult {
   int iterations = 0;
-  int rounds = 0;  // rounds of float iterations (iterative refinement); 0 when the iterations ran in double
+  int rounds = 0;            // rounds of float iterations (iterative refinement); 0 when the iterations ran in double
+  bool by_absolute = false;  // stopped by absolute_tolerance above tolerance times the right-hand side's norm
   double relative_residual = 0;  // |S (b - A x)| / |S (b - A (I - S) x0)| at the end; 0 when that rhs is 0
 };
 
@@ -47,9 +48,10 @@ inline constexpr int kSingleIterations = 8;
 
 class FilteredPcg {
  public:
-  // x: the starting guess on input (its removed part is kept), the solution on output.
+  // x: the starting guess on input (its removed part is kept), the solution on output. absolute_tolerance: the solve
+  // also stops once |S (b - A x)| is at most this (a bound on its error, from the caller).
   PcgResult solve(const PairBlockMatrix& a, const ParticleFilter& s, const VecX& b, VecX& x, double tolerance,
-                  int max_iterations, bool parallel, bool two_level);
+                  int max_iterations, bool parallel, bool two_level, double absolute_tolerance = 0);
   const CoarseCorrection& coarse() const { return coarse_; }
 
  private:

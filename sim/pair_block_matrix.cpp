@@ -112,10 +112,14 @@ void PairBlockMatrix::multiply(const VecX& x, VecX& y, bool parallel) const {
   addPairProducts(x.data(), y.data(), parallel);
 }
 
-void SinglePairBlockMatrix::assign(const PairBlockMatrix& a, bool parallel) {
-  pattern_ = a.pattern_;
+void SinglePairBlockMatrix::reserve(const PairBlockMatrix& a) {
   self_.resize(a.self_.size());
   pair_.resize(a.pair_.size());
+}
+
+void SinglePairBlockMatrix::assign(const PairBlockMatrix& a, bool parallel) {
+  pattern_ = a.pattern_;
+  reserve(a);
   const int n = static_cast<int>(self_.size());
   const std::size_t pairs = pair_.size() / 4;
   forEachChunk(n, parallel, [&](int begin, int end) {

@@ -58,6 +58,8 @@ class SinglePairBlockMatrix {
  public:
   // The values of a as they stand (again after every refill of a).
   void assign(const PairBlockMatrix& a, bool parallel);
+  // Sized for a's pattern without values: so that a later assign allocates nothing.
+  void reserve(const PairBlockMatrix& a);
   void multiplySelf(const float* x, float* y, int begin, int end) const;
   void addPairProducts(const float* x, float* y, bool parallel) const;
 

@@ -54,7 +54,7 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void fillRunBlocks(
     const PairBlockColumns blocks, const double* __restrict wa, const double* __restrict wb, double* kwa, double* kwb) {
   constexpr int kChunk = 128;
   alignas(64) double dx[3 * kChunk], dw[3 * kChunk], u[3 * kChunk];
-  alignas(64) double ka[kChunk], kwx[kChunk], kwy[kChunk], kwz[kChunk];  // Kx as a I + w w^T
+  alignas(64) double across_k[kChunk], along_k[kChunk], dir[3 * kChunk];  // Kx = across I + along d d^T
   for (int c = 0; c < length; c += kChunk) {
     const int m = std::min(kChunk, length - c);
     const double *x0 = xa + 3 * c, *x1 = xb + 3 * c, *r = rest + c, *s = ks + c, *d = kd + c;
@@ -73,19 +73,22 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void fillRunBlocks(
       // Kx = across I + along d d^T; cx Kx + cv Kv = (cx across) I + (cx along + cv kd) d d^T. Both are stored as
       // a I + w w^T (force_jacobian.h).
       const double along = s[k] * (1.0 - transverse), across = live * (s[k] * transverse);
-      const double root = std::sqrt(cx * along + cv * d[k]), k_root = std::sqrt(along);
+      const double root = std::sqrt(cx * along + cv * d[k]);
       ba[k] = cx * across;
       bwx[k] = root * ux;
       bwy[k] = root * uy;
       bwz[k] = root * uz;
-      ka[k] = across;
-      kwx[k] = k_root * ux;
-      kwy[k] = k_root * uy;
-      kwz[k] = k_root * uz;
+      across_k[k] = across;
+      along_k[k] = along;
+      dir[3 * k] = ux, dir[3 * k + 1] = uy, dir[3 * k + 2] = uz;
     }
     if (!wa) continue;
     for (int j = 0; j < 3 * m; ++j) dw[j] = wa[3 * c + j] - wb[3 * c + j];
-    multiplyBlocks(PairBlockColumns{{ka, kwx, kwy, kwz}}, m, dw, u);
+    for (int k = 0; k < m; ++k) {  // u = Kx dw, Kx = across I + along d d^T (no square root of along needed)
+      const double t =
+          along_k[k] * (dir[3 * k] * dw[3 * k] + dir[3 * k + 1] * dw[3 * k + 1] + dir[3 * k + 2] * dw[3 * k + 2]);
+      for (int i = 0; i < 3; ++i) u[3 * k + i] = across_k[k] * dw[3 * k + i] + t * dir[3 * k + i];
+    }
     double* a = kwa + 3 * c;
     for (int j = 0; j < 3 * m; ++j) a[j] -= u[j];
     double* b = kwb + 3 * c;

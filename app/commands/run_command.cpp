@@ -54,18 +54,23 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
   j["particles"] = sim.system().particleCount();
   j["springs"] = sim.system().springs().size();
   if (const IntegratorStats& s = sim.integrator().stats(); s.jacobians > 0)  // backward-euler's linear solves
-    j["linear_solver"] = {
-        {"method",
-         "filtered PCG (Baraff-Witkin), 3x3 block-Jacobi plus an aggregation coarse level (two-level; auto: from " +
-             std::to_string(kTwoLevelParticles) + " particles after a block-Jacobi solve of more than " +
-             std::to_string(kTwoLevelIterations) + " iterations); stops at |S(b - A dv)| <= cg_tolerance |S(b - A z)|"},
-        {"cg_preconditioner",
-         std::array{"auto", "block-jacobi", "two-level"}[int(scene.integrator_options.cg_preconditioner)]},
-        {"cg_tolerance", scene.integrator_options.cg_tolerance},
-        {"cg_max_iterations", scene.integrator_options.cg_max_iterations},
-        {"cg_iterations", s.cg_iterations},
-        {"cg_iterations_per_step", s.steps ? double(s.cg_iterations) / double(s.steps) : 0.0},
-        {"max_relative_residual", s.max_cg_residual}};
+    j["linear_solver"] =
+        {{"method",
+          "filtered PCG (Baraff-Witkin), 3x3 block-Jacobi plus an aggregation coarse level (two-level; auto: from " +
+              std::to_string(kTwoLevelParticles) + " particles after a block-Jacobi solve of more than " +
+              std::to_string(kTwoLevelIterations) +
+              " iterations); stops at |S(b - A dv)| <= cg_tolerance |S(b - A z)|, or "
+              "earlier once its error bound |S(b - A dv)| / m_min is at most cg_error_fraction times the step's "
+              "error estimate |dv_n-1 - dv_n-2| / 2"},
+         {"cg_preconditioner",
+          std::array{"auto", "block-jacobi", "two-level"}[int(scene.integrator_options.cg_preconditioner)]},
+         {"cg_tolerance", scene.integrator_options.cg_tolerance},
+         {"cg_error_fraction", scene.integrator_options.cg_error_fraction},
+         {"cg_max_iterations", scene.integrator_options.cg_max_iterations},
+         {"error_rule_stops", s.error_rule_stops},
+         {"cg_iterations", s.cg_iterations},
+         {"cg_iterations_per_step", s.steps ? double(s.cg_iterations) / double(s.steps) : 0.0},
+         {"max_relative_residual", s.max_cg_residual}};
   j["interrupted"] = r.interrupted;
   j["blew_up"] = r.blow_up.has_value();
   if (r.blow_up)

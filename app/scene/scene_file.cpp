@@ -46,6 +46,7 @@ void readSimulation(TableReader r, SceneFile& scene, Vec3& gravity) {
   o.atol = r.number("atol", o.atol, Range::positive());
   o.newton = r.boolean("newton", o.newton);
   o.cg_tolerance = r.number("cg_tolerance", o.cg_tolerance, Range::positive());
+  o.cg_error_fraction = r.number("cg_error_fraction", o.cg_error_fraction, Range::nonNegative());
   o.cg_max_iterations = r.integer("cg_max_iterations", o.cg_max_iterations, Range::atLeast(1));
   const std::vector<std::string> preconditioners = {"auto", "block-jacobi", "two-level"};
   const std::string preconditioner = r.string("cg_preconditioner", "auto", preconditioners);

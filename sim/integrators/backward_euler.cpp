@@ -16,17 +16,27 @@
 // has S_i = I - n n^T and its normal dv prescribed (the surface's normal acceleration times h), which is what the
 // explicit support force does instantaneously; friction stays explicit. Without that, the support sized to cancel a
 // stiff spring's push at the start would act for the whole step while the spring relaxes and launch the body. Options:
-// cg_tolerance (relative residual |S (b - A dv)| / |S (b - A z)|, default in integrator.h), cg_preconditioner
+// cg_tolerance (relative residual |S (b - A dv)| / |S (b - A z)|, default in integrator.h), cg_error_fraction (below),
+// cg_preconditioner
 // (integrator.h) and cg_max_iterations of each linear solve (a solve that hits the limit is used as it stands, as
 // Blender's cloth solver does; the achieved residual is in the stats); newton: after that first step, iterate Newton on
 // the full nonlinear equations (contact still held at its start value) with a backtracking line search on the residual,
 // until max |M^-1 residual| <= newton_tolerance * max(1, max |v1|), at most newton_max_iterations linear solves
 // (the damper's x-dependence is not in the Jacobian, so convergence is linear rather than quadratic when dampers
 // act; it still converges to the exact backward-Euler step).
+// The error rule (cg_error_fraction = eta > 0, without newton): the solve also stops once its error is at most eta
+// times the step's own. Backward Euler's local error in v is about (h^2 / 2) a' ~ |dv_n - dv_(n-1)| / 2; the last two
+// steps' velocity changes estimate it (when both had this h). The solve's error e = A^-1 r has |e| <= |r| / m_min,
+// since A = M - h df/dv - h^2 df/dx >= M (the spring and damper blocks are positive semidefinite, force_jacobian.h) on
+// the filter's subspace. So it stops at |S r| <= eta m_min |dv_n-1 - dv_n-2| / 2, or at cg_tolerance if that is
+// looser: the solver's error stays a fraction of the method's, at every step size (as implicit ODE codes tie their
+// linear solves to the local error test), and stiff steps, whose error is large, need fewer iterations.
 // Throws std::invalid_argument if the Dynamics offers no ForceJacobian.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
+#include <vector>
 
 #include "sim/filtered_pcg.h"
 #include "sim/integrators/methods.h"
@@ -39,6 +49,7 @@ class BackwardEuler final : public Integrator {
   explicit BackwardEuler(const IntegratorOptions& o) : options_(o) {
     if (!(o.cg_tolerance > 0) || o.cg_max_iterations < 1)
       throw std::invalid_argument("backward-euler: cg_tolerance must be > 0 and cg_max_iterations >= 1");
+    if (!(o.cg_error_fraction >= 0)) throw std::invalid_argument("backward-euler: cg_error_fraction must be >= 0");
     if (o.newton && (!(o.newton_tolerance > 0) || o.newton_max_iterations < 1))
       throw std::invalid_argument("backward-euler: newton_tolerance must be > 0 and newton_max_iterations >= 1");
   }
@@ -62,6 +73,12 @@ class BackwardEuler final : public Integrator {
     if (!matrix_.fits(jacobian->jacobianPattern())) {  // a new topology: size the matrix once
       matrix_.reset(jacobian->jacobianPattern());
       contacts_.reserve(jacobian->mass().size());  // at most one per particle
+      dv_.resize(0);                               // no warm start, no error estimate
+      history_ = 0;
+      sums_.reserve(jacobian->mass().size() / 512 + 1);     // a sum per chunk (parallel.h: 512 particles or more)
+      lightest_ = std::numeric_limits<double>::infinity();  // the lightest free particle's mass
+      for (Eigen::Index p = 0; p < jacobian->mass().size(); ++p)
+        if (jacobian->inverseMass()[p] > 0) lightest_ = std::min(lightest_, jacobian->mass()[p]);
       ++stats_.pattern_setups;
     }
     const VecX& mass = jacobian->mass();
@@ -76,6 +93,7 @@ class BackwardEuler final : public Integrator {
     assemble(*jacobian, t, x, v, h, &v, &kv_);
     rhs_.resize(x.size());
     if (dv_.size() != x.size()) dv_.setZero(x.size());  // else warm start from the last step's dv
+    const double absolute = errorRuleTolerance(h);
     forEachChunk(n_, parallel_, [&](int begin, int end) {
       for (int p = begin; p < end; ++p) {
         particle(rhs_, p) = h * (mass[p] * particle(f0_, p) + h * particle(kv_, p));
@@ -83,7 +101,7 @@ class BackwardEuler final : public Integrator {
       }
     });
     for (const ContactConstraint& c : contacts_) particle(dv_, c.particle) += h * c.normal_acceleration * c.normal;
-    solve(rhs_, dv_);
+    solve(rhs_, dv_, absolute);
 
     if (options_.newton) newton(*jacobian, t, h, x, v, mass);
 
@@ -107,13 +125,37 @@ class BackwardEuler final : public Integrator {
     });
   }
 
-  // Solves S (A y - b) = 0 from y (its filtered-out part kept).
-  void solve(const VecX& b, VecX& y) {
+  // The error rule's bound on |S r| for this step (0: none), from the last two steps' dv (dv_ and previous_dv_), which
+  // it then shifts: previous_dv_ = dv_. Before dv_ is filtered and warm-started.
+  double errorRuleTolerance(double h) {
+    double tolerance = 0;
+    if (options_.cg_error_fraction > 0 && !options_.newton && history_ >= 2 && sameStep(h) &&
+        std::isfinite(lightest_)) {
+      const double change = sumOverChunks(n_, parallel_, sums_, [&](int begin, int end) {
+        double sum = 0;
+        for (int p = begin; p < end; ++p) sum += (particle(dv_, p) - particle(previous_dv_, p)).squaredNorm();
+        return sum;
+      });
+      tolerance = options_.cg_error_fraction * lightest_ * 0.5 * std::sqrt(change);
+    }
+    if (!sameStep(h)) history_ = 0;
+    history_h_ = h;
+    history_ = std::min(history_ + 1, 2);
+    previous_dv_ = dv_;
+    return tolerance;
+  }
+
+  // Whether h is the step of the error rule's history (within round-off: dv scales with h).
+  bool sameStep(double h) const { return std::abs(h - history_h_) <= 1e-9 * h; }
+
+  // Solves S (A y - b) = 0 from y (its filtered-out part kept); absolute: the error rule's bound on |S r| (0: none).
+  void solve(const VecX& b, VecX& y, double absolute = 0) {
     const bool two_level = options_.cg_preconditioner == CgPreconditioner::Auto
                                ? two_level_
                                : options_.cg_preconditioner == CgPreconditioner::TwoLevel;
-    const PcgResult r =
-        pcg_.solve(matrix_, filter_, b, y, options_.cg_tolerance, options_.cg_max_iterations, parallel_, two_level);
+    const PcgResult r = pcg_.solve(matrix_, filter_, b, y, options_.cg_tolerance, options_.cg_max_iterations, parallel_,
+                                   two_level, absolute);
+    if (r.by_absolute && r.relative_residual > options_.cg_tolerance) ++stats_.error_rule_stops;
     // Auto: the coarse level pays when block-Jacobi needs many iterations, and is overhead when few are needed.
     if (options_.cg_preconditioner == CgPreconditioner::Auto &&
         (two_level ? r.iterations < kTwoLevelIterations / 4
@@ -182,6 +224,11 @@ class BackwardEuler final : public Integrator {
   bool parallel_ = false;
   bool two_level_ = false;  // cg_preconditioner auto: the next solve's choice
   VecX f0_, kv_, rhs_, dv_;
+  VecX previous_dv_;  // the step before's dv, for the error rule
+  int history_ = 0;   // steps (at most 2) whose dv is in dv_ and previous_dv_, all with step history_h_
+  double history_h_ = 0;
+  double lightest_ = 0;  // the lightest free particle's mass (m_min)
+  std::vector<double> sums_;
   VecX fs_, fc_, r_, x1_, v1_, delta_, trial_, trial_r_;  // Newton only
 };
 

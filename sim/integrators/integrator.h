@@ -27,6 +27,9 @@ struct IntegratorOptions {
   // backward-euler: the conjugate-gradient solve stops at this relative residual |S (b - A dv)| / |S (b - A z)|
   // (filtered_pcg.h); README, Integrators, for how the default was chosen.
   double cg_tolerance = 1e-3;
+  // backward-euler (without newton): the solve also stops once its error is at most this fraction of the step's own
+  // error, estimated from the last two steps; 0: cg_tolerance alone (README, Integrators).
+  double cg_error_fraction = 0.1;
   int cg_max_iterations = 1000;
   CgPreconditioner cg_preconditioner = CgPreconditioner::Auto;
 };
@@ -44,6 +47,7 @@ struct IntegratorStats {
   double last_residual = 0;         // backward-euler newton: the last step's final |M^-1 residual|_inf (m/s)
   double last_cg_residual = 0;      // backward-euler: achieved relative CG residual, the last step's worst solve
   double max_cg_residual = 0;       // backward-euler: the same, worst over all steps
+  long error_rule_stops = 0;        // backward-euler: solves that stopped by cg_error_fraction before cg_tolerance
   long pattern_setups = 0;          // backward-euler: matrices sized for a new Jacobian pattern (once per topology)
 };
 
