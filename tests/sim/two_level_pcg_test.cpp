@@ -140,7 +140,7 @@ TEST(TwoLevelPcg, FloatIterationsMeetTheToleranceOfTheDoubleSystem) {
 // between: a kept factorization of an older matrix and filter is still a valid preconditioner, so a solve of a changed
 // system (heavier masses, one more contact, a new right-hand side) still matches the dense oracle of the new system.
 TEST(TwoLevelPcg, AKeptCoarseFactorizationStillSolvesAChangedSystem) {
-  static_assert(kCoarseRefresh == 2);
+  static_assert(kCoarseRefresh >= 2);
   const auto sys = smallSystem();
   const int n = sys->system.particleCount();
   const auto expected = [&] {
@@ -162,8 +162,10 @@ TEST(TwoLevelPcg, AKeptCoarseFactorizationStillSolvesAChangedSystem) {
   sys->s.constrain(60, normal);
   particle(sys->z, 60) = -0.05 * normal;
   sys->b *= -0.5;
-  solve(true);  // kept
-  EXPECT_EQ(pcg.coarse().factorizations(), 1);
+  for (int k = 1; k < kCoarseRefresh; ++k) {
+    solve(true);  // kept
+    EXPECT_EQ(pcg.coarse().factorizations(), 1);
+  }
   solve(true);  // refreshed
   EXPECT_EQ(pcg.coarse().factorizations(), 2);
   solve(false);
