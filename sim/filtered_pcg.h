@@ -4,17 +4,17 @@
 // block; two_level adds the coarse correction of coarse_correction.h (fewer iterations on large stiff systems, for a
 // setup every kCoarseRefresh solves and a small sparse solve per iteration; the sum is symmetric positive definite).
 // Stops when the residual's 2-norm |S (b - A x)| is at most tolerance times that of the filtered right-hand side S (b -
-// A (I - S) x0) (Eigen's ConjugateGradient rule), or after max_iterations. Every vector operation runs over particle
+// A (I - S) x0) (Eigen's ConjugateGradient rule), or at the caller's absolute_tolerance if that is looser (the error
+// rule of backward_euler.cpp), or after max_iterations. Every vector operation runs over particle
 // chunks and every sum in chunk order (parallel.h), each chunk's in fixed lanes (pcg_kernels.h), the coarse solve's
 // two dissected parts each in one order (coarse_correction.h): the same bytes whatever the thread count. Buffers are
 // kept between solves.
 // Mixed precision: for a tolerance of at least kSingleTolerance (the default 1e-3 is), when the solve before took at
-// least kSingleIterations iterations, the iterations run in float
-// on the matrix's float copy (SinglePairBlockMatrix), solving for the correction of x from the double residual S (b -
-// A x), and that residual is then recomputed in double; while it is above the tolerance, another round of float
-// iterations follows (iterative refinement). The tolerance thus holds for the double system, and the float rounds
-// read half the bytes of a double iteration (the solve is bound by memory traffic). Tighter tolerances iterate in
-// double throughout.
+// least kSingleIterations iterations, the iterations run in float on the matrix's float copy (SinglePairBlockMatrix),
+// solving for the correction of x from the double residual S (b - A x), and that residual is then recomputed in
+// double; while it is above the tolerance, another round of float iterations follows (iterative refinement). The
+// tolerance thus holds for the double system, and the float rounds read half the bytes of a double iteration (the
+// solve is bound by memory traffic). Tighter tolerances iterate in double throughout.
 #pragma once
 #include <vector>
 

@@ -28,7 +28,8 @@ struct IntegratorOptions {
   // (filtered_pcg.h); README, Integrators, for how the default was chosen.
   double cg_tolerance = 1e-3;
   // backward-euler (without newton): the solve also stops once its error is at most this fraction of the step's own
-  // error, estimated from the last two steps; 0: cg_tolerance alone (README, Integrators).
+  // error, estimated from the last two steps (after three without contact constraints); 0: cg_tolerance alone
+  // (README, Integrators).
   double cg_error_fraction = 0.1;
   int cg_max_iterations = 1000;
   CgPreconditioner cg_preconditioner = CgPreconditioner::Auto;
