@@ -56,9 +56,7 @@ double FilteredPcg::residual(const PairBlockMatrix& a, const ParticleFilter& s, 
 template <class T, class Matrix>
 int FilteredPcg::iterate(const Matrix& a, const ParticleFilter& s, T* xs, T* rs, Iterates<T>& it, double& r_norm2,
                          double threshold, int max_iterations, bool parallel, bool two_level) {
-  const int n = static_cast<int>(it.inverse.size() / 6);
-  it.c.resize(3 * std::size_t(n));
-  it.q.resize(3 * std::size_t(n));
+  const int n = static_cast<int>(it.inverse.size() / 6);  // it.c and it.q are sized by solve()
   // S y on the constrained particles of chunk [begin, end) (the vector loops run over plain arrays and fix these
   // after).
   const auto filterChunk = [&](T* y, int begin, int end) {
@@ -133,7 +131,7 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
   single_.inverse.resize(2 * b.size());
   // The fine level's setup: block-Jacobi, the filtered right-hand side's norm S (b - A z) with z = (I - S) x (only
   // contacts make z nonzero), the residual r = S (b - A x), and for float iterations the matrix's float copy.
-  double b_norm2 = 0, r_norm2 = 0;
+  double b_norm2 = 0, r_norm2 = 0, threshold = 0;
   const auto setUpFine = [&] {
     setUpPreconditioner(a, s, parallel);
     z_.resize(b.size());  // sized on every solve: a step that meets its first contact allocates nothing
@@ -150,8 +148,12 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
       });
     }
     if (b_norm2 == 0) return;
+    // As Eigen's CG: a residual below the smallest normal double counts as 0 (a state decaying into denormals would
+    // otherwise divide 0 by 0).
+    threshold = std::max(
+        {tolerance * tolerance * b_norm2, absolute_tolerance * absolute_tolerance, std::numeric_limits<double>::min()});
     r_norm2 = residual(a, s, b, x, parallel);
-    if (single && r_norm2 >= tolerance * tolerance * b_norm2) {
+    if (single && r_norm2 >= threshold) {  // float rounds will run
       single_matrix_.assign(a, parallel);
       single_.inverse.assign(double_.inverse.begin(), double_.inverse.end());
     }
@@ -168,10 +170,6 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
     });
     return {};
   }
-  // As Eigen's CG: a residual below the smallest normal double counts as 0 (a state decaying into denormals would
-  // otherwise divide 0 by 0).
-  const double threshold = std::max(
-      {tolerance * tolerance * b_norm2, absolute_tolerance * absolute_tolerance, std::numeric_limits<double>::min()});
   const bool by_absolute = absolute_tolerance * absolute_tolerance > tolerance * tolerance * b_norm2;
   constrained_.reserve(n);
   constrained_.clear();

@@ -70,8 +70,8 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void fillRunBlocks(
       const double inv = len > 0 ? 1.0 / len : 0.0, live = len > 0 ? 1.0 : 0.0;
       const double ux = dx[3 * k] * inv, uy = dx[3 * k + 1] * inv, uz = dx[3 * k + 2] * inv;
       const double transverse = std::max(0.0, 1.0 - r[k] * inv);
-      // Kx = across I + along d d^T; cx Kx + cv Kv = (cx across) I + (cx along + cv kd) d d^T. Both are stored as
-      // a I + w w^T (force_jacobian.h).
+      // Kx = across I + along d d^T; cx Kx + cv Kv = (cx across) I + (cx along + cv kd) d d^T, stored as a I + w w^T
+      // (force_jacobian.h); Kx's two coefficients and d are kept for Kx dw below.
       const double along = s[k] * (1.0 - transverse), across = live * (s[k] * transverse);
       const double root = std::sqrt(cx * along + cv * d[k]);
       ba[k] = cx * across;

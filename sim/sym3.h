@@ -60,8 +60,8 @@ struct BlockColumns {
 };
 using PairBlockColumns = BlockColumns<double>;
 
-// u[k] = (a_k I + w_k w_k^T) d[k] for the first n blocks of b, d and u packed 3-vectors: the product of the run kernels
-// (the matrix product in pair_block_matrix.cpp), inlined into their vectorised loops.
+// u[k] = (a_k I + w_k w_k^T) d[k] for the first n blocks of b, d and u packed 3-vectors: the product of the matrix's
+// run kernel (pair_block_matrix.cpp), inlined into its vectorised loop.
 template <class T>
 inline void multiplyBlocks(const BlockColumns<T>& b, int n, const T* __restrict d, T* __restrict u) {
   const T* __restrict a = b.v[0];

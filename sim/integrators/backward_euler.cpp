@@ -41,6 +41,7 @@
 
 #include "sim/filtered_pcg.h"
 #include "sim/integrators/methods.h"
+#include "sim/parallel.h"
 
 namespace wobble {
 namespace {
@@ -76,8 +77,9 @@ class BackwardEuler final : public Integrator {
       contacts_.reserve(jacobian->mass().size());  // at most one per particle
       dv_.resize(0);                               // no warm start, no error estimate
       history_ = 0;
-      sums_.reserve(jacobian->mass().size() / 512 + 1);     // a sum per chunk (parallel.h: 512 particles or more)
-      lightest_ = std::numeric_limits<double>::infinity();  // the lightest free particle's mass
+      const int n = static_cast<int>(jacobian->mass().size());
+      sums_.reserve((n + particleChunk(n) - 1) / particleChunk(n));  // a sum per chunk (parallel.h)
+      lightest_ = std::numeric_limits<double>::infinity();           // the lightest free particle's mass
       for (Eigen::Index p = 0; p < jacobian->mass().size(); ++p)
         if (jacobian->inverseMass()[p] > 0) lightest_ = std::min(lightest_, jacobian->mass()[p]);
       ++stats_.pattern_setups;
@@ -129,9 +131,9 @@ class BackwardEuler final : public Integrator {
   // The error rule's bound on |S r| for this step (0: none), from the last two steps' dv (dv_ and previous_dv_), which
   // it then shifts: previous_dv_ = dv_. Before dv_ is filtered and warm-started.
   double errorRuleTolerance(double h) {
+    if (!(options_.cg_error_fraction > 0) || options_.newton) return 0;  // the rule is off: no history to keep
     double tolerance = 0;
-    if (options_.cg_error_fraction > 0 && !options_.newton && history_ >= 2 && sameStep(h) &&
-        std::isfinite(lightest_)) {
+    if (history_ >= 2 && sameStep(h) && std::isfinite(lightest_)) {
       const double change = sumOverChunks(n_, parallel_, sums_, [&](int begin, int end) {
         double sum = 0;
         for (int p = begin; p < end; ++p) sum += (particle(dv_, p) - particle(previous_dv_, p)).squaredNorm();
