@@ -1,19 +1,17 @@
 // The coarse level of the implicit solver's two-level preconditioner: particles grouped into aggregates (a particle
 // and its pair neighbours, greedily, once per topology), one 3-vector of unknowns per aggregate (Z: the aggregate's
 // particles move together), the Galerkin matrix Z^T S A S Z of the filtered system refilled every step on a fixed
-// pattern and factorized by a sparse LDLT. Added to block-Jacobi (filtered_pcg.h) it corrects the smooth modes that
-// block-Jacobi leaves to the conjugate gradients: S Z (Z^T S A S Z)^-1 Z^T S is symmetric positive semidefinite, so
-// the sum stays a valid PCG preconditioner. The coarse unknowns are ordered by one level of nested dissection (two
-// parts of the aggregate graph with no edge between them, fill-reducing (AMD) order within each, then the separator),
-// so the triangular solves of the two parts are independent: the solve runs them on two threads when parallel, each
-// part's arithmetic in one fixed order, and the separator's sums part 0 then part 1. The factorization is serial. The
-// same bytes whatever the thread count.
+// pattern and factorized by a sparse LDLT of 3 x 3 blocks (block_ldlt.h). Added to block-Jacobi (filtered_pcg.h) it
+// corrects the smooth modes that block-Jacobi leaves to the conjugate gradients: S Z (Z^T S A S Z)^-1 Z^T S is
+// symmetric positive semidefinite, so the sum stays a valid PCG preconditioner. The aggregates are ordered by one
+// level of nested dissection (two parts of the aggregate graph with no edge between them, fill-reducing (AMD) order
+// within each, then the separator), so the factorization and the triangular solves run the two parts on two threads
+// when parallel, each part's arithmetic in one fixed order, and the separator's sums part 0 then part 1: the same
+// bytes whatever the thread count.
 #pragma once
 #include <vector>
 
-#include <Eigen/SparseCholesky>
-#include <Eigen/SparseCore>
-
+#include "sim/block_ldlt.h"
 #include "sim/pair_block_matrix.h"
 #include "sim/particle_filter.h"
 
@@ -22,7 +20,7 @@ namespace wobble {
 class CoarseCorrection {
  public:
   // The aggregates (when the pattern is new) and the factorized coarse matrix of S A S.
-  void setUp(const PairBlockMatrix& a, const ParticleFilter& s);
+  void setUp(const PairBlockMatrix& a, const ParticleFilter& s, bool parallel = false);
   // Whether the aggregates were built for a's pattern (setUp has run on it), so that solve() may be used with it.
   bool fits(const PairBlockMatrix& a) const;
   // u = (Z^T S A S Z)^-1 Z^T r for a filtered r (S r = r, 3 values a particle); the correction of particle p is then
@@ -40,13 +38,10 @@ class CoarseCorrection {
 
  private:
   void buildPattern(const PairSchedule& pattern);
-  // The restriction Z^T r of part k's aggregates into y (matrix order), then the forward solve of its columns; their
-  // terms in separator rows go to separator_terms_[k] (k = 2: the separator's restriction only).
   template <class T>
   void solveFor(const T* r, bool parallel);
   template <class T>
-  void restrictAndSolveForward(const T* r, int k);
-  void solveBackward(int k);  // part k's columns of L^T y = D^-1 y
+  void restrict(const T* r, int k);  // Z^T r of part k's aggregates into y_ (the factor's order)
 
   const PairSchedule* pattern_ = nullptr;
   std::size_t pattern_pairs_ = 0;
@@ -58,16 +53,13 @@ class CoarseCorrection {
   std::vector<int> pair_block_;
   std::vector<char> pair_flipped_;
   std::vector<Eigen::Matrix3d> blocks_;      // aggregates' diagonal blocks, then (I, J) and (J, I) pairs
-  std::vector<int> block_entry_;             // 9 per block: the entry of the sparse matrix's values
-  std::vector<int> dof_;                     // coarse unknown 3 I + k -> its row of the matrix (fill-reducing order)
+  std::vector<int> lower_block_;             // per lower block of the factor (BlockLdlt::lower): its block here
+  std::vector<int> column_;                  // per aggregate: its block column of the factor (fill-reducing order)
   std::vector<Eigen::Matrix3d> gram_;        // per aggregate: Z^T S Z's block (filters only)
   std::vector<int> size_;                    // particles per aggregate
   std::vector<int> member_start_, members_;  // per aggregate: its particles, in order
   std::vector<int> part_aggregates_[3];      // aggregates of part 0, part 1 and the separator
-  int part_begin_[4] = {};                   // their matrix columns: [part_begin_[k], part_begin_[k + 1])
-  VecX separator_terms_[2];
-  Eigen::SparseMatrix<double> matrix_;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper, Eigen::NaturalOrdering<int>> ldlt_;
+  BlockLdlt ldlt_;
   VecX y_, u_;
 };
 

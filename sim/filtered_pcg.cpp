@@ -162,7 +162,7 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
   runBoth(
       parallel && set_up_coarse, [&] { setUpFine(); },
       [&] {
-        if (set_up_coarse) coarse_.setUp(a, s);
+        if (set_up_coarse) coarse_.setUp(a, s, parallel);
       });
   if (b_norm2 == 0) {  // the free part's solution is 0
     forEachChunk(n, parallel, [&](int begin, int end) {
