@@ -10,18 +10,63 @@ void PairBlockMatrix::reset(const PairSchedule& pattern) {
   pair_.assign(4 * pattern.size(), 0.0);
 }
 
+namespace {
+
+// The pairs (a0 + k, b0 + k), k < length, with blocks w (from its first pair on): each block a I + w w^T added to both
+// particles' diagonal blocks, as Sym3's six values in a row (da, db: the first particles' blocks; they may overlap:
+// all of da's adds come first). Computed a chunk at a time into a buffer, then added in two plain loops, as the
+// product below. The same clones and bits rule.
+static_assert(sizeof(Sym3) == 6 * sizeof(double), "Sym3 is six doubles in a row");
+__attribute__((target_clones("avx512f", "avx2", "default"))) void addRunDiagonal(const PairBlockColumns w, int length,
+                                                                                 double* da, double* db) {
+  constexpr int kChunk = 128;
+  alignas(64) double m[6 * kChunk];
+  for (int c = 0; c < length; c += kChunk) {
+    const int n = std::min(kChunk, length - c);
+    const double* __restrict a = w.v[0] + c;
+    const double* __restrict wx = w.v[1] + c;
+    const double* __restrict wy = w.v[2] + c;
+    const double* __restrict wz = w.v[3] + c;
+    for (int k = 0; k < n; ++k) {  // Sym3's order: xx, yy, zz, xy, xz, yz (the values of BlockColumns::get)
+      m[6 * k] = a[k] + wx[k] * wx[k];
+      m[6 * k + 1] = a[k] + wy[k] * wy[k];
+      m[6 * k + 2] = a[k] + wz[k] * wz[k];
+      m[6 * k + 3] = wx[k] * wy[k];
+      m[6 * k + 4] = wx[k] * wz[k];
+      m[6 * k + 5] = wy[k] * wz[k];
+    }
+    double* y0 = da + 6 * c;
+    for (int j = 0; j < 6 * n; ++j) y0[j] += m[j];
+    double* y1 = db + 6 * c;
+    for (int j = 0; j < 6 * n; ++j) y1[j] += m[j];
+  }
+}
+
+}  // namespace
+
 void PairBlockMatrix::diagonal(std::vector<Sym3>& out, bool parallel) const {
-  out.resize(self_.size());
-  for (std::size_t p = 0; p < self_.size(); ++p) out[p] = Sym3::identity(self_[p]);
+  const int n = static_cast<int>(self_.size());
+  out.resize(n);
+  forEachChunk(n, parallel, [&](int begin, int end) {
+    for (int p = begin; p < end; ++p) out[p] = Sym3::identity(self_[p]);
+  });
   const int* a = pattern_->a().data();
   const int* b = pattern_->b().data();
   const PairBlockColumns w = columns();
-  pattern_->run(parallel, [&](int begin, int end) {
-    for (int e = begin; e < end; ++e) {
-      const Sym3 m = w.get(e);
-      out[a[e]] += m;
-      out[b[e]] += m;
-    }
+  double* blocks = &out.data()->xx;  // Sym3s as six doubles each
+  pattern_->runByRuns(parallel, [&](std::span<const PairRun> runs) {
+    splitRuns(
+        runs,
+        [&](const PairRun& run) {
+          addRunDiagonal(w.shifted(run.first), run.length, blocks + 6 * run.a, blocks + 6 * (run.a + run.offset));
+        },
+        [&](int begin, int end) {
+          for (int e = begin; e < end; ++e) {
+            const Sym3 m = w.get(e);
+            out[a[e]] += m;
+            out[b[e]] += m;
+          }
+        });
   });
 }
 
