@@ -86,12 +86,10 @@ int FilteredPcg::iterate(const Matrix& a, const ParticleFilter& s, T* xs, T* rs,
   double delta = precondition(cs), beta = 0;
   int iterations = 0;
   while (r_norm2 >= threshold && iterations < max_iterations) {
-    // q = A c, with the direction's update c = z + beta c (z in q) fused into the diagonal part of the product.
-    forEachChunk(n, parallel, [&](int begin, int end) {
+    // q = A c in one pass, with the direction's update c = z + beta c (z in q) fused into it block by block.
+    multiplyFused(a, cs, qs, parallel, [&](int begin, int end) {
       if (iterations > 0) pcg::scaleAdd(cs + 3 * begin, qs + 3 * begin, beta, 3 * (end - begin));
-      a.multiplySelf(cs, qs, begin, end);
     });
-    a.addPairProducts(cs, qs, parallel);
     ++iterations;
     // q = S A c, alpha = delta / c.q
     const double cq = sumOverChunks(n, parallel, sums_, [&](int begin, int end) {

@@ -45,16 +45,12 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void addRunDiagonal
 }  // namespace
 
 void PairBlockMatrix::diagonal(std::vector<Sym3>& out, bool parallel) const {
-  const int n = static_cast<int>(self_.size());
-  out.resize(n);
-  forEachChunk(n, parallel, [&](int begin, int end) {
-    for (int p = begin; p < end; ++p) out[p] = Sym3::identity(self_[p]);
-  });
+  out.resize(self_.size());
   const int* a = pattern_->a().data();
   const int* b = pattern_->b().data();
   const PairBlockColumns w = columns();
   double* blocks = &out.data()->xx;  // Sym3s as six doubles each
-  pattern_->runByRuns(parallel, [&](std::span<const PairRun> runs) {
+  const auto addPairs = [&](std::span<const PairRun> runs) {
     splitRuns(
         runs,
         [&](const PairRun& run) {
@@ -67,7 +63,15 @@ void PairBlockMatrix::diagonal(std::vector<Sym3>& out, bool parallel) const {
             out[b[e]] += m;
           }
         });
-  });
+  };
+  // One pass: each block's self part, then its pairs; then the pairs between blocks.
+  pattern_->runByBlocks(
+      parallel,
+      [&](int begin, int end, std::span<const PairRun> runs) {
+        for (int p = begin; p < end; ++p) out[p] = Sym3::identity(self_[p]);
+        addPairs(runs);
+      },
+      addPairs);
 }
 
 namespace {
@@ -124,20 +128,19 @@ void addPairProducts(const int* a, const int* b, const BlockColumns<T> w, const 
   }
 }
 
-// y += the pair blocks' part of A x over the schedule: long runs by the vectorised kernel, the rest pair by pair.
+// y += the pair blocks' part of A x over a task's runs: long runs by the vectorised kernel, the rest pair by pair.
 template <class T>
-void addScheduleProducts(const PairSchedule& pattern, const BlockColumns<T> w, const T* xs, T* ys, bool parallel) {
+void addTaskProducts(const PairSchedule& pattern, const BlockColumns<T> w, const T* xs, T* ys,
+                     std::span<const PairRun> runs) {
   const int* a = pattern.a().data();
   const int* b = pattern.b().data();
-  pattern.runByRuns(parallel, [=](std::span<const PairRun> runs) {
-    splitRuns(
-        runs,
-        [&](const PairRun& run) {
-          const int ia = 3 * run.a, ib = 3 * (run.a + run.offset);
-          addRunProducts(w.shifted(run.first), xs + ia, xs + ib, run.length, ys + ia, ys + ib);
-        },
-        [&](int begin, int end) { addPairProducts(a, b, w, xs, ys, begin, end); });
-  });
+  splitRuns(
+      runs,
+      [&](const PairRun& run) {
+        const int ia = 3 * run.a, ib = 3 * (run.a + run.offset);
+        addRunProducts(w.shifted(run.first), xs + ia, xs + ib, run.length, ys + ia, ys + ib);
+      },
+      [&](int begin, int end) { addPairProducts(a, b, w, xs, ys, begin, end); });
 }
 
 }  // namespace
@@ -146,15 +149,13 @@ void PairBlockMatrix::multiplySelf(const double* x, double* y, int begin, int en
   multiplySelfOf(self_.data(), x, y, begin, end);
 }
 
-void PairBlockMatrix::addPairProducts(const double* x, double* y, bool parallel) const {
-  addScheduleProducts(*pattern_, columns(), x, y, parallel);
+void PairBlockMatrix::addPairProducts(const double* x, double* y, std::span<const PairRun> runs) const {
+  addTaskProducts(*pattern_, columns(), x, y, runs);
 }
 
 void PairBlockMatrix::multiply(const VecX& x, VecX& y, bool parallel) const {
   y.resize(x.size());
-  forEachChunk(pattern_->particles(), parallel,
-               [&](int begin, int end) { multiplySelf(x.data(), y.data(), begin, end); });
-  addPairProducts(x.data(), y.data(), parallel);
+  multiplyFused(*this, x.data(), y.data(), parallel, [](int, int) {});
 }
 
 void SinglePairBlockMatrix::reserve(const PairBlockMatrix& a) {
@@ -180,10 +181,10 @@ void SinglePairBlockMatrix::multiplySelf(const float* x, float* y, int begin, in
   multiplySelfOf(self_.data(), x, y, begin, end);
 }
 
-void SinglePairBlockMatrix::addPairProducts(const float* x, float* y, bool parallel) const {
+void SinglePairBlockMatrix::addPairProducts(const float* x, float* y, std::span<const PairRun> runs) const {
   float* data = const_cast<float*>(pair_.data());
   const std::size_t n = pair_.size() / 4;
-  addScheduleProducts(*pattern_, BlockColumns<float>{{data, data + n, data + 2 * n, data + 3 * n}}, x, y, parallel);
+  addTaskProducts(*pattern_, BlockColumns<float>{{data, data + n, data + 2 * n, data + 3 * n}}, x, y, runs);
 }
 
 }  // namespace wobble

@@ -31,12 +31,12 @@ class PairBlockMatrix {
 
   // The diagonal blocks A_pp = self_p I + sum of W_e over the pairs at p (for block-Jacobi preconditioning).
   void diagonal(std::vector<Sym3>& out, bool parallel) const;
-  // y = A x.
+  // y = A x (multiplyFused below, with nothing fused).
   void multiply(const VecX& x, VecX& y, bool parallel) const;
-  // y = self x on particles [begin, end): the first part of multiply, to fuse with other per-particle work.
+  // y = self x on particles [begin, end): the first part of the product.
   void multiplySelf(const double* x, double* y, int begin, int end) const;
-  // y += the pair blocks' part of A x (after multiplySelf over every particle).
-  void addPairProducts(const double* x, double* y, bool parallel) const;
+  // y += the pair blocks' part of A x over runs of pairs (a task of the schedule, after multiplySelf on its particles).
+  void addPairProducts(const double* x, double* y, std::span<const PairRun> runs) const;
 
  private:
   const PairSchedule* pattern_ = nullptr;
@@ -60,12 +60,29 @@ class SinglePairBlockMatrix {
   void assign(const PairBlockMatrix& a, bool parallel);
   // Sized for a's pattern without values: so that a later assign allocates nothing.
   void reserve(const PairBlockMatrix& a);
+  const PairSchedule* pattern() const { return pattern_; }
   void multiplySelf(const float* x, float* y, int begin, int end) const;
-  void addPairProducts(const float* x, float* y, bool parallel) const;
+  void addPairProducts(const float* x, float* y, std::span<const PairRun> runs) const;
 
  private:
   const PairSchedule* pattern_ = nullptr;
   std::vector<float> self_, pair_;
 };
+
+// y = A x for either matrix, in one pass over the schedule (PairSchedule::runByBlocks): on each block of particles,
+// before(begin, end), then the self part, then the block's own pairs, all by one task; then the pairs between blocks.
+// before() is per-particle work that produces x there (the CG's direction update), fused into the product instead of
+// a loop and a wait of its own. The bytes are those of the unfused product: each particle's terms come in one order.
+template <class Matrix, class T, class Before>
+void multiplyFused(const Matrix& a, const T* x, T* y, bool parallel, Before&& before) {
+  a.pattern()->runByBlocks(
+      parallel,
+      [&](int begin, int end, std::span<const PairRun> runs) {
+        before(begin, end);
+        a.multiplySelf(x, y, begin, end);
+        a.addPairProducts(x, y, runs);
+      },
+      [&](std::span<const PairRun> runs) { a.addPairProducts(x, y, runs); });
+}
 
 }  // namespace wobble

@@ -10,6 +10,7 @@ PairSchedule::PairSchedule(std::span<const int> a, std::span<const int> b, int p
   int span = 1;
   for (std::size_t e = 0; e < a.size(); ++e) span = std::max(span, std::abs(a[e] - b[e]));
   const int block = std::max(particleChunk(particles), span);
+  block_ = block;
   const int blocks = std::max(1, (particles + block - 1) / block);
   // Task of each pair: its block's own pairs (phase 0, tasks 0..blocks-1), or the pairs between blocks k and k + 1
   // (tasks blocks + k). Phases 1 and 2 take the even and the odd k.

@@ -69,6 +69,20 @@ class PairSchedule {
       if (first < last) fn(std::span<const PairRun>(runs_.data() + first, last - first));
     });
   }
+  // runByRuns with the particles: each phase-0 task as block(begin, end, runs), its block of particles [begin, end)
+  // (the blocks cover every particle once) and its own pairs; the later phases' tasks as fn(runs). A phase-0 task's
+  // pairs touch its block's particles only, so block() may first do per-particle work there (a vector update the
+  // pairs then read), fused into the pass instead of a loop and a wait of its own.
+  template <class Block, class Fn>
+  void runByBlocks(bool parallel, Block&& block, Fn&& fn) const {
+    const int blocks = phase_begin_.size() > 1 ? phase_begin_[1] : 0;  // none in a default schedule
+    forEachTask(parallel, [&](int t) {
+      const int first = task_runs_[t], last = task_runs_[t + 1];
+      const std::span<const PairRun> runs(runs_.data() + first, last - first);
+      if (t < blocks) block(t * block_, std::min(particles_, (t + 1) * block_), runs);
+      else if (first < last) fn(runs);
+    });
+  }
 
  private:
   template <class Task>
@@ -90,6 +104,7 @@ class PairSchedule {
   std::vector<PairRun> runs_;
   std::vector<int> task_runs_;  // run ranges of the tasks
   int particles_ = 0;
+  int block_ = 1;  // particles per block (the last may be shorter)
 };
 
 }  // namespace wobble
