@@ -16,7 +16,6 @@ namespace {
 // particles' diagonal blocks, as Sym3's six values in a row (da, db: the first particles' blocks; they may overlap:
 // all of da's adds come first). Computed a chunk at a time into a buffer, then added in two plain loops, as the
 // product below. The same clones and bits rule.
-static_assert(sizeof(Sym3) == 6 * sizeof(double), "Sym3 is six doubles in a row");
 __attribute__((target_clones("avx512f", "avx2", "default"))) void addRunDiagonal(const PairBlockColumns w, int length,
                                                                                  double* da, double* db) {
   constexpr int kChunk = 128;

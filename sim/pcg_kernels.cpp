@@ -65,6 +65,20 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void blockProduct(c
   }
 }
 
+__attribute__((target_clones("avx512f", "avx2", "default"))) void invertBlocks(const double* __restrict m,
+                                                                               double* __restrict inverse,
+                                                                               int particles) {
+  for (int p = 0; p < particles; ++p) {
+    const double* b = m + 6 * p;  // xx, yy, zz, xy, xz, yz
+    const double xx = b[0], yy = b[1], zz = b[2], xy = b[3], xz = b[4], yz = b[5];
+    const double c00 = yy * zz - yz * yz, c11 = xx * zz - xz * xz, c22 = xx * yy - xy * xy;
+    const double c01 = xz * yz - xy * zz, c02 = xy * yz - xz * yy, c12 = xy * xz - xx * yz;
+    const double r = 1.0 / (xx * c00 + xy * c01 + xz * c02);
+    double* out = inverse + 6 * p;
+    out[0] = c00 * r, out[1] = c11 * r, out[2] = c22 * r, out[3] = c01 * r, out[4] = c02 * r, out[5] = c12 * r;
+  }
+}
+
 template <class T>
 __attribute__((target_clones("avx512f", "avx2", "default"))) void blockProductPlus(const T* __restrict m,
                                                                                    const T* __restrict r,

@@ -22,6 +22,9 @@ double step(T* x, T* r, const T* c, const T* q, double alpha, int n);
 // zz, xy, xz, yz as in Sym3).
 template <class T>
 void blockProduct(const T* m, const T* x, T* y, int particles);
+// inverse_p = m_p^-1 for particles p < particles (6 values a particle, as blockProduct's m), by the symmetric
+// cofactors: the blocks must be invertible (block-Jacobi's free particles: their blocks are at least the mass).
+void invertBlocks(const double* m, double* inverse, int particles);
 // z = m_p r_p + u[aggregate[p]] for particles p < particles (u: 3 values per aggregate).
 template <class T>
 void blockProductPlus(const T* m, const T* r, const double* u, const int* aggregate, T* z, int particles);

@@ -34,6 +34,8 @@ struct Sym3 {
   }
   friend Sym3 operator+(Sym3 a, const Sym3& b) { return a += b; }
 };
+// Kernels read arrays of Sym3 as six doubles a block (pair_block_matrix.cpp, pcg_kernels.h).
+static_assert(sizeof(Sym3) == 6 * sizeof(double), "Sym3 is six doubles in a row");
 
 // Many blocks of the form a I + w w^T (a >= 0), stored as four arrays (a, wx, wy, wz), one per value: a loop over
 // consecutive blocks reads each value contiguously and vectorises. Every pair block of the implicit solver's matrix
