@@ -57,8 +57,9 @@ TEST_F(ExtremeInputs, StepLongerThanAFrameBecomesOneStepPerFrame) {
   EXPECT_GT(solver["max_relative_residual"].get<double>(), 0);
   EXPECT_EQ(solver["cg_error_fraction"].get<double>(), IntegratorOptions{}.cg_error_fraction);
   // Above the tolerance only where the error rule stopped a solve earlier.
-  if (solver["error_rule_stops"].get<long>() == 0)
+  if (solver["error_rule_stops"].get<long>() == 0) {
     EXPECT_LE(solver["max_relative_residual"].get<double>(), IntegratorOptions{}.cg_tolerance);
+  }
   // An explicit method at omega h >> 3 blows up, and says so with a hint, without crashing.
   const RunReport e = run("[simulation]\ndt = 0.1\nduration = 0.5\nfps = 30\n" + kSmallJelly + "ks = 1e5\n", "rk4");
   ASSERT_TRUE(e.blow_up);
