@@ -49,8 +49,9 @@ TEST(GridLayout, EvenSizesThatFitAndKeepTheAspect) {
         EXPECT_EQ(g.height() % 2, 0) << where;
         EXPECT_LE(g.width(), w) << where;
         EXPECT_LE(g.height(), h) << where;
-        // At most 2 pixels lost to even rounding on the side that fills the box.
-        EXPECT_TRUE(g.width() > w - 2 * cols - cols || g.height() > h - 2 * rows - rows) << where;
+        // On the side that fills the box, under 2 pixels a tile lost: the division's remainder (under one a tile) and
+        // the even rounding (at most one a tile).
+        EXPECT_TRUE(g.width() > w - 2 * cols || g.height() > h - 2 * rows) << where;
         // The aspect, but for the even rounding (up to 2 pixels each way, which matters on tiny tiles).
         const double aspect = double(w) / h;
         EXPECT_NEAR(double(g.tile_width) / g.tile_height, aspect, (aspect + 1) * 2.0 / g.tile_height) << where;

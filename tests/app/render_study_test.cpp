@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <stdexcept>
 
 #include "app/scene/input_error.h"
 #include "app/study/study_render.h"
@@ -34,7 +35,8 @@ class RenderStudy : public testing::ScratchDir {
 const RenderPoint& point(const RenderStudyResult& r, const std::string& variant, int spp) {
   const auto it = std::find_if(r.points.begin(), r.points.end(),
                                [&](const RenderPoint& p) { return p.variant == variant && p.spp == spp; });
-  EXPECT_NE(it, r.points.end()) << variant << " " << spp;
+  if (it == r.points.end())
+    throw std::runtime_error("no study point " + variant + " at " + std::to_string(spp) + " spp");
   return *it;
 }
 

@@ -7,6 +7,8 @@
 #include <set>
 #include <sstream>
 
+#include "app/scene/body_kinds.h"
+#include "app/scene/collider_kinds.h"
 #include "app/scene/input_error.h"
 #include "app/scene/scene_file.h"
 #include "tests/app/scratch_dir.h"
@@ -70,18 +72,24 @@ TEST_F(SceneDocs, CameraAndRender) {
   EXPECT_EQ(acceptedKeys("[render]\nzzz = 1\n" + kBody), documentedKeys("### `[render]`"));
 }
 
-TEST_F(SceneDocs, Bodies) {
-  EXPECT_EQ(acceptedKeys(kBody + "zzz = 1\n"), documentedKeys("### `[bodies.NAME]` with `type = \"jelly\"`"));
-  EXPECT_EQ(acceptedKeys("[bodies.c]\ntype = \"cloth\"\nzzz = 1\n"),
-            documentedKeys("### `[bodies.NAME]` with `type = \"cloth\"`"));
+TEST_F(SceneDocs, Bodies) {  // every kind the reader knows (body_kinds.h), each with its own section
+  ASSERT_FALSE(bodyTypes().empty());
+  for (const std::string& type : bodyTypes()) {
+    const Keys documented = documentedKeys("### `[bodies.NAME]` with `type = \"" + type + "\"`");
+    EXPECT_FALSE(documented.empty()) << type << " has no section";
+    EXPECT_EQ(acceptedKeys("[bodies.c]\ntype = \"" + type + "\"\nzzz = 1\n"), documented) << type;
+  }
 }
 
 TEST_F(SceneDocs, Colliders) {
   const Keys common = documentedKeys("### `[colliders.NAME]`, every type");
   ASSERT_FALSE(common.empty());
-  for (const char* type : {"plane", "sphere", "elevator"}) {
+  ASSERT_FALSE(colliderTypes().empty());
+  for (const std::string& type : colliderTypes()) {  // every kind the reader knows (collider_kinds.h)
     Keys documented = common;
-    documented += documentedKeys("### `[colliders.NAME]` with `type = \"" + std::string(type) + "\"`");
+    const Keys own = documentedKeys("### `[colliders.NAME]` with `type = \"" + type + "\"`");
+    EXPECT_FALSE(own.empty()) << type << " has no section";
+    documented += own;
     EXPECT_EQ(acceptedKeys(kBody + "[colliders.c]\ntype = \"" + type + "\"\nzzz = 1\n"), documented) << type;
   }
 }

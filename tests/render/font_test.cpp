@@ -55,10 +55,26 @@ TEST(Font, TextInksItsBoxOnly) {
 }
 
 TEST(Font, ClipsAtTheImageEdges) {
+  // Text hanging over every edge of a small image draws exactly the part of it that a large canvas shows there.
   const Font font = labelFont();
-  Image8 image(12, 6, 3);
-  EXPECT_NO_THROW(font.draw(image, -5, -8, "blew up at t = 0.84 s", 14, {255, 255, 255}));
-  EXPECT_NO_THROW(font.draw(image, 10, 3, "WWW", 30, {255, 255, 255}));
+  const auto clippedEqualsCropped = [&](int x, int y, const std::string& text, float px) {
+    Image8 image(12, 6, 3);
+    font.draw(image, x, y, text, px, {255, 255, 255});
+    constexpr int kMargin = 64;
+    Image8 canvas(12 + 2 * kMargin, 6 + 2 * kMargin, 3);
+    font.draw(canvas, x + kMargin, y + kMargin, text, px, {255, 255, 255});
+    int inked = 0, different = 0;
+    for (int py = 0; py < 6; ++py)
+      for (int px_ = 0; px_ < 12; ++px_)
+        for (int c = 0; c < 3; ++c) {
+          inked += image.at(px_, py, c) > 0;
+          different += image.at(px_, py, c) != canvas.at(px_ + kMargin, py + kMargin, c);
+        }
+    EXPECT_GT(inked, 0) << text << ": nothing drawn inside the image";
+    EXPECT_EQ(different, 0) << text;
+  };
+  clippedEqualsCropped(-5, -8, "blew up at t = 0.84 s", 14);  // over the left and top edges
+  clippedEqualsCropped(6, -8, "WWW", 30);                     // over the top, right and bottom edges
   Image8 grey(4, 4, 1);
   EXPECT_THROW(font.draw(grey, 0, 0, "x", 10, {255, 255, 255}), std::invalid_argument);
 }

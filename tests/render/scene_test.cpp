@@ -200,7 +200,9 @@ TEST(Scene, RaysLeavingAShapeGetTheSameAnswerWithTheShortcut) {
     }
     EXPECT_EQ(scene.occluded(ray), scene.occluded(ray, shape));
     const bool skipped = scene.provablyMisses(ray, shape);
-    if (skipped) EXPECT_FALSE(plain) << "shape " << shape;
+    if (skipped) {
+      EXPECT_FALSE(plain) << "shape " << shape;
+    }
     return skipped;
   };
   constexpr int kRays = 2000;

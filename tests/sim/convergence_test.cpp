@@ -1,6 +1,7 @@
 // Convergence orders on smooth problems without contact: the slope of log(error) against log(h) over four halvings
-// must be within 0.3 of each method's theoretical order (numerics.md), against two independent oracles: the
-// analytic damped oscillator, and a swinging pinned cloth (nonlinear, 25 particles) against a tight rk45 solve.
+// must be within 0.1 of each method's theoretical order (shared/reference/numerics.md), against two independent
+// oracles: the analytic damped oscillator, and a swinging pinned cloth (nonlinear, 25 particles) against a tight rk45
+// solve.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -49,7 +50,7 @@ TEST(Convergence, OrdersOnTheDampedOscillatorMatchTheory) {
       error.push_back(oscillatorError(e.method, steps));
     }
     const double order = testing::fittedOrder(h, error);
-    EXPECT_NEAR(order, e.order, 0.3) << e.method << ": errors " << error.front() << " .. " << error.back();
+    EXPECT_NEAR(order, e.order, 0.1) << e.method << ": errors " << error.front() << " .. " << error.back();
     RecordProperty(std::string(e.method) + "_oscillator_order", std::to_string(order));
     std::printf("  %-17s oscillator order %.3f (error %.3g -> %.3g)\n", e.method, order, error.front(), error.back());
   }
@@ -98,7 +99,7 @@ TEST(Convergence, OrdersOnASwingingPinnedClothMatchTheory) {
       error.push_back((clothPositionsAt(*system, e.method, tight, steps, t_end) - reference).cwiseAbs().maxCoeff());
     }
     const double order = testing::fittedOrder(h, error);
-    EXPECT_NEAR(order, e.order, 0.3) << e.method << ": errors " << error.front() << " .. " << error.back();
+    EXPECT_NEAR(order, e.order, 0.1) << e.method << ": errors " << error.front() << " .. " << error.back();
     std::printf("  %-17s cloth order %.3f (error %.3g -> %.3g)\n", e.method, order, error.front(), error.back());
   }
 }

@@ -1,5 +1,6 @@
-// Free fall per integrator against the exact discretization errors of numerics.md, and the jelly falling exactly
-// as a point mass does while keeping its shape (the course frameworks' "slow-motion RK4" and "lost corner" bugs).
+// Free fall per integrator against the exact discretization errors of shared/reference/numerics.md, and the jelly
+// falling exactly as a point mass does while keeping its shape (the course frameworks' "slow-motion RK4" and "lost
+// corner" bugs).
 #include <gtest/gtest.h>
 
 #include "point_masses.h"

@@ -95,7 +95,7 @@ TEST(Rk45, IsFifthOrderAtAFixedNumberOfSubsteps) {
   }
   const double order = testing::fittedOrder(h, error);
   std::printf("  rk45 fixed-step order %.3f (error %.3g -> %.3g)\n", order, error.front(), error.back());
-  EXPECT_NEAR(order, 5, 0.3);
+  EXPECT_NEAR(order, 5, 0.1);
 }
 
 TEST(Rk45, GivesUpInsteadOfLoopingForever) {

@@ -1,6 +1,7 @@
 // Stability on a linear oscillator (one free particle on a spring to a pinned one), measured by running the
 // integrators: "stable" means the amplitude does not grow over many periods. The largest stable omega h is found by
-// bisection and compared with numerics.md's table; then per-step amplitude factors and energy behaviour.
+// bisection and compared with shared/reference/numerics.md's table; then per-step amplitude factors and energy
+// behaviour.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -60,7 +61,8 @@ struct Limit {
   double zeta, limit;
 };
 
-// numerics.md, "Stability limits on a linear oscillator". The zeta = 0 entries of explicit Euler and midpoint are 0
+// shared/reference/numerics.md, "Stability limits on a linear oscillator". The zeta = 0 entries of explicit Euler and
+// midpoint are 0
 // ("always grows"); they are checked separately below.
 const Limit kTable[] = {
     {"explicit-euler", 0.01, 0.02},
@@ -87,7 +89,10 @@ const Limit kTable[] = {
 TEST(Stability, LargestStableStepMatchesTheTable) {
   for (const Limit& e : kTable) {
     const double measured = stabilityLimit(e.method, e.zeta);
-    EXPECT_NEAR(measured, e.limit, 0.05 * e.limit) << e.method << " zeta " << e.zeta;
+    // 0.15% and 5e-5: the table's values are rounded to three or four digits (1.05 for 1.0492), the bisection stops
+    // at 0.1%, and the growth test's 2% over 200 periods lets a growth of 1e-5 a step pass, which shows at the
+    // smallest limits (0.02003 for 0.02).
+    EXPECT_NEAR(measured, e.limit, 0.0015 * e.limit + 5e-5) << e.method << " zeta " << e.zeta;
     std::printf("  %-17s zeta %-4g largest stable omega h %.4f (table %g)\n", e.method, e.zeta, measured, e.limit);
   }
 }
