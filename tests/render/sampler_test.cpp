@@ -59,6 +59,23 @@ TEST(Sampler, RawSobolDimensionsZeroAndOneFormNets) {
   }
 }
 
+TEST(Sampler, DimensionOneIsTheXorOfItsDirectionNumbers) {
+  // Sobol's definition for the polynomial x + 1 (m_1 = 1): v_0 = 1/2, v_k = v_{k-1} ^ v_{k-1} / 2, and point i is the
+  // XOR of the v_k of i's set bits.
+  std::uint32_t v[32];
+  v[0] = 0x80000000u;
+  for (int k = 1; k < 32; ++k) v[k] = v[k - 1] ^ (v[k - 1] >> 1);
+  std::uint64_t state = 7;
+  for (int n = 0; n < 20000; ++n) {
+    state = state * 6364136223846793005u + 1442695040888963407u;
+    const std::uint32_t i = n < 4096 ? std::uint32_t(n) : std::uint32_t(state >> 32);
+    std::uint32_t expected = 0;
+    for (int k = 0; k < 32; ++k)
+      if (i >> k & 1) expected ^= v[k];
+    ASSERT_EQ(sobol::dimension1(i), expected) << "index " << i;
+  }
+}
+
 TEST(Sampler, OwenScramblingKeepsTheNet) {
   for (const auto& [seed_x, seed_y] : {std::pair<std::uint32_t, std::uint32_t>{1u, 2u},
                                        {0xDEADBEEFu, 0x12345678u},
