@@ -27,7 +27,10 @@ std::string markdownRow(const std::vector<std::string>& cells) {
 std::string TextTable::csv() const {
   std::string text;
   const auto line = [&](const std::vector<std::string>& cells) {
-    for (std::size_t i = 0; i < cells.size(); ++i) text += (i ? "," : "") + csvField(cells[i]);
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      if (i) text += ',';
+      text += csvField(cells[i]);
+    }
     text += "\n";
   };
   line(header);

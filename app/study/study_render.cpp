@@ -220,8 +220,9 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
       const render::ImageError e = render::imageError(w, h, image, reference, tone);
       p.rmse = e.rmse, p.relmse = e.relmse, p.worst_tile_rmse = e.worst_tile_rmse,
       p.worst_tile_relmse = e.worst_tile_relmse;
-      std::string file =
-          v.name + "_" + (v.adaptive ? "t" + io::formatNumber(threshold, 3) : std::to_string(spp)) + ".png";
+      std::string file = v.name + "_" +
+                         (v.adaptive ? std::string("t") + io::formatNumber(threshold, 3) : std::to_string(spp)) +
+                         ".png";
       std::replace(file.begin(), file.end(), '+', '-');
       render::writePng(out / "images" / file, render::develop(w, h, image, tone));
       result.points.push_back(p);

@@ -68,7 +68,7 @@ class IdiffConformance : public testing::ScratchDir {
       render::writePng(b, images.second);
       table << "  " << name << ":";
       for (const std::string& options : kOptions) {
-        const std::string files = " " + a.string() + " " + b.string();
+        const std::string files = std::string(" ") + a.string() + " " + b.string();
         const int status =
             std::system((idiff->string() + " -q " + options + files + " > " + log.string() + " 2>&1").c_str());
         const int expected = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -31,8 +31,9 @@ TEST(Sampling, HemisphereAndConeSamplesHaveTheirDefiningAngles) {
       const Eigen::Vector3f d = sampleCosineHemisphere(u1, u2);
       EXPECT_NEAR(d.norm(), 1.0f, 1e-6f);
       EXPECT_NEAR(d.z(), std::sqrt(1.0f - u1), 1e-6f);  // Malley: the disc point's radius is sqrt(u1)
-      if (u1 > 0)
+      if (u1 > 0) {
         EXPECT_NEAR(std::atan2(d.y(), d.x()), std::remainder(2.0 * std::numbers::pi * u2, 2 * std::numbers::pi), 1e-5);
+      }
       const Eigen::Vector3f c = sampleUniformCone(u1, u2, 0.9f);
       EXPECT_NEAR(c.norm(), 1.0f, 1e-6f);
       EXPECT_NEAR(c.z(), 1.0f - u1 * 0.1f, 1e-6f);

@@ -173,8 +173,9 @@ TEST(TextureFilter, HugeFootprintOverWoodIsSteady) {
         }
         const Color nudged = wood.evalFootprint(uv + 0.01f * f.duvdx + 0.01f * f.duvdy, f);
         EXPECT_LT(maxChannelDifference(nudged, c), 0.01f * c.maxCoeff()) << uv.transpose() << ": sparkles";
-        if ((i + j) % 5 == 0)  // a subset against the brute-force box average (the fibre needs dense lookups)
+        if ((i + j) % 5 == 0) {  // a subset against the brute-force box average (the fibre needs dense lookups)
           EXPECT_LT(maxChannelDifference(c, boxAverage(wood, uv, f, 64, 4096)), 0.03f) << uv.transpose();
+        }
         sum += c, ++n;
       }
     }
