@@ -4,7 +4,8 @@
 //                         view (first hits only, no shading): the ceiling for everything else
 //   BM_EmbreePathRays     raw Embree on the renderer's kind of rays: camera, cosine bounce and sun shadow rays of
 //                         BM_RendererRays' frame, made beforehand, replayed with rtcIntersect1 / rtcOccluded1
-//   BM_RendererRays       the renderer's rays per second (camera, bounce and shadow rays, with shading, texture
+//   BM_EmbreePathRaysChained/0,1  those rays' intersections alone, independent (0) or each waiting for the one before
+//   (1) BM_RendererRays       the renderer's rays per second (camera, bounce and shadow rays, with shading, texture
 //                         lookups and sampling) on a 320x180 frame at 4 samples per pixel; argument = threads
 //   BM_Frame720p          wall time of one 1280x720 frame at 16 samples per pixel, 2 bounces, all threads
 //   BM_GeometryUpdate     per-frame scene update: new jelly vertices and normals (updateMesh: NaN check, copy,
@@ -145,67 +146,111 @@ void BM_EmbreeIntersect16(benchmark::State& state) {
 }
 BENCHMARK(BM_EmbreeIntersect16)->Unit(benchmark::kMillisecond);
 
-// Raw Embree on rays shaped like the renderer's: the camera rays of BM_RendererRays' frame (320 x 180, 4 jittered
-// samples a pixel) and, from every hit, a shadow ray towards the sun and a cosine-distributed bounce, two bounces deep
-// (what the path tracer traces, without its bounds shortcut). The rays are made once, outside the timing; the loop
-// only calls rtcIntersect1 and rtcOccluded1 on them. Its rate is what a renderer of rtc*1 calls could reach on these
-// rays with shading, sampling and hit records free: the ceiling BM_RendererRays is measured against.
-void BM_EmbreePathRays(benchmark::State& state) {
-  const RTCScene rtc = benchScene().scene.embreeScene();
-  const Camera camera(view(320, 180));
-  const Eigen::Vector3f sun = SunLight{}.direction.normalized();
-  const auto toRay = [](const Ray& r) {
-    RTCRay ray{};
-    ray.org_x = r.origin.x(), ray.org_y = r.origin.y(), ray.org_z = r.origin.z();
-    ray.dir_x = r.direction.x(), ray.dir_y = r.direction.y(), ray.dir_z = r.direction.z();
-    ray.tfar = INFINITY;
-    ray.mask = 0xFFFFFFFFu;
-    return ray;
-  };
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  std::vector<RTCRayHit> rays;
+// Rays shaped like the renderer's: the camera rays of BM_RendererRays' frame (320 x 180, 4 jittered samples a pixel)
+// and, from every hit, a shadow ray towards the sun and a cosine-distributed bounce, two bounces deep (what the path
+// tracer traces, without its bounds shortcut), made once.
+struct PathRays {
+  std::vector<RTCRayHit> rays;  // camera rays and bounces, each path's in order
   std::vector<RTCRay> shadows;
-  for (int y = 0; y < 180; ++y)
-    for (int x = 0; x < 320; ++x) {
-      const PixelSampler sampler(SamplerKind::Independent, std::uint64_t(y) * 320 + x, 0);
-      for (std::uint32_t s = 0; s < 4; ++s) {
-        const Eigen::Vector2f jitter = sampler.get2D(s, 0);
-        Ray ray = camera.ray(float(x) + jitter.x(), float(y) + jitter.y());
-        for (int bounce = 0; bounce <= 2; ++bounce) {
-          RTCRayHit rh{};
-          rh.ray = toRay(ray);
-          rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-          rays.push_back(rh);
-          rtcIntersect1(rtc, &context, &rh);
-          if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
-          Eigen::Vector3f n = Eigen::Vector3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
-          if (n.dot(ray.direction) > 0) n = -n;
-          const Eigen::Vector3f origin = offsetFromSurface(ray.at(rh.ray.tfar), n);
-          if (sun.dot(n) > 0) shadows.push_back(toRay(Ray{origin, sun}));
-          if (bounce == 2) break;
-          const Eigen::Vector2f u = sampler.get2D(s, 2 + bounce);
-          ray = Ray{origin, Frame(n).toWorld(sampleCosineHemisphere(u.x(), u.y())).normalized()};
+};
+
+const PathRays& pathRays() {
+  static const PathRays made = [] {
+    PathRays p;
+    const RTCScene rtc = benchScene().scene.embreeScene();
+    const Camera camera(view(320, 180));
+    const Eigen::Vector3f sun = SunLight{}.direction.normalized();
+    const auto toRay = [](const Ray& r) {
+      RTCRay ray{};
+      ray.org_x = r.origin.x(), ray.org_y = r.origin.y(), ray.org_z = r.origin.z();
+      ray.dir_x = r.direction.x(), ray.dir_y = r.direction.y(), ray.dir_z = r.direction.z();
+      ray.tfar = INFINITY;
+      ray.mask = 0xFFFFFFFFu;
+      return ray;
+    };
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    for (int y = 0; y < 180; ++y)
+      for (int x = 0; x < 320; ++x) {
+        const PixelSampler sampler(SamplerKind::Independent, std::uint64_t(y) * 320 + x, 0);
+        for (std::uint32_t s = 0; s < 4; ++s) {
+          const Eigen::Vector2f jitter = sampler.get2D(s, 0);
+          Ray ray = camera.ray(float(x) + jitter.x(), float(y) + jitter.y());
+          for (int bounce = 0; bounce <= 2; ++bounce) {
+            RTCRayHit rh{};
+            rh.ray = toRay(ray);
+            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+            p.rays.push_back(rh);
+            rtcIntersect1(rtc, &context, &rh);
+            if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
+            Eigen::Vector3f n = Eigen::Vector3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
+            if (n.dot(ray.direction) > 0) n = -n;
+            const Eigen::Vector3f origin = offsetFromSurface(ray.at(rh.ray.tfar), n);
+            if (sun.dot(n) > 0) p.shadows.push_back(toRay(Ray{origin, sun}));
+            if (bounce == 2) break;
+            const Eigen::Vector2f u = sampler.get2D(s, 2 + bounce);
+            ray = Ray{origin, Frame(n).toWorld(sampleCosineHemisphere(u.x(), u.y())).normalized()};
+          }
         }
       }
-    }
+    return p;
+  }();
+  return made;
+}
+
+// Raw Embree on the renderer's kind of rays (pathRays), replayed: the loop only calls rtcIntersect1 and rtcOccluded1.
+// Its rate is what a renderer of rtc*1 calls could reach on these rays with shading, sampling and hit records free:
+// the ceiling BM_RendererRays is measured against.
+void BM_EmbreePathRays(benchmark::State& state) {
+  const RTCScene rtc = benchScene().scene.embreeScene();
+  const PathRays& p = pathRays();
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
   std::size_t hits = 0;
   for (auto _ : state) {
-    for (RTCRayHit rh : rays) {
+    for (RTCRayHit rh : p.rays) {
       rtcIntersect1(rtc, &context, &rh);
       hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
     }
-    for (RTCRay ray : shadows) {
+    for (RTCRay ray : p.shadows) {
       rtcOccluded1(rtc, &context, &ray);
       hits += ray.tfar < 0;
     }
   }
   benchmark::DoNotOptimize(hits);
-  state.counters["rays_per_s"] = benchmark::Counter(double(rays.size() + shadows.size()) * double(state.iterations()),
-                                                    benchmark::Counter::kIsRate);
-  state.counters["shadow_share"] = double(shadows.size()) / double(rays.size() + shadows.size());
+  state.counters["rays_per_s"] =
+      benchmark::Counter(double(p.rays.size() + p.shadows.size()) * double(state.iterations()),
+                         benchmark::Counter::kIsRate);
+  state.counters["shadow_share"] = double(p.shadows.size()) / double(p.rays.size() + p.shadows.size());
 }
 BENCHMARK(BM_EmbreePathRays)->Unit(benchmark::kMillisecond);
+
+// The intersection rays of pathRays alone (argument 0), and each made to wait for the one before (argument 1: its
+// origin takes + 0 * the previous ray's hit distance, a data dependency the compiler keeps), as in a depth-first path
+// tracer, where a bounce starts only once the hit before it is known. Equal rates say the processor gains nothing
+// from overlapping independent rays, so a wavefront of scalar code would not either.
+void BM_EmbreePathRaysChained(benchmark::State& state) {
+  const RTCScene rtc = benchScene().scene.embreeScene();
+  const PathRays& p = pathRays();
+  const bool chained = state.range(0) != 0;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  std::size_t hits = 0;
+  for (auto _ : state) {
+    float previous = 0;  // the previous ray's hit distance (0 when it missed)
+    for (RTCRayHit rh : p.rays) {
+      if (chained) rh.ray.org_x += 0.0f * previous;
+      rtcIntersect1(rtc, &context, &rh);
+      const bool hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+      hits += hit;
+      previous = hit ? rh.ray.tfar : 0.0f;
+    }
+  }
+  benchmark::DoNotOptimize(hits);
+  state.counters["rays_per_s"] =
+      benchmark::Counter(double(p.rays.size()) * double(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_EmbreePathRaysChained)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 void BM_RendererRays(benchmark::State& state) {
   const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, std::size_t(state.range(0)));
