@@ -4,8 +4,10 @@
 //                         view (first hits only, no shading): the ceiling for everything else
 //   BM_EmbreePathRays     raw Embree on the renderer's kind of rays: camera, cosine bounce and sun shadow rays of
 //                         BM_RendererRays' frame, made beforehand, replayed with rtcIntersect1 / rtcOccluded1
-//   BM_EmbreePathRaysChained/0,1  those rays' intersections alone, independent (0) or each waiting for the one before
-//   (1) BM_RendererRays       the renderer's rays per second (camera, bounce and shadow rays, with shading, texture
+//   BM_EmbreePathRaysChained
+//                         those rays' intersections alone: independent (argument 0) or each waiting for the hit
+//                         before it (1)
+//   BM_RendererRays       the renderer's rays per second (camera, bounce and shadow rays, with shading, texture
 //                         lookups and sampling) on a 320x180 frame at 4 samples per pixel; argument = threads
 //   BM_Frame720p          wall time of one 1280x720 frame at 16 samples per pixel, 2 bounces, all threads
 //   BM_GeometryUpdate     per-frame scene update: new jelly vertices and normals (updateMesh: NaN check, copy,

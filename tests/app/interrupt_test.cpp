@@ -78,12 +78,17 @@ void expectInterruptedRun(const fs::path& out, const fs::path& clean_of_same_sce
 
 TEST_F(Interrupt, SigintAndSigtermStopAfterACompleteFrame) {
   const fs::path file = scene();
-  // A clean run of the first frames, for the bytes the interrupted runs must hold.
+  // A clean run of the first `frames` frames into OUT, for the bytes the interrupted runs must hold.
+  const auto cleanRun = [&](int frames, const fs::path& out) {
+    const fs::path log = dir() / ("clean_" + std::to_string(frames) + ".txt");
+    return runWobble("run " + file.string() + " --resolution 32x18 --frames 1:" + std::to_string(frames) + " --out " +
+                         out.string(),
+                     log) == 0
+               ? ::testing::AssertionSuccess()
+               : ::testing::AssertionFailure() << slurpFile(log);
+  };
   const fs::path clean = dir() / "clean";
-  ASSERT_EQ(runWobble("run " + file.string() + " --resolution 32x18 --frames 1:40 --out " + clean.string(),
-                      dir() / "clean.txt"),
-            0)
-      << slurpFile(dir() / "clean.txt");
+  ASSERT_TRUE(cleanRun(40, clean));
   for (const auto& [signal, status] : {std::pair{SIGINT, 130}, std::pair{SIGTERM, 143}}) {
     fs::remove_all(out());
     const pid_t child = startWobble(run(file), log());
@@ -99,11 +104,7 @@ TEST_F(Interrupt, SigintAndSigtermStopAfterACompleteFrame) {
     fs::path reference = clean;
     if (written > 40) {
       reference = dir() / ("clean_" + std::to_string(written));
-      ASSERT_EQ(runWobble("run " + file.string() + " --resolution 32x18 --frames 1:" + std::to_string(written) +
-                              " --out " + reference.string(),
-                          dir() / "clean_more.txt"),
-                0)
-          << slurpFile(dir() / "clean_more.txt");
+      ASSERT_TRUE(cleanRun(written, reference));
     }
     fs::remove(out() / "run.json");
     expectCompleteFiles(out(), reference);

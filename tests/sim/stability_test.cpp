@@ -62,8 +62,7 @@ struct Limit {
 };
 
 // shared/reference/numerics.md, "Stability limits on a linear oscillator". The zeta = 0 entries of explicit Euler and
-// midpoint are 0
-// ("always grows"); they are checked separately below.
+// midpoint are 0 ("always grows"); they are checked separately below.
 const Limit kTable[] = {
     {"explicit-euler", 0.01, 0.02},
     {"explicit-euler", 0.1, 0.2},
