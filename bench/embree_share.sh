@@ -46,38 +46,41 @@ command -v "$blender" >/dev/null 2>&1 || die 3 "Blender is missing: '$blender' i
 out="${OUT:-out/embree-share-$(basename "$scene" .toml)-$frame}"
 mkdir -p "$out/logs" || die 1 "$out: cannot create the output folder"
 
-# profile NAME COMMAND...: runs COMMAND under perf (log: OUT/logs/NAME.log), prints "embree_samples all_samples".
+# profile KEY COMMAND...: runs COMMAND under perf (log: OUT/logs/KEY.log) and sets embree[KEY] and all[KEY], its
+# samples in libembree3 and in all. In this shell, not a subshell, so that die ends the script.
+declare -A embree all
 profile() {
-  local name="$1"
+  local key="$1"
   shift
-  perf record -q -e cpu-clock -F "$freq" -o "$out/$name.perf" -- "$@" >"$out/logs/$name.log" 2>&1 ||
-    die 1 "$name failed (log: $out/logs/$name.log)"
-  perf script -i "$out/$name.perf" -F ip,dso 2>/dev/null |
-    awk '{ all++; if ($2 ~ /libembree3/) embree++ } END { print embree + 0, all + 0 }'
+  perf record -q -e cpu-clock -F "$freq" -o "$out/$key.perf" -- "$@" >"$out/logs/$key.log" 2>&1 ||
+    die 1 "$key failed (log: $out/logs/$key.log)"
+  read -r "embree[$key]" "all[$key]" < <(perf script -i "$out/$key.perf" -F ip,dso 2>/dev/null |
+    awk '{ n++; if ($2 ~ /libembree3/) e++ } END { print e + 0, n + 0 }')
 }
 
 echo "== exporting frame $frame for Cycles (wobble study render)" >&2
 "$wobble" study render "$scene" --frame "$frame" --resolution "$resolution" --reference-spp 2 --max-spp 1 \
   --variants independent --out "$out/export" >"$out/logs/export.log" 2>&1 || die 1 "the export failed (log: $out/logs/export.log)"
 
-declare -A embree all
 for spp in "$low" "$high"; do
   echo "== wobble at $spp spp" >&2
-  read -r "embree[wobble$spp]" "all[wobble$spp]" < <(profile "wobble-$spp" "$wobble" run "$scene" --frames "$frame" \
-    --resolution "$resolution" --spp "$spp" --set render.noise_threshold=0 --denoise off --render png --out "$out/wobble-$spp")
+  profile "wobble-$spp" "$wobble" run "$scene" --frames "$frame" --resolution "$resolution" --spp "$spp" \
+    --set render.noise_threshold=0 --denoise off --render png --out "$out/wobble-$spp"
   echo "== Cycles at $spp spp" >&2
-  read -r "embree[cycles$spp]" "all[cycles$spp]" < <(profile "cycles-$spp" "$blender" -b --factory-startup \
-    --python-exit-code 1 --python "$script_dir/cycles_scene.py" -- "$out/export/frame" "$out/cycles-$spp.exr" "$spp")
+  profile "cycles-$spp" "$blender" -b --factory-startup --python-exit-code 1 --python "$script_dir/cycles_scene.py" \
+    -- "$out/export/frame" "$out/cycles-$spp.exr" "$spp"
 done
 
+rows=""
+for r in wobble cycles; do
+  de=$((embree[$r-$high] - embree[$r-$low])) da=$((all[$r-$high] - all[$r-$low]))
+  ((da > 0)) || die 1 "$r: no more samples at $high spp than at $low (too few samples: raise FREQ or the resolution)"
+  rows+="$(awk -v r="$r" -v e="$de" -v a="$da" 'BEGIN { printf "| %s | %d | %d | %.1f%% |", r, e, a, 100 * e / a }')"$'\n'
+done
 {
   echo "| renderer | Embree's samples | all samples | Embree's share of path tracing |"
   echo "|---|---|---|---|"
-  for r in wobble cycles; do
-    de=$((embree[$r$high] - embree[$r$low])) da=$((all[$r$high] - all[$r$low]))
-    ((da > 0)) || die 1 "$r: no more samples at $high spp than at $low (too few samples: raise FREQ or the resolution)"
-    awk -v r="$r" -v e="$de" -v a="$da" 'BEGIN { printf "| %s | %d | %d | %.1f%% |\n", r, e, a, 100 * e / a }'
-  done
+  printf '%s' "$rows"
   echo
   echo "(perf cpu-clock at $freq Hz, $resolution, $high spp minus $low spp; $(basename "$scene") frame $frame)"
 } | tee "$out/share.md"
