@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "sim/bodies/cloth.h"
-#include "sim/coarse_correction.h"
+#include "sim/solver/coarse_correction.h"
 #include "sim/force_jacobian.h"
 #include "sim/integrators/integrator.h"
 #include "sim/simulation.h"

@@ -3,7 +3,7 @@
 // springs per second: springs x steps / wall second. A method with k force evaluations per step (RK4: 4) does k
 // times that many spring evaluations; compare methods by "steps/s", the force loop by explicit Euler's "springs/s".
 // threshold/METHOD/SIDE/PARALLEL: a SIDE x SIDE cloth (dt 1e-4), serially (PARALLEL 0) or on 2 threads with the
-// parallel threshold lowered to 0 (1): where threads start to pay (sim/parallel.h's threshold).
+// parallel threshold lowered to 0 (1): where threads start to pay (sim/solver/parallel.h's threshold).
 // Run: build/sim_bench [--benchmark_filter=rk4]
 #include <benchmark/benchmark.h>
 
@@ -12,7 +12,7 @@
 #include "sim/bodies/cloth.h"
 #include "sim/bodies/jelly.h"
 #include "sim/integrators/integrator.h"
-#include "sim/parallel.h"
+#include "sim/solver/parallel.h"
 #include "sim/system.h"
 
 namespace wobble {

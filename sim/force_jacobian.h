@@ -2,7 +2,7 @@
 #pragma once
 #include "sim/dynamics.h"
 #include "sim/springs.h"
-#include "sim/sym3.h"
+#include "sim/solver/sym3.h"
 
 namespace wobble {
 

@@ -7,9 +7,9 @@
 #pragma once
 #include <span>
 
-#include "sim/pair_schedule.h"
+#include "sim/solver/pair_schedule.h"
 #include "sim/springs.h"
-#include "sim/sym3.h"
+#include "sim/solver/sym3.h"
 
 namespace wobble {
 

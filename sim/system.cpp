@@ -5,7 +5,7 @@
 #include "sim/contact.h"
 #include "sim/contact_constraints.h"
 #include "sim/force_jacobian.h"
-#include "sim/pair_block_matrix.h"
+#include "sim/solver/pair_block_matrix.h"
 #include "sim/spring_runs.h"
 
 namespace wobble {

@@ -8,7 +8,7 @@
 #include "sim/body.h"
 #include "sim/colliders/collider.h"
 #include "sim/dynamics.h"
-#include "sim/pair_schedule.h"
+#include "sim/solver/pair_schedule.h"
 
 namespace wobble {
 

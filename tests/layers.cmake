@@ -1,6 +1,7 @@
 # The layers of ARCHITECTURE.md, checked on every ctest: a folder includes only the folders below it.
 #   io/      the standard library only (of the project: nothing)
 #   sim/     neither render/ nor app/ nor io/: the simulator stands alone
+#   sim/solver/  the linear-solver machinery: of sim/ only sim/solver/ and sim/types.h (never the model files)
 #   render/  io/, never sim/ or app/
 #   app/compare/  never app/commands/ or app/cli/ (compare_command.cpp uses it)
 # Run: cmake -DROOT=<source dir> -P tests/layers.cmake (ctest runs it as the test "layers").
@@ -9,6 +10,9 @@ set(rules
   "sim|render/|app/|io/"
   "render|sim/|app/"
   "app/compare|app/commands/|app/cli/")
+# Folders that may include only what is listed (prefixes), besides the standard library and the packages.
+set(only_rules
+  "sim/solver|sim/solver/,sim/types.h")
 set(broken "")
 foreach(rule IN LISTS rules)
   string(REPLACE "|" ";" parts "${rule}")
@@ -35,7 +39,31 @@ foreach(rule IN LISTS rules)
     endforeach()
   endforeach()
 endforeach()
+foreach(rule IN LISTS only_rules)
+  string(REPLACE "|" ";" parts "${rule}")
+  list(GET parts 0 folder)
+  list(GET parts 1 allowed)
+  string(REPLACE "," ";" allowed "${allowed}")
+  file(GLOB_RECURSE files "${ROOT}/${folder}/*.h" "${ROOT}/${folder}/*.cpp")
+  foreach(file IN LISTS files)
+    file(STRINGS "${file}" includes REGEX "^[ \t]*#[ \t]*include[ \t]*\"")
+    foreach(line IN LISTS includes)
+      string(REGEX REPLACE "^[^\"]*\"([^\"]*)\".*$" "\\1" target "${line}")
+      set(ok FALSE)
+      foreach(prefix IN LISTS allowed)
+        string(FIND "${target}" "${prefix}" at)
+        if(at EQUAL 0)
+          set(ok TRUE)
+        endif()
+      endforeach()
+      if(NOT ok)
+        file(RELATIVE_PATH from "${ROOT}" "${file}")
+        string(APPEND broken "  ${from} includes ${target} (${folder}/ may include only ${allowed})\n")
+      endif()
+    endforeach()
+  endforeach()
+endforeach()
 if(broken)
   message(FATAL_ERROR "layering broken (ARCHITECTURE.md):\n${broken}")
 endif()
-message(STATUS "layers kept: io/ includes nothing of the project, sim/ nothing of render/, app/ or io/, render/ nothing of sim/ or app/, app/compare/ nothing of app/commands/ or app/cli/")
+message(STATUS "layers kept: io/ includes nothing of the project, sim/ nothing of render/, app/ or io/, sim/solver/ nothing of the model, render/ nothing of sim/ or app/, app/compare/ nothing of app/commands/ or app/cli/")

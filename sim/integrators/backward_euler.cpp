@@ -39,9 +39,9 @@
 #include <stdexcept>
 #include <vector>
 
-#include "sim/filtered_pcg.h"
+#include "sim/solver/filtered_pcg.h"
 #include "sim/integrators/methods.h"
-#include "sim/parallel.h"
+#include "sim/solver/parallel.h"
 
 namespace wobble {
 namespace {

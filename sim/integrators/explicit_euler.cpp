@@ -1,6 +1,6 @@
 // Explicit (forward) Euler: x1 = x0 + h v0, v1 = v0 + h a(x0, v0). First order; unstable on undamped oscillators.
 #include "sim/integrators/methods.h"
-#include "sim/parallel.h"
+#include "sim/solver/parallel.h"
 
 namespace wobble {
 namespace {

@@ -1,6 +1,6 @@
 // Explicit midpoint (RK2): one Euler half step, then the full step with the midpoint derivative. Second order.
 #include "sim/integrators/methods.h"
-#include "sim/parallel.h"
+#include "sim/solver/parallel.h"
 
 namespace wobble {
 namespace {

@@ -4,7 +4,7 @@
 // On y' = lambda y this is y1 = (1 + z + z^2) y0 with z = h lambda: an explicit method, first order, stable on an
 // undamped oscillator only up to omega h = 1. It is not backward Euler.
 #include "sim/integrators/methods.h"
-#include "sim/parallel.h"
+#include "sim/solver/parallel.h"
 
 namespace wobble {
 namespace {

@@ -1,7 +1,7 @@
 // Classical fourth-order Runge-Kutta on the first-order system (x' = v, v' = a). Every stage starts from the
 // step's start state (x0, v0); forgetting that is what made a course framework's RK4 jelly fall in slow motion.
 #include "sim/integrators/methods.h"
-#include "sim/parallel.h"
+#include "sim/solver/parallel.h"
 
 namespace wobble {
 namespace {

@@ -19,7 +19,7 @@
 #include <stdexcept>
 
 #include "sim/integrators/methods.h"
-#include "sim/parallel.h"
+#include "sim/solver/parallel.h"
 
 namespace wobble {
 namespace {

@@ -3,7 +3,7 @@
 // oscillates but does not drift, and it is stable up to omega h = 2; with explicit damping (dampers, drag) the limit
 // drops to 2 (sqrt(1 + zeta^2) - zeta). No options.
 #include "sim/integrators/methods.h"
-#include "sim/parallel.h"
+#include "sim/solver/parallel.h"
 
 namespace wobble {
 namespace {

@@ -1,4 +1,4 @@
-// The coarse level's block LDL^T (sim/block_ldlt.h) against a dense solve of the same matrix: a symmetric, blockwise
+// The coarse level's block LDL^T (sim/solver/block_ldlt.h) against a dense solve of the same matrix: a symmetric, blockwise
 // diagonally dominant (so positive definite) matrix of 3 x 3 blocks on a grid graph cut by one level of nested
 // dissection, in an order with fill-in. Also: the same bytes with the parts on one thread or two, a pivot that is not
 // positive definite reported (and a zero solve), a block between the parts refused.
@@ -9,8 +9,8 @@
 #include <random>
 #include <stdexcept>
 
-#include "sim/block_ldlt.h"
-#include "sim/graph_dissection.h"
+#include "sim/solver/block_ldlt.h"
+#include "sim/solver/graph_dissection.h"
 
 namespace wobble {
 namespace {

@@ -1,11 +1,11 @@
-// One level of nested dissection (sim/graph_dissection.h), checked on graphs whose answer is known: no edge ever joins
+// One level of nested dissection (sim/solver/graph_dissection.h), checked on graphs whose answer is known: no edge ever joins
 // the two parts (what lets the coarse solve run them on two threads), the parts of a grid hold 40% of the nodes or
 // more each, the separator of a grid is about one diagonal, and other components go to part 1.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 
-#include "sim/graph_dissection.h"
+#include "sim/solver/graph_dissection.h"
 
 namespace wobble {
 namespace {

@@ -9,7 +9,7 @@
 #include "sim/bodies/cloth.h"
 #include "sim/bodies/jelly.h"
 #include "sim/force_jacobian.h"
-#include "sim/pair_block_matrix.h"
+#include "sim/solver/pair_block_matrix.h"
 #include "sim/spring_runs.h"
 #include "sim/system.h"
 

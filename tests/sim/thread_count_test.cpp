@@ -11,7 +11,7 @@
 
 #include "sim/bodies/jelly.h"
 #include "sim/colliders/plane.h"
-#include "sim/parallel.h"
+#include "sim/solver/parallel.h"
 #include "sim/simulation.h"
 #include "tests/sim/cloth_on_sphere.h"
 

@@ -12,9 +12,9 @@
 #include <tbb/global_control.h>
 
 #include "sim/bodies/cloth.h"
-#include "sim/filtered_pcg.h"
+#include "sim/solver/filtered_pcg.h"
 #include "sim/integrators/integrator.h"
-#include "sim/parallel.h"
+#include "sim/solver/parallel.h"
 #include "sim/simulation.h"
 #include "tests/sim/cloth_on_sphere.h"
 #include "tests/sim/stiff_cloth.h"

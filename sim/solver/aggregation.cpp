@@ -1,4 +1,4 @@
-#include "sim/aggregation.h"
+#include "sim/solver/aggregation.h"
 
 #include <map>
 #include <utility>

@@ -14,7 +14,7 @@
 
 #include <Eigen/Core>
 
-#include "sim/parallel.h"
+#include "sim/solver/parallel.h"
 
 namespace wobble {
 

@@ -1,4 +1,4 @@
-#include "sim/particle_filter.h"
+#include "sim/solver/particle_filter.h"
 
 namespace wobble {
 

@@ -1,4 +1,4 @@
-#include "sim/pair_block_matrix.h"
+#include "sim/solver/pair_block_matrix.h"
 
 #include <algorithm>
 

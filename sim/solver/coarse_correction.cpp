@@ -1,8 +1,8 @@
-#include "sim/coarse_correction.h"
+#include "sim/solver/coarse_correction.h"
 
-#include "sim/aggregation.h"
-#include "sim/graph_dissection.h"
-#include "sim/parallel.h"
+#include "sim/solver/aggregation.h"
+#include "sim/solver/graph_dissection.h"
+#include "sim/solver/parallel.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/OrderingMethods>

@@ -5,8 +5,8 @@
 #pragma once
 #include <vector>
 
-#include "sim/pair_schedule.h"
-#include "sim/sym3.h"
+#include "sim/solver/pair_schedule.h"
+#include "sim/solver/sym3.h"
 
 namespace wobble {
 

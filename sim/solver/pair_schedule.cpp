@@ -1,4 +1,4 @@
-#include "sim/pair_schedule.h"
+#include "sim/solver/pair_schedule.h"
 
 #include <algorithm>
 #include <cstdlib>

@@ -18,9 +18,9 @@
 #pragma once
 #include <vector>
 
-#include "sim/coarse_correction.h"
-#include "sim/pair_block_matrix.h"
-#include "sim/particle_filter.h"
+#include "sim/solver/coarse_correction.h"
+#include "sim/solver/pair_block_matrix.h"
+#include "sim/solver/particle_filter.h"
 
 namespace wobble {
 

@@ -1,4 +1,4 @@
-#include "sim/block_ldlt.h"
+#include "sim/solver/block_ldlt.h"
 
 #include <Eigen/Cholesky>
 #include <algorithm>

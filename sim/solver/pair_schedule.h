@@ -10,7 +10,7 @@
 #include <span>
 #include <vector>
 
-#include "sim/parallel.h"
+#include "sim/solver/parallel.h"
 
 namespace wobble {
 

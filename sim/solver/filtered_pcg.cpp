@@ -1,6 +1,6 @@
-#include "sim/filtered_pcg.h"
+#include "sim/solver/filtered_pcg.h"
 
-#include "sim/pcg_kernels.h"
+#include "sim/solver/pcg_kernels.h"
 
 #include <algorithm>
 #include <cmath>

@@ -11,9 +11,9 @@
 #pragma once
 #include <vector>
 
-#include "sim/block_ldlt.h"
-#include "sim/pair_block_matrix.h"
-#include "sim/particle_filter.h"
+#include "sim/solver/block_ldlt.h"
+#include "sim/solver/pair_block_matrix.h"
+#include "sim/solver/particle_filter.h"
 
 namespace wobble {
 

@@ -1,4 +1,4 @@
-#include "sim/pcg_kernels.h"
+#include "sim/solver/pcg_kernels.h"
 
 namespace wobble::pcg {
 namespace {

@@ -1,4 +1,4 @@
-#include "sim/graph_dissection.h"
+#include "sim/solver/graph_dissection.h"
 
 #include <algorithm>
 

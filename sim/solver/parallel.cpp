@@ -1,4 +1,4 @@
-#include "sim/parallel.h"
+#include "sim/solver/parallel.h"
 
 #include <atomic>
 
