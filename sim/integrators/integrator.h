@@ -67,7 +67,7 @@ class Integrator {
 // What a study or an estimate needs to know of a method, kept beside its constructor in the method table
 // (integrator.cpp), so that no caller compares names. Every method must state its order (checked when compiled).
 struct IntegratorTraits {
-  int order = 0;          // of global accuracy (numerics.md): error ~ C h^order on a smooth problem
+  int order = 0;          // of global accuracy (docs/numerics.md): error ~ C h^order on a smooth problem
   bool adaptive = false;  // chooses its own substeps: dt is only its largest step, tolerances set the accuracy
   bool a_stable = false;  // stable at any step on a damped linear oscillator: no fixed-step limit
   bool implicit = false;  // solves a linear system each step: assembles force Jacobians (memory, scene_limits.h)
