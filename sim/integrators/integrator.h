@@ -12,8 +12,7 @@ namespace wobble {
 
 // backward-euler's preconditioner (filtered_pcg.h). Auto: block-Jacobi, and two-level on a system of at least
 // kTwoLevelParticles particles once a block-Jacobi solve has taken more than kTwoLevelIterations iterations, back to
-// block-Jacobi when a two-level solve takes fewer than a quarter of that (measured: docs/integrators.md, "The
-// preconditioner").
+// block-Jacobi when a two-level solve takes fewer than a quarter of that (measured: docs/integrators.md).
 enum class CgPreconditioner { Auto, BlockJacobi, TwoLevel };
 inline constexpr int kTwoLevelParticles = 2000;
 inline constexpr int kTwoLevelIterations = 40;
