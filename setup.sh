@@ -18,7 +18,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev            # tests, benchmarks
   ffmpeg gnuplot-nox                                    # video and plots (external programs)
   openimageio-tools                                     # idiff: wobble diff's conformance test (~60 MB to fetch)
-  parallel                                              # GNU parallel: the split-render test (README)
+  parallel                                              # GNU parallel: the split-render test (docs/farm-rendering.md)
 )
 case "${1:-}" in
   "") ;;

@@ -1,8 +1,9 @@
 // The course cloth (25 x 25, ks 20000, kd 750, corners pinned, over a unit sphere, dt 1e-4, explicit Euler) stepped
 // by wobble and by a stand-in for the course framework's own code: single precision, one thread, particles as
 // structs (position, velocity, force), springs as structs, the sphere tested for every particle every step, as
-// that framework's cloth variant does (references/course-frameworks.md). The framework's source is not part of this
-// project: this is a plain reimplementation of what it computes, to compare step costs on the same machine.
+// that framework's cloth variant does (docs/numerics.md, "The course framework's constants"). The framework's source
+// is not part of this project: this is a plain reimplementation of what it computes, to compare step costs on the
+// same machine.
 // Run: build/course_cloth_bench
 #include <benchmark/benchmark.h>
 

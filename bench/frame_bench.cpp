@@ -1,5 +1,5 @@
-// The README's first command frame by frame, stage by stage: one 1280x720 frame of a shipped scene at the scene's
-// own render settings (final quality), as `wobble run` renders it.
+// The README's first command (the default scene) frame by frame, stage by stage: one 1280x720 frame of a shipped scene
+// at the scene's own render settings (final quality), as `wobble run` renders it.
 //   BM_Render    render(): path tracing (all threads)
 //   BM_Denoise   denoise() of that film (all threads)
 //   BM_Develop   tone mapping to 8-bit sRGB (one thread, as the run's writer)

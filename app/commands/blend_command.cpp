@@ -159,7 +159,7 @@ BlendReport makeBlend(const BlendOptions& options) {
   if (!blender)
     throw std::runtime_error("blender not found on PATH: cannot build " + (out / (scene.name + ".blend")).string() +
                              " (install Blender 3.4 or later, e.g. apt-get install blender; the point caches in " +
-                             mesh.string() + " also load by hand: README, In Blender)");
+                             mesh.string() + " also load by hand: docs/blender.md)");
 
   const OutputFolder folder(out);  // not while a run writes there
   const json camera = {{"fov_deg", scene.render.camera.fov_deg}, {"views", cameraViews(scene, run, caches, orders)}};

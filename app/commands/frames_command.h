@@ -1,8 +1,8 @@
 // `wobble frames SCENE_OR_OUT --chunks N`: the frame ranges of N pieces of a render, one "A:B" a line, so that GNU
-// parallel or a Slurm array task picks its own range without arithmetic in shell (README, "Rendering on many
-// machines"). From a run's folder the range is the frames the run wrote (OUT/run.json: what `wobble render` of that
-// OUT/mesh can render); from a scene file, all the scene's frames (to plan before simulating). Contiguous pieces, as
-// even as can be: the first (frames mod N) pieces get one frame more.
+// parallel or a Slurm array task picks its own range without arithmetic in shell (docs/farm-rendering.md, "Rendering on
+// many machines"). From a run's folder the range is the frames the run wrote (OUT/run.json: what `wobble render` of
+// that OUT/mesh can render); from a scene file, all the scene's frames (to plan before simulating). Contiguous pieces,
+// as even as can be: the first (frames mod N) pieces get one frame more.
 #pragma once
 #include <filesystem>
 #include <optional>

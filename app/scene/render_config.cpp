@@ -27,9 +27,9 @@ std::array<int, 2> readResolution(TableReader& r, std::array<int, 2> fallback) {
   return {int(wh[0]), int(wh[1])};
 }
 
-// Chosen from `wobble study render` on the shipped scenes (README, "Render quality"). One denoised sample per pixel
-// already has a several times lower error than the old eight noisy ones; a higher --spp turns on adaptive sampling
-// (noise threshold 0.1: at 16 spp, the error of 16 everywhere for a third of the samples).
+// Chosen from `wobble study render` on the shipped scenes (docs/rendering.md, "Quality presets"). One denoised sample
+// per pixel already has a several times lower error than the old eight noisy ones; a higher --spp turns on adaptive
+// sampling (noise threshold 0.1: at 16 spp, the error of 16 everywhere for a third of the samples).
 constexpr QualityPreset kPresets[] = {
     {"preview", 1, 1, 0.1, true, 0.5, "half resolution, 1 sample per pixel, denoised: to check a run's motion"},
     {"final", 1, 1, 0.1, true, 1.0, "full resolution, 1 sample per pixel, denoised (adaptive up to --spp)"},

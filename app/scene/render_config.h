@@ -29,7 +29,7 @@ struct CameraConfig {
 };
 
 // A quality preset: the sampling and denoising settings a `render.quality` name stands for. Each can still be set
-// on its own (an explicit key or flag wins over the preset). Chosen from `wobble study render` (README).
+// on its own (an explicit key or flag wins over the preset). Chosen from `wobble study render` (docs/studies.md).
 struct QualityPreset {
   const char* name;
   int samples;             // the most per pixel

@@ -1,6 +1,6 @@
 // The limits a scene must keep, checked while it is read and before anything is allocated, so that no scene file
 // can crash the program, exhaust memory or disk, or run for ever: each is an input error (exit 2) naming the key.
-// README.md ("Limits") documents them.
+// docs/limits.md documents them.
 #pragma once
 #include <cstdint>
 #include <string>

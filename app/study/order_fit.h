@@ -1,4 +1,4 @@
-// Convergence orders: the method's theoretical order of global accuracy (numerics.md), and the observed order as
+// Convergence orders: the method's theoretical order of global accuracy (docs/numerics.md), and the observed order as
 // the least-squares slope of log(error) against log(step). fitOrder returns NaN with fewer than two usable points
 // (a point is usable when both values are finite and positive).
 #pragma once

@@ -1,4 +1,4 @@
-// Where theory puts the stability boundary of each integrator on a mass-spring system (numerics.md):
+// Where theory puts the stability boundary of each integrator on a mass-spring system (docs/numerics.md):
 //  - omega_max, the fastest mode: bounded by Gershgorin, omega_max^2 <= max_i 2 sum_j k_ij / m_i over free
 //    particles, or estimated by power iteration on M^-1 K at the initial state (K = -dF/dx: springs only);
 //  - a mode of frequency w with dampers along the springs (damping matrix (kd/ks) K) has damping ratio

@@ -12,7 +12,7 @@ namespace wobble {
 
 // backward-euler's preconditioner (filtered_pcg.h). Auto: block-Jacobi, and two-level on a system of at least
 // kTwoLevelParticles particles once a block-Jacobi solve has taken more than kTwoLevelIterations iterations, back to
-// block-Jacobi when a two-level solve takes fewer than a quarter of that (measured: README, Integrators).
+// block-Jacobi when a two-level solve takes fewer than a quarter of that (measured: docs/integrators.md).
 enum class CgPreconditioner { Auto, BlockJacobi, TwoLevel };
 inline constexpr int kTwoLevelParticles = 2000;
 inline constexpr int kTwoLevelIterations = 40;
@@ -25,11 +25,11 @@ struct IntegratorOptions {
   double newton_tolerance = 1e-8;   // backward-euler newton: max |M^-1 residual| (m/s), relative to max(1, |v|)
   int newton_max_iterations = 50;
   // backward-euler: the conjugate-gradient solve stops at this relative residual |S (b - A dv)| / |S (b - A z)|
-  // (filtered_pcg.h); README, Integrators, for how the default was chosen.
+  // (filtered_pcg.h); docs/integrators.md, "The linear solve", for how the default was chosen.
   double cg_tolerance = 1e-3;
   // backward-euler (without newton): the solve also stops once its error is at most this fraction of the step's own
   // error, estimated from the last two steps (after three without contact constraints); 0: cg_tolerance alone
-  // (README, Integrators).
+  // (docs/integrators.md, "The error rule").
   double cg_error_fraction = 0.1;
   int cg_max_iterations = 1000;
   CgPreconditioner cg_preconditioner = CgPreconditioner::Auto;
@@ -67,7 +67,7 @@ class Integrator {
 // What a study or an estimate needs to know of a method, kept beside its constructor in the method table
 // (integrator.cpp), so that no caller compares names. Every method must state its order (checked when compiled).
 struct IntegratorTraits {
-  int order = 0;          // of global accuracy (numerics.md): error ~ C h^order on a smooth problem
+  int order = 0;          // of global accuracy (docs/numerics.md): error ~ C h^order on a smooth problem
   bool adaptive = false;  // chooses its own substeps: dt is only its largest step, tolerances set the accuracy
   bool a_stable = false;  // stable at any step on a damped linear oscillator: no fixed-step limit
   bool implicit = false;  // solves a linear system each step: assembles force Jacobians (memory, scene_limits.h)

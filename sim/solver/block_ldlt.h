@@ -2,7 +2,7 @@
 // matrix, coarse_correction.h): A = L D L^T, L unit lower-triangular by blocks, D block-diagonal with full 3 x 3
 // blocks. It works on blocks where a scalar factorization (Eigen's SimplicialLDLT) walks one index per number: a
 // block's update is a fixed-size 3 x 3 product, nine times fewer index lookups and independent multiplications to
-// overlap, on the factorization and on the triangular solves alike (measured: README, Integrators).
+// overlap, on the factorization and on the triangular solves alike (measured: docs/performance.md).
 // The block order is the caller's: a fill-reducing order within one level of nested dissection, block columns
 // [0, p1) (part 0), [p1, p2) (part 1) and [p2, n) (the separator), with no block between parts 0 and 1. Their
 // columns then never meet: the factorization computes each column from the columns to its left (left-looking), so

@@ -33,9 +33,9 @@ struct PcgResult {
 
 // A two-level solve sets the coarse level up afresh when the one before it did not use it, or after it has served
 // this many solves. In between, it keeps the last factorization: the sum stays symmetric positive definite (any SPD
-// coarse matrix does), only a little less sharp as the system drifts. Measured on the stiff cloth (README,
-// Integrators): every second solve costs 0.6 more CG iterations a step (22.65 against 22.05) and saves half the
-// coarse fills and factorizations, 9% of the step; every fourth, 24.7 iterations. With float iterations and the
+// coarse matrix does), only a little less sharp as the system drifts. Measured on the stiff cloth
+// (docs/performance.md): every second solve costs 0.6 more CG iterations a step (22.65 against 22.05) and saves half
+// the coarse fills and factorizations, 9% of the step; every fourth, 24.7 iterations. With float iterations and the
 // error rule (16.4 iterations a step) the factorization weighs more: every third solve, 17.1 iterations, 2-3% faster
 // than every second (medians and minima of 21 runs in turn).
 inline constexpr int kCoarseRefresh = 3;

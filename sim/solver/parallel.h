@@ -14,12 +14,12 @@ namespace wobble {
 
 // Particles per chunk of the particle loops and of the pair blocks in pair_schedule.h, for a system of n particles:
 // about n / 16 (so two threads get equal shares of chunks within 1/16), a multiple of 64, between 512 and 2048
-// (larger chunks cost less to schedule; measured: README, Threads and determinism). It depends on n only, never on the
-// thread count, so the chunks and their sums are the same whatever the threads.
+// (larger chunks cost less to schedule; measured: docs/performance.md, "Where threads start to pay"). It depends on n
+// only, never on the thread count, so the chunks and their sums are the same whatever the threads.
 constexpr int particleChunk(int n) { return std::clamp((n / 16 + 63) / 64 * 64, 512, 2048); }
 
-// Systems with fewer particles than this step on one thread (measured: README, Threads and determinism). Tests lower it
-// to 0 to run small systems on threads; results are the same bytes either way.
+// Systems with fewer particles than this step on one thread (measured: docs/performance.md, "Where threads start to
+// pay"). Tests lower it to 0 to run small systems on threads; results are the same bytes either way.
 int parallelThreshold();
 void setParallelThreshold(int particles);
 inline bool runsInParallel(int particles) { return particles >= parallelThreshold(); }

@@ -1,8 +1,8 @@
 // Blender 3.4+ (Debian's `blender`) with a run's output: the OBJ sequence imports (tests/blender/import_check.py);
-// the base OBJ plus the PC2 through a Mesh Cache modifier set up by hand, as the README says, gives the OBJ frames'
-// vertices at the first, middle and last frame; `wobble blend` builds a .blend that Blender reopens with the bodies,
-// their modifiers and materials, the colliders (the moving ones keyframed), the follow camera's keyframes and the
-// frame range, and plays the same vertices (tests/blender/mesh_cache_check.py). Skipped, saying why, where Blender
+// the base OBJ plus the PC2 through a Mesh Cache modifier set up by hand, as docs/blender.md says, gives the OBJ
+// frames' vertices at the first, middle and last frame; `wobble blend` builds a .blend that Blender reopens with the
+// bodies, their modifiers and materials, the colliders (the moving ones keyframed), the follow camera's keyframes and
+// the frame range, and plays the same vertices (tests/blender/mesh_cache_check.py). Skipped, saying why, where Blender
 // is not installed. Without Blender, `wobble blend` says so and fails; without point caches, it names the file.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Rendering in pieces (README, "Rendering on many machines"), through the wobble binary: `wobble frames` splits a
+// Rendering in pieces (docs/farm-rendering.md), through the wobble binary: `wobble frames` splits a
 // range; GNU parallel renders the pieces into one folder at once, and they are the bytes of one render; `wobble
 // video` joins them into the video one render makes, and refuses missing frames (listed), frames of two sizes or two
 // settings; --skip-existing renders exactly the frames whose files lack the key this frame would get (checked by the
@@ -164,7 +164,8 @@ TEST_F(SplitRender, FramesPrintsThePiecesOfASceneOrARun) {
   EXPECT_NE(said().find("must be 1 to 8"), std::string::npos) << said();
 }
 
-// The README's recipe: simulate once, render the pieces with GNU parallel (all at once, into one folder), join them.
+// The recipe of docs/farm-rendering.md: simulate once, render the pieces with GNU parallel (all at once, into one
+// folder), join them.
 TEST_F(SplitRender, ParallelPiecesAreOneRenderAndItsVideo) {
   if (!findProgram("parallel")) GTEST_SKIP() << "GNU parallel is not installed (./setup.sh installs it)";
   if (!findProgram("ffmpeg") || !findProgram("ffprobe")) GTEST_SKIP() << "ffmpeg is not installed";

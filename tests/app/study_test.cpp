@@ -1,6 +1,6 @@
 // The study commands' pieces against oracles: the order fit on synthetic error tables and on a small real sweep
 // (1, 2, 4), the stability classification of one spring against theory's limit (explicit Euler, RK4) and theory's
-// limits against shared/reference/numerics.md, the CSV and Markdown rows, a missing gnuplot (clear message, CSV still
+// limits against docs/numerics.md, the CSV and Markdown rows, a missing gnuplot (clear message, CSV still
 // written), and `wobble run --estimate-error` against the exact error of explicit Euler in free fall.
 #include <gtest/gtest.h>
 
@@ -248,7 +248,7 @@ TEST_F(Study, StabilityFilesAndInference) {
 }
 
 TEST_F(Study, EstimateErrorMatchesExplicitEulerInFreeFall) {
-  // Explicit Euler's position error in free fall is exactly g t h / 2 (shared/reference/numerics.md); step halving with
+  // Explicit Euler's position error in free fall is exactly g t h / 2 (docs/numerics.md); step halving with
   // Richardson order 1 recovers it. The largest is at the last frame, t = 0.9 s. No springs: at this step explicit
   // Euler would amplify round-off in the jelly's stiff overdamped modes (h |lambda| > 2) and blow up.
   RunOptions o;

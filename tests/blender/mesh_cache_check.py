@@ -1,8 +1,8 @@
 # Run by Blender (3.4+), from tests/app/blender_test.cpp:
 #   blender -b --factory-startup --python-exit-code 1 --python mesh_cache_check.py -- by-hand OUT BODY
 #   blender -b OUT/SCENE.blend --python-exit-code 1 --python mesh_cache_check.py -- blend OUT EXPECTED.json
-# by-hand: what the README's "PC2 by hand" says: import OUT/mesh/BODY.obj, add a Mesh Cache modifier playing
-#   OUT/mesh/BODY.pc2 from the run's first frame.
+# by-hand: what docs/blender.md's "By hand, with the point cache" says: import OUT/mesh/BODY.obj, add a Mesh Cache
+#   modifier playing OUT/mesh/BODY.pc2 from the run's first frame.
 # blend: the file `wobble blend` built: its bodies, modifiers, colliders, camera keyframes, frame range and rate
 #   against EXPECTED.json.
 # Both then compare the evaluated mesh, at the first, middle and last frame, vertex by vertex with the OBJ sequence's

@@ -1,5 +1,5 @@
 // Convergence orders on smooth problems without contact: the slope of log(error) against log(h) over four halvings
-// must be within 0.1 of each method's theoretical order (shared/reference/numerics.md), against two independent
+// must be within 0.1 of each method's theoretical order (docs/numerics.md), against two independent
 // oracles: the analytic damped oscillator, and a swinging pinned cloth (nonlinear, 25 particles) against a tight rk45
 // solve.
 #include <gtest/gtest.h>

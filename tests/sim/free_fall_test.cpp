@@ -1,4 +1,4 @@
-// Free fall per integrator against the exact discretization errors of shared/reference/numerics.md, and the jelly
+// Free fall per integrator against the exact discretization errors of docs/numerics.md, and the jelly
 // falling exactly as a point mass does while keeping its shape (the course frameworks' "slow-motion RK4" and "lost
 // corner" bugs).
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // Stability on a linear oscillator (one free particle on a spring to a pinned one), measured by running the
 // integrators: "stable" means the amplitude does not grow over many periods. The largest stable omega h is found by
-// bisection and compared with shared/reference/numerics.md's table; then per-step amplitude factors and energy
+// bisection and compared with docs/numerics.md's table; then per-step amplitude factors and energy
 // behaviour.
 #include <gtest/gtest.h>
 
@@ -61,7 +61,7 @@ struct Limit {
   double zeta, limit;
 };
 
-// shared/reference/numerics.md, "Stability limits on a linear oscillator". The zeta = 0 entries of explicit Euler and
+// docs/numerics.md, "Stability limits on a linear oscillator". The zeta = 0 entries of explicit Euler and
 // midpoint are 0 ("always grows"); they are checked separately below.
 const Limit kTable[] = {
     {"explicit-euler", 0.01, 0.02},
