@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "app/cli/commands.h"
+#include "app/cli/max_disk_option.h"
 #include "app/cli/max_memory_option.h"
 #include "app/cli/render_flags.h"
 #include "app/commands/render_command.h"
@@ -21,6 +22,7 @@ void addRenderCommand(CLI::App& app, int& status) {
   cmd->add_option("--out", options->out, "Output folder (default: the folder that holds MESH_DIR)");
   cmd->add_option("--set", options->sets, "Override a scene key, KEY=VALUE in TOML syntax (repeatable)");
   addMaxMemoryOption(*cmd);
+  addMaxDiskOption(*cmd);
   addRenderFlags(*cmd, options->render);
   addSkipExistingFlag(*cmd, options->skip_existing);
   cmd->footer(

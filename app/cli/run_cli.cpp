@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "app/cli/commands.h"
+#include "app/cli/max_disk_option.h"
 #include "app/cli/max_memory_option.h"
 #include "app/cli/render_flags.h"
 #include "app/commands/run_command.h"
@@ -52,6 +53,7 @@ void addRunCommand(CLI::App& app, int& status) {
   addRenderFlags(*cmd, options->render);
   addSkipExistingFlag(*cmd, options->skip_existing);
   addMaxMemoryOption(*cmd);
+  addMaxDiskOption(*cmd);
   cmd->add_flag("--pc2", options->pc2,
                 "Also write OUT/mesh/<body>.pc2, a point cache for Blender (overrides output.pc2; see `wobble blend`)");
   cmd->add_flag("--estimate-error", options->estimate_error,

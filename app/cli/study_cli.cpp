@@ -5,9 +5,9 @@
 #include "app/cli/commands.h"
 #include "app/cli/max_memory_option.h"
 #include "app/scene/input_error.h"
-#include "app/study/study_accuracy.h"
-#include "app/study/study_render.h"
-#include "app/study/study_stability.h"
+#include "app/study/study_accuracy_report.h"
+#include "app/study/study_render_report.h"
+#include "app/study/study_stability_report.h"
 #include "io/text_table.h"
 
 namespace fs = std::filesystem;

@@ -11,6 +11,7 @@
 #include "app/output/progress.h"
 #include "app/scene/input_error.h"
 #include "app/scene/scene_file.h"
+#include "app/view/disk_budget.h"
 #include "app/view/frame_output.h"
 
 namespace fs = std::filesystem;
@@ -65,6 +66,7 @@ RenderCommandReport renderSequence(const RenderCommandOptions& options) {
   fs::path mesh_dir = options.mesh_dir.lexically_normal();
   if (mesh_dir.filename().empty()) mesh_dir = mesh_dir.parent_path();  // "out/x/mesh/" -> "out/x/mesh"
   report.out = options.out.value_or(mesh_dir.has_parent_path() ? mesh_dir.parent_path() : fs::path("."));
+  checkDiskBudget(estimateRenderOutput(scene, report.first_frame, report.last_frame), report.out);
   // Only the frames of the range are written: pieces of a split render share the folder.
   const OutputFolder folder(report.out, OutputFolder::Access::shared);
   const auto start = std::chrono::steady_clock::now();

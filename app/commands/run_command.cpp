@@ -14,6 +14,7 @@
 #include "app/output/progress.h"
 #include "app/scene/input_error.h"
 #include "app/scene/scene_file.h"
+#include "app/view/disk_budget.h"
 #include "app/view/frame_output.h"
 #include "io/text_file.h"
 
@@ -137,6 +138,7 @@ RunReport runScene(const RunOptions& options) {
   std::tie(report.first_frame, report.last_frame) =
       options.frames ? parseFrameRange(*options.frames, scene.frameCount()) : std::pair{1, scene.frameCount()};
   report.out = options.out.value_or(fs::path("out") / scene.name);
+  checkDiskBudget(estimateRunOutput(scene, report.first_frame, report.last_frame), report.out);
 
   MassSpringSystem& system = *scene.system;
   Simulation sim(system, makeIntegrator(scene.integrator, scene.integrator_options), scene.dt);

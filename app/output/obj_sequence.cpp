@@ -21,7 +21,18 @@ std::string readFile(const fs::path& path) {
   return bytes.str();
 }
 
+ObjMaterial materialOf(const Body& body, const std::optional<fs::path>& texture, const BodyLook& look) {
+  return {body.name, look.color, texture ? texture->filename().string() : "", look.material == "jelly"};
+}
+
 }  // namespace
+
+std::uint64_t ObjSequenceWriter::frameSizeBound(const Body& body, const ObjVertexOrder& order,
+                                                const std::optional<fs::path>& texture, const BodyLook& look,
+                                                int frame) {
+  return mtlText(materialOf(body, texture, look)).size() +
+         objTextSizeBound(body.name, body.surface, order, frameFileName(body.name, frame, "mtl"));
+}
 
 fs::path ObjSequenceWriter::basePath(const fs::path& mesh_dir, const std::string& body) {
   return mesh_dir / (body + ".obj");
@@ -30,12 +41,9 @@ fs::path ObjSequenceWriter::basePath(const fs::path& mesh_dir, const std::string
 ObjSequenceWriter::ObjSequenceWriter(fs::path mesh_dir, const Body& body, std::optional<fs::path> texture,
                                      const BodyLook& look)
     : dir_(std::move(mesh_dir)), body_(body), order_(body.surface) {
-  material_ = {body.name, look.color, "", look.material == "jelly"};
+  material_ = materialOf(body, texture, look);
   fs::create_directories(dir_);
-  if (texture) {
-    material_.texture = texture->filename().string();
-    io::writeFileAtomically(dir_ / material_.texture, readFile(*texture));
-  }
+  if (texture) io::writeFileAtomically(dir_ / material_.texture, readFile(*texture));
 }
 
 fs::path ObjSequenceWriter::write(int frame, const SurfaceFrame& surface) const {

@@ -5,6 +5,7 @@
 // Each file is made in memory, then written under a temporary name and renamed into place (.mtl first), so a crash
 // or a full disk leaves no half-written file.
 #pragma once
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -29,6 +30,11 @@ class ObjSequenceWriter {
   std::filesystem::path writeBase(const SurfaceFrame& surface) const;
 
   const ObjVertexOrder& order() const { return order_; }
+
+  // The most bytes write(frame, ...) writes, the OBJ and its MTL, whatever the body's positions (objTextSizeBound).
+  static std::uint64_t frameSizeBound(const Body& body, const ObjVertexOrder& order,
+                                      const std::optional<std::filesystem::path>& texture, const BodyLook& look,
+                                      int frame);
 
   static std::filesystem::path basePath(const std::filesystem::path& mesh_dir, const std::string& body);
 

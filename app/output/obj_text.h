@@ -6,6 +6,7 @@
 // The MTL: that material with the scene's colour (`Kd`, linear RGB, multiplying the texture) and the texture file
 // (`map_Kd`, a name beside the MTL); a glossy jelly gets a white specular lobe (`Ks`, `Ns`), a diffuse body none.
 #pragma once
+#include <cstdint>
 #include <string>
 
 #include "app/output/obj_vertex_order.h"
@@ -16,6 +17,12 @@ namespace wobble {
 
 std::string objText(const std::string& name, const SurfaceMesh& mesh, const ObjVertexOrder& order,
                     const SurfaceFrame& frame, const std::string& mtl_file);
+
+// The most bytes objText can give for this mesh, whatever its positions and normals: the lines that depend on the
+// topology alone (names, `vt`, `f`) exactly, and every `v` and `vn` number at its longest (15 characters,
+// "-1.17549435e-38"). A frame's numbers usually print in 8 to 12, so the bound is about 1.5 times the file.
+std::uint64_t objTextSizeBound(const std::string& name, const SurfaceMesh& mesh, const ObjVertexOrder& order,
+                               const std::string& mtl_file);
 
 struct ObjMaterial {
   std::string name;

@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <sstream>
 
 #include "app/output/progress.h"
@@ -12,7 +11,6 @@
 #include "app/scene/scene_file.h"
 #include "app/study/order_fit.h"
 #include "app/study/study_report.h"
-#include "io/text_file.h"
 #include "io/text_table.h"
 #include "sim/simulation.h"
 
@@ -23,7 +21,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr long kContactSubsteps = 64;
 
 struct RunSpec {
   std::string integrator;
@@ -79,12 +76,6 @@ std::pair<double, double> errors(const Trajectory& run, const Trajectory& ref, c
   return {final_error, std::sqrt(sum / count)};
 }
 
-std::string dtLabel(double duration, double dt) {
-  const double k = std::log2(duration / dt);
-  if (std::abs(k - std::round(k)) < 1e-9) return "T/" + std::to_string(1L << long(std::round(k)));
-  return io::formatNumber(dt, 4);
-}
-
 void check(bool ok, const std::string& message) {
   if (!ok) throw InputError(message);
 }
@@ -109,6 +100,12 @@ void validate(const AccuracyOptions& o) {
 }
 
 }  // namespace
+
+std::string accuracyStepLabel(double duration, double dt) {
+  const double k = std::log2(duration / dt);
+  if (std::abs(k - std::round(k)) < 1e-9) return "T/" + std::to_string(1L << long(std::round(k)));
+  return io::formatNumber(dt, 4);
+}
 
 std::vector<AccuracyFit> fitAccuracy(const std::vector<AccuracyPoint>& points) {
   std::vector<AccuracyFit> fits;
@@ -182,7 +179,7 @@ AccuracyResult runAccuracyStudy(const AccuracyOptions& o) {
                        " s; its error estimated against rtol = atol = 1e-11";
   } else {
     twin.dt = 2 * ref.dt;
-    result.reference = "rk4 at dt = " + dtLabel(o.duration, ref.dt) +
+    result.reference = "rk4 at dt = " + accuracyStepLabel(o.duration, ref.dt) +
                        " (finest swept dt / 16); its error estimated "
                        "against rk4 at twice that step";
   }
@@ -206,8 +203,9 @@ AccuracyResult runAccuracyStudy(const AccuracyOptions& o) {
       p.dt = spec.dt;
       if (adaptive) p.rtol = spec.options.rtol = spec.options.atol = std::pow(10.0, -k);
       // With contacts, tight tolerances make DOPRI5 crawl through every contact switch (substeps of nanoseconds):
-      // a run needing more than kContactSubsteps substeps in one scene step gives up, and is listed as left out.
-      if (adaptive && result.has_colliders) spec.options.max_substeps = kContactSubsteps;
+      // a run needing more than kAccuracyContactSubsteps substeps in one scene step gives up, and is listed as left
+      // out.
+      if (adaptive && result.has_colliders) spec.options.max_substeps = kAccuracyContactSubsteps;
       const Trajectory warm = simulate(system, spec, times);
       tick();
       p.steps = warm.steps;
@@ -239,134 +237,6 @@ AccuracyResult runAccuracyStudy(const AccuracyOptions& o) {
   progress.finish();
   result.fits = fitAccuracy(result.points);
   return result;
-}
-
-std::string accuracyMarkdown(const AccuracyResult& r) {
-  std::ostringstream md;
-  md << "# Accuracy study: " << r.scene_name << "\n\n";
-  md << "Scene `" << r.scene_file.string() << "`, simulated time T = " << io::formatNumber(r.duration) << " s, "
-     << r.moving_particles << " moving particles of " << r.particles << ". Machine: " << machineDescription()
-     << ".\n\n";
-  if (r.has_colliders)
-    md << "**This scene has colliders: the fitted orders below are not meaningful.** Contact forces switch on and off "
-          "and collisions are resolved at step ends (static friction even depends on the step size), so the "
-          "trajectory is not a smooth function of time and no method keeps its textbook order; expect about 1 or "
-          "less for all of them. Read the errors and run times, not the slopes. rk45 may take at most "
-       << kContactSubsteps
-       << " substeps per scene step here (it crawls through contact switches at tight "
-          "tolerances); runs that need more are left out.\n\n";
-  else
-    md << "The scene has no colliders: the motion is smooth, so the fitted orders should approach the theoretical "
-          "ones where the errors are in the asymptotic range.\n\n";
-  md << "- Reference: " << r.reference << " (run time " << io::formatNumber(r.reference_seconds, 3)
-     << " s, estimated error " << io::formatNumber(r.reference_error, 3)
-     << " m; errors below 10x that are left out of the fits).\n"
-     << "- Errors are of particle positions against the reference: final = max over moving particles at T; RMS = "
-        "over every sample time and moving particle (metres).\n"
-     << "- Fixed-step methods use dt = T/2^k; rk45 uses rtol = atol = 10^-j and its order is fitted against its mean "
-        "accepted substep.\n"
-     << "- Run time: minimum of several runs after a warm-up, wall clock, one thread.\n\n";
-
-  md << "## Fitted convergence order (slope of log error against log dt)\n\n";
-  io::TextTable fits{{"integrator", "theory", "fitted (final error)", "fitted (RMS error)", "points in fit"}};
-  for (const AccuracyFit& f : r.fits)
-    fits.add({f.integrator, std::to_string(f.expected),
-              std::isnan(f.order_final) ? "n/a" : io::formatNumber(f.order_final, 3),
-              std::isnan(f.order_rms) ? "n/a" : io::formatNumber(f.order_rms, 3), std::to_string(f.points)});
-  md << fits.markdown() << "\n";
-
-  md << "## Fastest integrator to reach a final error\n\n";
-  io::TextTable fastest{{"final error at most (m)", "fastest integrator", "its setting", "run time (s)", "runner-up"}};
-  for (double target : {1e-1, 1e-2, 1e-3, 1e-4, 1e-6, 1e-8}) {
-    std::map<std::string, const AccuracyPoint*> best;  // per integrator
-    for (const AccuracyPoint& p : r.points)
-      if (!p.diverged && p.final_error <= target && (!best[p.integrator] || p.seconds < best[p.integrator]->seconds))
-        best[p.integrator] = &p;
-    std::vector<const AccuracyPoint*> order;
-    for (const auto& [name, p] : best)
-      if (p) order.push_back(p);
-    std::sort(order.begin(), order.end(), [](auto* a, auto* b) { return a->seconds < b->seconds; });
-    const auto setting = [&](const AccuracyPoint* p) {
-      return integratorTraits(p->integrator).adaptive ? "rtol " + io::formatNumber(p->rtol, 2)
-                                                      : "dt " + dtLabel(r.duration, p->dt);
-    };
-    if (order.empty()) {
-      fastest.add({io::formatNumber(target), "none reached it", "", "", ""});
-      continue;
-    }
-    fastest.add(
-        {io::formatNumber(target), order[0]->integrator, setting(order[0]), io::formatNumber(order[0]->seconds, 3),
-         order.size() > 1 ? order[1]->integrator + " (" + io::formatNumber(order[1]->seconds, 3) + " s)" : "-"});
-  }
-  md << fastest.markdown() << "\n";
-
-  md << "## Every point\n\n";
-  io::TextTable all{{"integrator", "dt (s)", "rtol", "steps", "evaluations", "final error (m)", "RMS error (m)",
-                     "run time (s)", "in fit"}};
-  for (const AccuracyPoint& p : r.points)
-    all.add({p.integrator, dtLabel(r.duration, p.dt), p.rtol > 0 ? io::formatNumber(p.rtol, 2) : "-",
-             std::to_string(p.steps), std::to_string(p.evaluations),
-             p.diverged ? "diverged" : io::formatNumber(p.final_error, 3),
-             p.diverged ? "diverged" : io::formatNumber(p.rms_error, 3),
-             p.diverged ? "-" : io::formatNumber(p.seconds, 3), p.in_fit ? "yes" : "no"});
-  md << all.markdown() << "\n";
-
-  md << "## Left out (diverged or failed)\n\n";
-  bool any = false;
-  for (const AccuracyPoint& p : r.points)
-    if (p.diverged) {
-      md << "- " << p.integrator << " at "
-         << (integratorTraits(p.integrator).adaptive ? "rtol " + io::formatNumber(p.rtol, 2)
-                                                     : "dt = " + dtLabel(r.duration, p.dt))
-         << ": " << p.failure << "\n";
-      any = true;
-    }
-  if (!any) md << "None.\n";
-  return md.str();
-}
-
-PlotResult writeAccuracyOutputs(const AccuracyResult& r, const fs::path& out, const std::string& gnuplot) {
-  fs::create_directories(out);
-  io::TextTable csv{{"scene", "integrator", "dt", "rtol", "mean_step", "steps", "evaluations", "final_error",
-                     "rms_error", "seconds", "diverged", "in_fit", "failure", "has_colliders"}};
-  for (const AccuracyPoint& p : r.points)
-    csv.add({r.scene_name, p.integrator, io::formatNumber(p.dt, 17), io::formatNumber(p.rtol, 3),
-             io::formatNumber(p.mean_step, 17), std::to_string(p.steps), std::to_string(p.evaluations),
-             io::formatNumber(p.final_error, 17), io::formatNumber(p.rms_error, 17), io::formatNumber(p.seconds, 6),
-             p.diverged ? "1" : "0", p.in_fit ? "1" : "0", p.failure, r.has_colliders ? "1" : "0"});
-  io::writeTextFile(out / "accuracy.csv", csv.csv());
-  io::writeTextFile(out / "accuracy.md", accuracyMarkdown(r));
-
-  // Work-precision diagram (SciML style): error on x, run time on y, log-log, one curve per integrator; two panels.
-  std::ostringstream gp;
-  gp << "# Work-precision diagram of " << r.scene_name << ": gnuplot accuracy.gp (writes accuracy.png)\n"
-     << "if (!exists(\"out\")) out = 'accuracy.png'\n"
-     << "set terminal pngcairo size 1400,600 noenhanced\nset output out\n"
-     << "set logscale xy\nset grid\nset key top right\nset ylabel 'run time (s)'\n";
-  std::vector<std::string> names;
-  for (const AccuracyFit& f : r.fits) names.push_back(f.integrator);
-  for (std::size_t i = 0; i < names.size(); ++i) {
-    gp << "$d" << i << " << EOD\n";
-    for (const AccuracyPoint& p : r.points)
-      if (p.integrator == names[i] && !p.diverged && p.final_error > 0 && p.rms_error > 0)
-        gp << io::formatNumber(p.final_error, 10) << " " << io::formatNumber(p.rms_error, 10) << " "
-           << io::formatNumber(p.seconds, 6) << "\n";
-    gp << "EOD\n";
-  }
-  gp << "set format x '%.0e'\nset multiplot layout 1,2 title "
-     << gnuplotQuote("wobble study accuracy: " + r.scene_name +
-                     (r.has_colliders ? " (colliders: orders not meaningful)" : ""))
-     << "\n";
-  for (int panel = 0; panel < 2; ++panel) {
-    gp << "set xlabel '" << (panel == 0 ? "final error (m)" : "RMS error over frames (m)") << "'\nplot ";
-    for (std::size_t i = 0; i < names.size(); ++i)
-      gp << (i ? ", " : "") << "$d" << i << " using " << (panel == 0 ? 1 : 2) << ":3 with linespoints lw 2 pt 7 title "
-         << gnuplotQuote(names[i]);
-    gp << "\n";
-  }
-  gp << "unset multiplot\n";
-  io::writeTextFile(out / "accuracy.gp", gp.str());
-  return runGnuplot(out / "accuracy.gp", out / "accuracy.png", gnuplot);
 }
 
 }  // namespace wobble

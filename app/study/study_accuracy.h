@@ -17,9 +17,10 @@
 #include <string>
 #include <vector>
 
-#include "app/study/gnuplot.h"
-
 namespace wobble {
+
+// With colliders, rk45 may take at most this many substeps per scene step (it crawls through contact switches).
+inline constexpr long kAccuracyContactSubsteps = 64;
 
 struct AccuracyOptions {
   std::filesystem::path scene = "scenes/cloth_swing.toml";
@@ -74,12 +75,7 @@ AccuracyResult runAccuracyStudy(const AccuracyOptions& options);
 // Per-integrator fits of a result's points (also used by the tests on synthetic tables).
 std::vector<AccuracyFit> fitAccuracy(const std::vector<AccuracyPoint>& points);
 
-// Writes OUT/accuracy.csv, OUT/accuracy.md, OUT/accuracy.gp and (through gnuplot) OUT/accuracy.png; returns the
-// plot's outcome. Creates OUT.
-PlotResult writeAccuracyOutputs(const AccuracyResult& result, const std::filesystem::path& out,
-                                const std::string& gnuplot = "gnuplot");
-
-// The Markdown report alone (tables, fitted orders, notes).
-std::string accuracyMarkdown(const AccuracyResult& result);
+// "T/64" for a step that is T / 2^k, else the step in seconds (4 digits): how reports name a step.
+std::string accuracyStepLabel(double duration, double dt);
 
 }  // namespace wobble

@@ -13,12 +13,12 @@
 // -0.5 is plain Monte Carlo and steeper is better; the spp and time each needs to reach given errors; every point),
 // render.png (gnuplot: RMSE against time, and against spp), images/<variant>_<spp>.png of every point, and the frame
 // itself for other renderers in frame/ (render/scene_export.h: OBJ, JSON, baked textures; bench/cycles_compare.sh).
+// This file runs the study into a plain RenderStudyResult, writing as it goes only what the renders make (the
+// reference and its cache, images/, frame/); study_render_report.h writes the tables and the plot from the result.
 #pragma once
 #include <filesystem>
 #include <string>
 #include <vector>
-
-#include "app/study/gnuplot.h"
 
 namespace wobble {
 
@@ -85,10 +85,5 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& options);
 
 // Slopes per variant (also used by tests on synthetic points).
 std::vector<RenderVariantFit> fitRenderStudy(const std::vector<RenderPoint>& points, double floor);
-
-// OUT/render.csv, render.md, render.gp and (through gnuplot) render.png; returns the plot's outcome.
-PlotResult writeRenderStudyOutputs(const RenderStudyResult& result, const std::filesystem::path& out,
-                                   const std::string& gnuplot = "gnuplot");
-std::string renderStudyMarkdown(const RenderStudyResult& result);
 
 }  // namespace wobble

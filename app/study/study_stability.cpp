@@ -4,7 +4,6 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <mutex>
 #include <optional>
 #include <sstream>
@@ -15,7 +14,6 @@
 #include "app/scene/scene_file.h"
 #include "app/study/stability_theory.h"
 #include "app/study/study_report.h"
-#include "io/text_file.h"
 #include "io/text_table.h"
 #include "sim/simulation.h"
 
@@ -55,20 +53,6 @@ std::unique_ptr<MassSpringSystem> systemAt(const StabilityOptions& o, const std:
   std::vector<std::string> sets = o.sets;
   for (const std::string& b : bodies) sets.push_back("bodies." + b + ".ks=" + io::formatNumber(ks, 17));
   return std::move(loadScene(o.scene, sets).system);
-}
-
-std::string cellSymbol(const StabilityCell& c) {
-  switch (c.outcome) {
-    case Outcome::Stable:
-      return c.inferred ? "ok*" : "ok";
-    case Outcome::LostShape:
-      return c.inferred ? "SHAPE*" : "SHAPE";
-    case Outcome::BlewUp:
-      return "BLOW";
-    case Outcome::Failed:
-      return "FAIL";
-  }
-  return "?";
 }
 
 }  // namespace
@@ -217,182 +201,6 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
     return a.user_case != b.user_case ? !a.user_case : false;
   });
   return result;
-}
-
-std::string stabilityMarkdown(const StabilityResult& r) {
-  std::ostringstream md;
-  const auto theoryAt = [&](double ks) -> const StabilityTheory* {
-    for (const StabilityTheory& t : r.theory)
-      if (t.ks == ks) return &t;
-    return nullptr;
-  };
-  const auto index = [&](const std::string& name) {
-    return std::size_t(std::find(r.integrators.begin(), r.integrators.end(), name) - r.integrators.begin());
-  };
-  md << "# Stability study: " << r.scene_name << "\n\n"
-     << "Scene `" << r.scene_file.string() << "` with every spring's ks set to the map's value (kd as in the scene), "
-     << "each cell run for " << io::formatNumber(r.duration)
-     << " simulated seconds from the initial state. Machine: " << machineDescription() << ".\n\n"
-     << "- **ok**: ran to the end with the largest spring strain |l - rest|/rest <= "
-     << io::formatNumber(r.strain_bound)
-     << " at every check (every 0.01 s); **SHAPE**: survived but the strain exceeded "
-     << io::formatNumber(r.strain_bound)
-     << "; **ok\\*** / **SHAPE\\***: not run, inferred from the largest dt at this ks that did not blow up (stability "
-        "regions contain the segment from 0 to their boundary, and a smaller step solves the same physics more "
-        "accurately; --no-infer runs them); **BLOW**: blew up (a NaN or |v|^2 > 1e6, sim/simulation.h), the cell "
-        "stopped there; **FAIL**: the integrator gave up (message in the CSV).\n"
-     << "- Theory (numerics.md): omega_max by Gershgorin (omega_max^2 <= max_i 2 sum_j k_ij / m_i, a bound) and by "
-        "power iteration on M^-1 K at the initial state (an estimate); a mode w has damping ratio zeta = (kd/ks) w / "
-        "2; "
-        "the largest stable dt is the least of limit(zeta)/w over the modes, with each method's limit of w h measured "
-        "on its own one-step map (explicit Euler needs h <= kd/ks on underdamped modes). Gravity, drag and contact "
-        "are left out of the theory.\n";
-  for (const std::string& note : r.notes) md << "- " << note << "\n";
-  md << "\n";
-
-  // The users' cases first: the question they asked.
-  bool any_case = false;
-  for (const StabilityCell& c : r.cells) any_case |= c.user_case;
-  if (any_case) {
-    md << "## The users' cases (course framework reports)\n\n"
-       << "Reported with the course framework: at ks 5e4, dt 1.2e-3 explicit Euler and pc-euler blow up, midpoint and "
-          "RK4 survive; at ks 1e5, dt 1.4e-3 midpoint jitters and shrinks, RK4 stays stable.\n\n";
-    io::TextTable t{{"ks", "dt (s)", "integrator", "outcome", "max strain", "final strain", "max speed (m/s)",
-                     "theory dt_max (power it.)", "theory dt_max (Gershgorin)", "note"}};
-    for (const StabilityCell& c : r.cells)
-      if (c.user_case) {
-        const StabilityTheory* th = theoryAt(c.ks);
-        const std::size_t i = index(c.integrator);
-        t.add({io::formatNumber(c.ks), io::formatNumber(c.dt), c.integrator, toString(c.outcome),
-               io::formatNumber(c.max_strain, 3), io::formatNumber(c.final_strain, 3), io::formatNumber(c.max_speed, 3),
-               th ? io::formatNumber(th->dt_power[i], 3) : "", th ? io::formatNumber(th->dt_gershgorin[i], 3) : "",
-               c.note});
-      }
-    md << t.markdown() << "\n";
-  }
-
-  md << "## Theory: fastest mode and largest stable dt per ks\n\n";
-  std::vector<std::string> header{"ks", "omega_max Gershgorin", "omega_max power it.", "zeta at omega_max (power)"};
-  for (const std::string& n : r.integrators) header.push_back(n + " dt_max");
-  io::TextTable theory{header};
-  for (const StabilityTheory& t : r.theory) {
-    std::vector<std::string> row{io::formatNumber(t.ks), io::formatNumber(t.omega_gershgorin, 4),
-                                 io::formatNumber(t.omega_power, 4),
-                                 io::formatNumber(t.damper_ratio * t.omega_power / 2, 3)};
-    for (std::size_t i = 0; i < r.integrators.size(); ++i)
-      row.push_back(std::isinf(t.dt_power[i])
-                        ? "unbounded"
-                        : io::formatNumber(t.dt_power[i], 3) + " (G " + io::formatNumber(t.dt_gershgorin[i], 3) + ")");
-    theory.add(row);
-  }
-  md << "dt_max from the power-iteration omega_max, and in brackets from Gershgorin's bound (smaller, safe).\n\n"
-     << theory.markdown() << "\n";
-
-  md << "## Measured boundary against theory\n\n";
-  io::TextTable boundary{{"integrator", "ks", "largest dt that did not blow up", "smallest dt that blew up or failed",
-                          "theory dt_max (power it.)", "theory dt_max (Gershgorin)"}};
-  for (const std::string& name : r.integrators)
-    for (double ks : r.ks) {
-      double largest_ok = 0, smallest_bad = std::numeric_limits<double>::infinity();
-      for (const StabilityCell& c : r.cells)
-        if (!c.user_case && c.integrator == name && c.ks == ks) {
-          const bool survived = c.outcome == Outcome::Stable || c.outcome == Outcome::LostShape;
-          if (survived && !c.inferred) largest_ok = std::max(largest_ok, c.dt);
-          if (c.outcome == Outcome::BlewUp || c.outcome == Outcome::Failed) smallest_bad = std::min(smallest_bad, c.dt);
-        }
-      const StabilityTheory* th = theoryAt(ks);
-      const std::size_t i = index(name);
-      boundary.add({name, io::formatNumber(ks), largest_ok > 0 ? io::formatNumber(largest_ok, 3) : "none",
-                    std::isinf(smallest_bad) ? "none" : io::formatNumber(smallest_bad, 3),
-                    std::isinf(th->dt_power[i]) ? "unbounded" : io::formatNumber(th->dt_power[i], 3),
-                    std::isinf(th->dt_gershgorin[i]) ? "unbounded" : io::formatNumber(th->dt_gershgorin[i], 3)});
-    }
-  md << boundary.markdown() << "\n";
-
-  md << "## Maps\n\nRows: ks; columns: dt (s). The last column is theory's dt_max (power iteration).\n\n";
-  for (const std::string& name : r.integrators) {
-    md << "### " << name << "\n\n";
-    std::vector<std::string> head{"ks \\ dt"};
-    for (double dt : r.dt) head.push_back(io::formatNumber(dt, 3));
-    head.push_back("theory dt_max");
-    io::TextTable map{head};
-    for (double ks : r.ks) {
-      std::vector<std::string> row{io::formatNumber(ks)};
-      for (double dt : r.dt)
-        for (const StabilityCell& c : r.cells)
-          if (!c.user_case && c.integrator == name && c.ks == ks && c.dt == dt) row.push_back(cellSymbol(c));
-      const double th = theoryAt(ks)->dt_power[index(name)];
-      row.push_back(std::isinf(th) ? "unbounded" : io::formatNumber(th, 3));
-      map.add(row);
-    }
-    md << map.markdown() << "\n";
-  }
-  return md.str();
-}
-
-std::vector<PlotResult> writeStabilityOutputs(const StabilityResult& r, const fs::path& out,
-                                              const std::string& gnuplot) {
-  fs::create_directories(out);
-  io::TextTable csv{{"scene", "integrator", "ks", "dt", "outcome", "inferred", "user_case", "max_strain",
-                     "final_strain", "max_speed", "end_time", "steps", "theory_dt_power", "theory_dt_gershgorin",
-                     "note"}};
-  for (const StabilityCell& c : r.cells) {
-    const auto i =
-        std::size_t(std::find(r.integrators.begin(), r.integrators.end(), c.integrator) - r.integrators.begin());
-    const StabilityTheory* th = nullptr;
-    for (const StabilityTheory& t : r.theory)
-      if (t.ks == c.ks) th = &t;
-    csv.add({r.scene_name, c.integrator, io::formatNumber(c.ks, 10), io::formatNumber(c.dt, 10), toString(c.outcome),
-             c.inferred ? "1" : "0", c.user_case ? "1" : "0", io::formatNumber(c.max_strain, 6),
-             io::formatNumber(c.final_strain, 6), io::formatNumber(c.max_speed, 6), io::formatNumber(c.end_time, 6),
-             std::to_string(c.steps), th ? io::formatNumber(th->dt_power[i], 6) : "",
-             th ? io::formatNumber(th->dt_gershgorin[i], 6) : "", c.note});
-  }
-  io::writeTextFile(out / "stability.csv", csv.csv());
-  io::writeTextFile(out / "stability.md", stabilityMarkdown(r));
-
-  std::vector<PlotResult> plots;
-  for (std::size_t i = 0; i < r.integrators.size(); ++i) {
-    const std::string& name = r.integrators[i];
-    std::ostringstream gp;
-    gp << "# Stability map of " << name << " on " << r.scene_name << ": gnuplot stability-" << name << ".gp\n"
-       << "if (!exists(\"out\")) out = 'stability-" << name << ".png'\n"
-       << "set terminal pngcairo size 900,700 noenhanced\nset output out\n"
-       << "set logscale xy\nset grid\nset format x '%.0e'\nset format y '%.0e'\n"
-       << "set xlabel 'dt (s)'\nset ylabel 'ks (N/m)'\nset key outside bottom center horizontal\n"
-       << "set xrange [" << r.dt.front() / 1.6 << ":" << r.dt.back() * 1.6 << "]\n"
-       << "set yrange [" << r.ks.front() / 2 << ":" << r.ks.back() * 2 << "]\n"
-       << "set title "
-       << gnuplotQuote("wobble study stability: " + name + " on " + r.scene_name + ", " + io::formatNumber(r.duration) +
-                       " s per cell")
-       << "\n";
-    const char* kinds[] = {"ok", "ok*", "SHAPE", "BLOW", "FAIL", "SHAPE*"};
-    for (int k = 0; k < 6; ++k) {
-      gp << "$c" << k << " << EOD\n";
-      for (const StabilityCell& c : r.cells)
-        if (c.integrator == name && cellSymbol(c) == kinds[k])
-          gp << io::formatNumber(c.dt, 10) << " " << io::formatNumber(c.ks, 10) << " " << (c.user_case ? 1 : 0) << "\n";
-      gp << "EOD\n";
-    }
-    gp << "$theory << EOD\n";
-    for (const StabilityTheory& t : r.theory)
-      if (std::find(r.ks.begin(), r.ks.end(), t.ks) != r.ks.end() && std::isfinite(t.dt_power[i]))
-        gp << io::formatNumber(t.dt_power[i], 10) << " " << io::formatNumber(t.ks, 10) << " "
-           << io::formatNumber(t.dt_gershgorin[i], 10) << "\n";
-    gp << "EOD\n"
-       << "plot $c0 using 1:2 with points pt 5 ps 4 lc rgb '#2ca02c' title 'stable', "
-       << "$c1 using 1:2 with points pt 4 ps 4 lc rgb '#2ca02c' title 'stable (inferred)', "
-       << "$c2 using 1:2 with points pt 5 ps 4 lc rgb '#ff7f0e' title 'lost shape', "
-       << "$c3 using 1:2 with points pt 5 ps 4 lc rgb '#d62728' title 'blew up', "
-       << "$c4 using 1:2 with points pt 5 ps 4 lc rgb '#7f7f7f' title 'failed', "
-       << "$c5 using 1:2 with points pt 4 ps 4 lc rgb '#ff7f0e' title 'lost shape (inferred)', "
-       << "$theory using 1:2 with lines lw 3 lc rgb 'black' title 'theory dt_max (power iteration)', "
-       << "$theory using 3:2 with lines lw 2 dt 2 lc rgb 'black' title 'theory dt_max (Gershgorin)'\n";
-    const fs::path script = out / ("stability-" + name + ".gp");
-    io::writeTextFile(script, gp.str());
-    plots.push_back(runGnuplot(script, out / ("stability-" + name + ".png"), gnuplot));
-  }
-  return plots;
 }
 
 }  // namespace wobble

@@ -9,13 +9,13 @@
 // ("inferred": stability regions of these methods contain the whole segment from 0 to their boundary, and a
 // smaller step solves the same physics more accurately). The extra `cases` (ks, dt) always run. Rows run
 // on `jobs` threads; each cell is single-threaded and deterministic, so the results do not depend on jobs.
+// This file runs the study into a plain StabilityResult; study_stability_report.h writes it.
 #pragma once
 #include <array>
 #include <filesystem>
 #include <string>
 #include <vector>
 
-#include "app/study/gnuplot.h"
 #include "sim/system.h"
 
 namespace wobble {
@@ -77,12 +77,5 @@ StabilityCell classifyCell(MassSpringSystem& system, const std::string& integrat
 
 // Throws InputError for bad options or scene input.
 StabilityResult runStabilityStudy(const StabilityOptions& options);
-
-std::string stabilityMarkdown(const StabilityResult& result);
-
-// OUT/stability.csv, OUT/stability.md, and per integrator OUT/stability-<name>.gp and .png. Returns each plot's
-// outcome. Creates OUT.
-std::vector<PlotResult> writeStabilityOutputs(const StabilityResult& result, const std::filesystem::path& out,
-                                              const std::string& gnuplot = "gnuplot");
 
 }  // namespace wobble

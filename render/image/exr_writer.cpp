@@ -16,8 +16,23 @@
 #include <OpenEXR/ImfStringAttribute.h>
 
 #include "io/atomic_file.h"
+#include "render/image/file_size_bound.h"
 
 namespace wobble::render {
+
+std::uint64_t exrSizeBound(int width, int height, bool denoised, const std::map<std::string, std::string>& text) {
+  constexpr std::uint64_t kLinesPerBlock = 16;                 // ZIP_COMPRESSION's block
+  constexpr std::uint64_t kStandardAttributes = 512;           // magic, version, windows, ... (under 300 bytes)
+  const std::uint64_t halves = denoised ? 12 : 9, floats = 1;  // the channels writeExr writes
+  std::uint64_t bytes = kStandardAttributes;
+  for (std::string_view name : kExrChannels) bytes += name.size() + 1 + 16;  // the channel list
+  if (denoised) bytes += 3 * (std::string_view("noisy.R").size() + 1 + 16);
+  for (const auto& [name, value] : text) bytes += name.size() + 1 + 7 + 4 + value.size();  // "string" attributes
+  const std::uint64_t blocks = (std::uint64_t(height) + kLinesPerBlock - 1) / kLinesPerBlock;
+  bytes += blocks * (8 + 4 + 4);  // offset table entry, block's first line and size
+  bytes += std::uint64_t(width) * std::uint64_t(height) * (2 * halves + 4 * floats);
+  return bytes;
+}
 
 void writeExr(const std::filesystem::path& file, const Film& film, std::span<const Color> denoised,
               const std::map<std::string, std::string>& text) {

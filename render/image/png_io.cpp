@@ -18,6 +18,7 @@
 #include <stb/stb_image.h>
 
 #include "io/atomic_file.h"
+#include "render/image/file_size_bound.h"
 #include "render/image/image_header.h"
 
 namespace wobble::render {
@@ -116,6 +117,15 @@ bool readTextChunks(std::FILE* file, std::map<std::string, std::string>& out) {
 }
 
 }  // namespace
+
+std::uint64_t pngSizeBound(int width, int height, int channels, const std::map<std::string, std::string>& text) {
+  constexpr std::uint64_t kChunk = 12;  // length, type, CRC
+  const std::uint64_t filtered = std::uint64_t(height) * (std::uint64_t(width) * std::uint64_t(channels) + 1);
+  std::uint64_t bytes = 8 + (kChunk + 13) + kChunk + kChunk;   // signature, IHDR, IDAT's frame, IEND
+  bytes += libdeflate_zlib_compress_bound(nullptr, filtered);  // any compressor: the stored worst case
+  for (const auto& [keyword, value] : text) bytes += kChunk + keyword.size() + 1 + value.size();
+  return bytes;
+}
 
 void writePng(const std::filesystem::path& file, const Image8& image, const std::map<std::string, std::string>& text) {
   if (image.width <= 0 || image.height <= 0 || image.channels < 1 || image.channels > 4 ||

@@ -75,10 +75,10 @@ class SmallTmpfs : public FullDisk {
     if (mounted_) ::umount2(mount_.c_str(), MNT_DETACH);
     FullDisk::TearDown();
   }
-  bool mount() {
+  bool mount(const char* options = "size=2m") {
     mount_ = dir() / "tmpfs";
     fs::create_directories(mount_);
-    mounted_ = ::mount("tmpfs", mount_.c_str(), "tmpfs", 0, "size=2m") == 0;
+    mounted_ = ::mount("tmpfs", mount_.c_str(), "tmpfs", 0, options) == 0;
     if (!mounted_) reason_ = std::strerror(errno);
     return mounted_;
   }
@@ -87,9 +87,12 @@ class SmallTmpfs : public FullDisk {
   std::string reason_;
 };
 
+// The disk budget (app/view/disk_budget.h) refuses a run estimated above the free space before it writes, so the disk
+// here fills with files, not bytes: 64 MB but room for 40 files (ENOSPC all the same).
 TEST_F(SmallTmpfs, RunFailsCleanlyWhenTheDiskFills) {
-  if (!mount()) GTEST_SKIP() << "cannot mount a tmpfs here (" << reason_ << "): needs root outside a container";
-  // About 40 frames of 60 KB OBJs and 20 KB PNGs: more than 2 MB.
+  if (!mount("size=64m,nr_inodes=40"))
+    GTEST_SKIP() << "cannot mount a tmpfs here (" << reason_ << "): needs root outside a container";
+  // About 40 frames of an OBJ, MTL, PNG and EXR each: more than 40 files.
   const fs::path file = scene(8, 2.0), clean = dir() / "clean", log = dir() / "log.txt";
   ASSERT_EQ(runWobble(args(file, clean, "128x72"), log), 0) << slurpFile(log);
   const fs::path out = mount_ / "out";
@@ -98,6 +101,18 @@ TEST_F(SmallTmpfs, RunFailsCleanlyWhenTheDiskFills) {
   EXPECT_NE(message.find("No space left on device"), std::string::npos) << message;
   EXPECT_NE(message.find(out.string() + "/"), std::string::npos) << message;
   EXPECT_FALSE(expectCompleteFiles(out, clean).empty());  // some frames made it, all of them whole
+}
+
+// A run estimated above the free space of a real 2 MB file system (about 40 frames of 60 KB OBJs and 20 KB PNGs)
+// is refused before it writes anything: exit 2, the mount left empty, the message giving both sizes.
+TEST_F(SmallTmpfs, RunAboveTheFreeSpaceIsRefusedAtOnce) {
+  if (!mount()) GTEST_SKIP() << "cannot mount a tmpfs here (" << reason_ << "): needs root outside a container";
+  const fs::path file = scene(8, 2.0), log = dir() / "log.txt";
+  EXPECT_EQ(runWobble(args(file, mount_ / "out", "128x72"), log), 2) << slurpFile(log);
+  const std::string message = slurpFile(log);
+  EXPECT_NE(message.find("above the 2.0 MB free"), std::string::npos) << message;
+  EXPECT_NE(message.find("fewer frames"), std::string::npos) << message;
+  EXPECT_TRUE(fs::is_empty(mount_));
 }
 
 }  // namespace

@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "app/scene/input_error.h"
-#include "app/study/study_render.h"
+#include "app/study/study_render_report.h"
 #include "tests/app/scratch_dir.h"
 
 namespace fs = std::filesystem;

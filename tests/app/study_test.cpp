@@ -12,8 +12,8 @@
 #include "app/commands/run_command.h"
 #include "app/study/order_fit.h"
 #include "app/study/stability_theory.h"
-#include "app/study/study_accuracy.h"
-#include "app/study/study_stability.h"
+#include "app/study/study_accuracy_report.h"
+#include "app/study/study_stability_report.h"
 #include "io/text_table.h"
 #include "tests/app/scratch_dir.h"
 
@@ -159,6 +159,48 @@ TEST_F(Study, CollidersAreFlaggedInTheMarkdown) {
   r.has_colliders = true;
   r.duration = 1;
   EXPECT_NE(accuracyMarkdown(r).find("orders below are not meaningful"), std::string::npos);
+}
+
+// The shared work-precision writer (work_precision.h) on a synthetic result: one data block per integrator holding
+// exactly its finite points (error, RMS error, time), both panels naming every block, and the real gnuplot draws it.
+TEST_F(Study, WorkPrecisionPlotHasOneCurvePerIntegratorAndGnuplotDrawsIt) {
+  AccuracyResult r;
+  r.scene_name = "synthetic";
+  r.duration = 1;
+  for (int k = 0; k < 3; ++k) {
+    AccuracyPoint a{"rk4", 1.0 / (8 << k)}, b{"midpoint", 1.0 / (8 << k)};
+    a.final_error = a.rms_error = std::pow(a.dt, 4);
+    b.final_error = b.rms_error = std::pow(b.dt, 2);
+    a.seconds = b.seconds = 0.01 * (k + 1);
+    r.points.push_back(a);
+    r.points.push_back(b);
+  }
+  r.points.push_back({"midpoint", 1.0 / 4});
+  r.points.back().diverged = true;  // left out of the plot, though its errors are finite
+  r.points.back().final_error = r.points.back().rms_error = 1;
+  r.fits = fitAccuracy(r.points);
+  const PlotResult plot = writeAccuracyOutputs(r, dir() / "out");
+  if (plot.message.find("not found") != std::string::npos) GTEST_SKIP() << plot.message;
+  EXPECT_TRUE(plot.ok) << plot.message;
+  EXPECT_GT(fs::file_size(dir() / "out/accuracy.png"), 1000u);
+  const auto gp = lines(dir() / "out/accuracy.gp");
+  std::vector<std::vector<std::string>> blocks;
+  for (std::size_t i = 0; i < gp.size(); ++i)
+    if (gp[i].rfind("$d", 0) == 0 && gp[i].find("<< EOD") != std::string::npos)
+      for (blocks.emplace_back(); gp[++i] != "EOD";) blocks.back().push_back(gp[i]);
+  ASSERT_EQ(blocks.size(), 2u);  // rk4, midpoint: in the fits' order
+  ASSERT_EQ(blocks[0].size(), 3u);
+  ASSERT_EQ(blocks[1].size(), 3u);  // the diverged point is not drawn
+  EXPECT_EQ(blocks[0][2],
+            io::formatNumber(std::pow(1.0 / 32, 4), 10) + " " + io::formatNumber(std::pow(1.0 / 32, 4), 10) + " 0.03");
+  int plots = 0;
+  for (const std::string& line : gp)
+    if (line.rfind("plot ", 0) == 0) {
+      ++plots;
+      EXPECT_NE(line.find("$d0 using"), std::string::npos) << line;
+      EXPECT_NE(line.find("title 'midpoint'"), std::string::npos) << line;
+    }
+  EXPECT_EQ(plots, 2);
 }
 
 TEST(StabilityTheory, LimitsMatchNumericsTable) {
