@@ -11,6 +11,7 @@
 #include <mutex>
 #include <thread>
 
+#include "app/commands/frame_range.h"
 #include "app/compare/compare_report.h"
 #include "app/compare/tile_label.h"
 #include "app/compare/vary.h"
@@ -75,7 +76,7 @@ std::string runFlags(const RunOptions& o, bool with_scene_and_out) {
   const RenderFlags& r = o.render;
   if (r.render) add("--render"), add(*r.render);
   if (r.quality) add("--quality"), add(*r.quality);
-  if (r.spp) add("--spp"), add(std::to_string(*r.spp));
+  if (r.samples_per_pixel) add("--spp"), add(std::to_string(*r.samples_per_pixel));
   if (r.denoise) add("--denoise"), add(*r.denoise);
   if (r.resolution) add("--resolution"), add(*r.resolution);
   if (with_scene_and_out && o.out) add("--out"), add(o.out->string());

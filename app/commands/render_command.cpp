@@ -2,7 +2,7 @@
 
 #include <chrono>
 
-#include "app/commands/run_command.h"
+#include "app/commands/frame_range.h"
 #include "app/output/frame_name.h"
 #include "app/output/interrupt.h"
 #include "app/output/obj_sequence.h"
@@ -23,9 +23,7 @@ fs::path objPath(const fs::path& dir, const Body& body, int frame) { return objF
 }  // namespace
 
 RenderCommandReport renderSequence(const RenderCommandOptions& options) {
-  std::vector<std::string> overrides = options.sets;
-  for (const std::string& o : renderOverrides(options.render)) overrides.push_back(o);
-  SceneFile scene = loadScene(options.scene, overrides);
+  SceneFile scene = loadScene(options.scene, options.sets, renderFlagSettings(options.render));
   RenderCommandReport report;
   // A piece (--frames) makes no video of its own unless --video asks: the pieces of a split render would each write
   // OUT/<scene>.mp4 of their frames; `wobble video OUT` joins them all at the end.

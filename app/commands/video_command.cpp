@@ -3,7 +3,7 @@
 #include <chrono>
 #include <map>
 
-#include "app/commands/run_command.h"
+#include "app/commands/frame_range.h"
 #include "app/output/external_program.h"
 #include "app/output/output_folder.h"
 #include "app/output/run_record.h"

@@ -111,12 +111,12 @@ template <typename ReadOne>
 void readGroup(TableReader& root, std::string_view group, SceneFile& scene, ReadOne readOne) {
   const toml::table* table = root.table(group);
   if (!table) return;
+  TableReader entries = root.child(group);
   for (const auto& [key, node] : *table) {
     const std::string name(key.str());
-    if (const std::string problem = identifierProblem(name); !problem.empty())
-      TableReader(*table, scene.file, std::string(group)).failName(name, problem);
-    if (!node.is_table()) TableReader(*table, scene.file, std::string(group)).fail(name, "must be a table");
-    readOne(TableReader(*node.as_table(), scene.file, std::string(group) + "." + name), name, scene);
+    if (const std::string problem = identifierProblem(name); !problem.empty()) entries.failName(name, problem);
+    if (!node.is_table()) entries.fail(name, "must be a table");
+    readOne(entries.child(name), name, scene);
   }
 }
 
@@ -161,7 +161,8 @@ std::string pictureText(toml::table table) {
 // Frames are capped at kMaxFrames when the scene is read: the int cannot overflow.
 int SceneFile::frameCount() const { return std::max(1, static_cast<int>(std::floor(duration * fps + 1e-9))); }
 
-SceneFile loadScene(const fs::path& file, const std::vector<std::string>& overrides, std::uint64_t max_memory) {
+SceneFile loadScene(const fs::path& file, const std::vector<std::string>& overrides, const SceneFlags& flags,
+                    std::uint64_t max_memory) {
   SceneFile scene;
   scene.file = file;
   scene.name = file.stem().string();
@@ -174,18 +175,17 @@ SceneFile loadScene(const fs::path& file, const std::vector<std::string>& overri
     checkNesting(o, "--set " + o.substr(0, 40) + ": line ");
     applyOverride(table, o);
   }
+  applyFlags(table, flags);
   std::ostringstream text;
   text << table;
   scene.text = text.str();
   scene.picture_text = pictureText(table);
 
-  TableReader root(table, file, "");
+  TableReader root(table, file, "", &flags);
   Vec3 gravity;
-  static const toml::table kEmpty;
-  const toml::table* simulation = root.table("simulation");
-  readSimulation(TableReader(simulation ? *simulation : kEmpty, file, "simulation"), scene, gravity);
+  readSimulation(root.child("simulation"), scene, gravity);
   scene.system = std::make_unique<MassSpringSystem>(gravity);
-  if (const toml::table* output = root.table("output")) readOutput(TableReader(*output, file, "output"), scene);
+  readOutput(root.child("output"), scene);
   readGroup(root, "bodies", scene, readBody);
   readGroup(root, "colliders", scene, readCollider);
   readRenderTables(root, scene);
@@ -193,9 +193,8 @@ SceneFile loadScene(const fs::path& file, const std::vector<std::string>& overri
     SceneEstimate e = scene.estimate;
     e.render_pixels = std::int64_t(scene.render.camera.resolution[0]) * scene.render.camera.resolution[1];
     if (e.bytes(integratorTraits(scene.integrator).implicit) > scene.memory_budget) {
-      const toml::table* camera = root.table("camera");
-      TableReader c(camera ? *camera : kEmpty, file, "camera");
-      failOverBudget(c, scene, "resolution", e, "; a smaller camera.resolution (or --resolution) would fit");
+      TableReader camera = root.child("camera");
+      failOverBudget(camera, scene, "resolution", e, "; a smaller camera.resolution (or --resolution) would fit");
     }
     scene.estimate = e;
   }
