@@ -1,8 +1,7 @@
 #include "app/commands/render_command.h"
 
-#include <chrono>
-
 #include "app/commands/frame_range.h"
+#include "app/commands/wall_clock.h"
 #include "app/output/frame_name.h"
 #include "app/output/interrupt.h"
 #include "app/output/obj_sequence.h"
@@ -65,7 +64,7 @@ RenderCommandReport renderSequence(const RenderCommandOptions& options) {
   report.out = options.out.value_or(mesh_dir.has_parent_path() ? mesh_dir.parent_path() : fs::path("."));
   // Only the frames of the range are written: pieces of a split render share the folder.
   const OutputFolder folder(report.out, OutputFolder::Access::shared);
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   FrameOutput pictures(scene, report.out, options.skip_existing);
 
   // The follow camera's smoothing runs over the frames before the range too, as in the run (camera_rig.h).
@@ -85,7 +84,7 @@ RenderCommandReport renderSequence(const RenderCommandOptions& options) {
   report.frames_rendered = pictures.framesRendered();
   report.frames_skipped = pictures.framesSkipped();
   report.video = pictures.finish();
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.seconds = secondsSince(start);
   return report;
 }
 

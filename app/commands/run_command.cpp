@@ -1,12 +1,12 @@
 #include "app/commands/run_command.h"
 
 #include <array>
-#include <chrono>
 #include <memory>
 
 #include <nlohmann/json.hpp>
 
 #include "app/commands/frame_range.h"
+#include "app/commands/wall_clock.h"
 #include "app/output/interrupt.h"
 #include "app/output/obj_sequence.h"
 #include "app/output/output_folder.h"
@@ -21,10 +21,6 @@ namespace fs = std::filesystem;
 
 namespace wobble {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overrides, const Simulation& sim,
                   const RunReport& r) {

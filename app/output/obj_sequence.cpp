@@ -1,27 +1,16 @@
 #include "app/output/obj_sequence.h"
 
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
 #include "app/output/frame_name.h"
 #include "app/output/obj_text.h"
 #include "io/atomic_file.h"
+#include "io/text_file.h"
 
 namespace fs = std::filesystem;
 
 namespace wobble {
-namespace {
-
-std::string readFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  if (!(in && bytes << in.rdbuf())) throw std::runtime_error(path.string() + ": cannot read");
-  return bytes.str();
-}
-
-}  // namespace
 
 fs::path ObjSequenceWriter::basePath(const fs::path& mesh_dir, const std::string& body) {
   return mesh_dir / (body + ".obj");
@@ -34,7 +23,7 @@ ObjSequenceWriter::ObjSequenceWriter(fs::path mesh_dir, const Body& body, std::o
   fs::create_directories(dir_);
   if (texture) {
     material_.texture = texture->filename().string();
-    io::writeFileAtomically(dir_ / material_.texture, readFile(*texture));
+    io::writeFileAtomically(dir_ / material_.texture, io::readTextFile(*texture));
   }
 }
 

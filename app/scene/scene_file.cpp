@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
 #include "app/scene/body_kinds.h"
@@ -13,7 +12,8 @@
 #include "app/scene/scene_budget.h"
 #include "app/scene/table_reader.h"
 #include "app/scene/toml_depth.h"
-#include "io/text_table.h"
+#include "io/number_text.h"
+#include "io/text_file.h"
 #include "render/image/image_header.h"
 
 namespace fs = std::filesystem;
@@ -132,9 +132,12 @@ toml::table parseFile(const fs::path& file) {
   if (const auto size = fs::file_size(file); size > kMaxSceneFileBytes)
     throw InputError(file.string() + ": " + std::to_string(size) + " bytes, above the limit of " +
                      std::to_string(kMaxSceneFileBytes) + " bytes for a scene file");
-  std::ostringstream text;
-  text << std::ifstream(file, std::ios::binary).rdbuf();
-  const std::string content = text.str();
+  std::string content;
+  try {
+    content = io::readTextFile(file);
+  } catch (const std::runtime_error& e) {
+    throw InputError(e.what());
+  }
   checkNesting(content, file.string() + ":");
   try {
     return toml::parse(content, file.string());

@@ -4,7 +4,7 @@
 #include <sstream>
 
 #include "app/scene/input_error.h"
-#include "io/text_table.h"
+#include "io/number_text.h"
 
 namespace wobble {
 namespace {
@@ -22,7 +22,7 @@ std::string FlagSetting::text() const {
   return key + "=" +
          std::visit(Overloaded{[](bool b) { return std::string(b ? "true" : "false"); },
                                [](std::int64_t i) { return std::to_string(i); },
-                               [](double x) { return io::formatNumber(x, 17); },  // 17 digits: the same double
+                               [](double x) { return io::formatNumber(x, io::kRoundTripDigits); },
                                [](const std::string& s) { return "\"" + s + "\""; },
                                [](const std::array<std::int64_t, 2>& a) {
                                  std::string text = "[";  // piecewise: GCC 12 warns falsely (-Wrestrict) on "[" + s

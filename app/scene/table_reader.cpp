@@ -6,15 +6,10 @@
 
 #include "app/scene/identifier.h"
 #include "app/scene/input_error.h"
+#include "io/number_text.h"
 
 namespace wobble {
 namespace {
-
-std::string format(double x) {
-  std::ostringstream out;
-  out << x;
-  return out.str();
-}
 
 // What the user wrote, for messages; strings quoted as in TOML.
 std::string show(const toml::node& node) {
@@ -49,9 +44,10 @@ bool Range::contains(double x) const {
 }
 
 std::string Range::describe() const {
-  if (std::isinf(max)) return std::string(min_open ? "> " : ">= ") + format(min);
-  if (std::isinf(min)) return std::string(max_open ? "< " : "<= ") + format(max);
-  return std::string("in ") + (min_open ? "(" : "[") + format(min) + ", " + format(max) + (max_open ? ")" : "]");
+  if (std::isinf(max)) return std::string(min_open ? "> " : ">= ") + io::formatNumber(min);
+  if (std::isinf(min)) return std::string(max_open ? "< " : "<= ") + io::formatNumber(max);
+  return std::string("in ") + (min_open ? "(" : "[") + io::formatNumber(min) + ", " + io::formatNumber(max) +
+         (max_open ? ")" : "]");
 }
 
 std::string nearestKey(std::string_view unknown, const std::set<std::string>& known) {
