@@ -1,7 +1,5 @@
 #include "io/text_table.h"
 
-#include <cstdio>
-
 namespace wobble::io {
 namespace {
 
@@ -44,12 +42,6 @@ std::string TextTable::markdown() const {
   text += "\n";
   for (const auto& row : rows) text += markdownRow(row);
   return text;
-}
-
-std::string formatNumber(double x, int precision) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*g", precision, x);
-  return buffer;
 }
 
 }  // namespace wobble::io

@@ -1,8 +1,10 @@
 // TextTable: rows of strings under a header, rendered as CSV (RFC 4180 quoting: fields with a comma, quote or line
-// break are quoted) or as a GitHub Markdown table. formatNumber prints a double with %.*g ("nan", "inf" as is).
+// break are quoted) or as a GitHub Markdown table. Numbers for its cells: io/number_text.h (included).
 #pragma once
 #include <string>
 #include <vector>
+
+#include "io/number_text.h"
 
 namespace wobble::io {
 
@@ -14,7 +16,5 @@ struct TextTable {
   std::string csv() const;
   std::string markdown() const;
 };
-
-std::string formatNumber(double x, int precision = 6);
 
 }  // namespace wobble::io

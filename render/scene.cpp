@@ -29,7 +29,25 @@ struct Scene::Shape {
   Bounds bounds;      // set by commit()
   std::unique_ptr<EmbreeTriangleMesh> rtc_mesh;
   std::unique_ptr<EmbreeSphere> rtc_sphere;
+
+  // A quad or a box is a triangle mesh made from its parameters, the same way when added and at every update.
+  static constexpr Kind kindOf(const Quad&) { return Kind::Quad; }
+  static constexpr Kind kindOf(const Box&) { return Kind::Box; }
+  void set(const Quad& q) {
+    mesh = quadMesh(name, q);
+    quad = q;
+  }
+  void set(const Box& b) {
+    mesh = boxMesh(name, b);
+    box = b;
+  }
 };
+
+namespace {
+
+constexpr const char* kKindNames[] = {"mesh", "quad", "box", "sphere"};
+
+}  // namespace
 
 Scene::Scene() : device_(std::make_unique<EmbreeDevice>()), rtc_(std::make_unique<EmbreeScene>(device_->get())) {}
 // Shapes (geometries) must go before the Embree scene, and the scene before the device.
@@ -60,10 +78,9 @@ Scene::Shape& Scene::shape(ShapeId id, const char* expected_kind) {
   if (id < 0 || std::size_t(id) >= shapes_.size())
     throw std::out_of_range("scene: no shape with id " + std::to_string(id));
   Shape& s = *shapes_[id];
-  static const char* names[] = {"mesh", "quad", "box", "sphere"};
-  if (std::string(names[static_cast<int>(s.kind)]) != expected_kind)
-    throw std::invalid_argument("scene: shape '" + s.name + "' is a " + names[static_cast<int>(s.kind)] + ", not a " +
-                                expected_kind);
+  if (std::string(kKindNames[static_cast<int>(s.kind)]) != expected_kind)
+    throw std::invalid_argument("scene: shape '" + s.name + "' is a " + kKindNames[static_cast<int>(s.kind)] +
+                                ", not a " + expected_kind);
   return s;
 }
 
@@ -116,41 +133,32 @@ void Scene::updateMesh(ShapeId id, std::span<const Vector3f> positions, std::spa
   committed_ = false;
 }
 
+template <typename Shaped>
+ShapeId Scene::addShaped(const std::string& name, const Shaped& params, MaterialId material) {
+  auto s = std::make_unique<Shape>();
+  s->kind = Shape::kindOf(params);
+  s->name = name;
+  s->material = material;
+  s->set(params);
+  return attach(std::move(s));
+}
+
+template <typename Shaped>
+void Scene::updateShaped(ShapeId id, const Shaped& params) {
+  Shape& s = shape(id, kKindNames[static_cast<int>(Shape::kindOf(params))]);
+  s.set(params);
+  s.rtc_mesh->setVertices(s.mesh.positions);
+  committed_ = false;
+}
+
 ShapeId Scene::addQuad(const std::string& name, const Quad& quad, MaterialId material) {
-  auto s = std::make_unique<Shape>();
-  s->kind = Shape::Kind::Quad;
-  s->name = name;
-  s->material = material;
-  s->mesh = quadMesh(name, quad);
-  s->quad = quad;
-  return attach(std::move(s));
+  return addShaped(name, quad, material);
 }
-
-void Scene::updateQuad(ShapeId id, const Quad& quad) {
-  Shape& s = shape(id, "quad");
-  s.mesh = quadMesh(s.name, quad);
-  s.quad = quad;
-  s.rtc_mesh->setVertices(s.mesh.positions);
-  committed_ = false;
-}
-
+void Scene::updateQuad(ShapeId id, const Quad& quad) { updateShaped(id, quad); }
 ShapeId Scene::addBox(const std::string& name, const Box& box, MaterialId material) {
-  auto s = std::make_unique<Shape>();
-  s->kind = Shape::Kind::Box;
-  s->name = name;
-  s->material = material;
-  s->mesh = boxMesh(name, box);
-  s->box = box;
-  return attach(std::move(s));
+  return addShaped(name, box, material);
 }
-
-void Scene::updateBox(ShapeId id, const Box& box) {
-  Shape& s = shape(id, "box");
-  s.mesh = boxMesh(s.name, box);
-  s.box = box;
-  s.rtc_mesh->setVertices(s.mesh.positions);
-  committed_ = false;
-}
+void Scene::updateBox(ShapeId id, const Box& box) { updateShaped(id, box); }
 
 ShapeId Scene::addSphere(const std::string& name, const Sphere& sphere, MaterialId material) {
   checkSphere(name, sphere);

@@ -95,6 +95,11 @@ class Scene {
   struct Shape;
   Shape& shape(ShapeId id, const char* expected_kind);
   ShapeId attach(std::unique_ptr<Shape> shape);
+  // Quads and boxes: triangle meshes built from their parameters (Shape::set), alike on add and update.
+  template <typename Shaped>
+  ShapeId addShaped(const std::string& name, const Shaped& params, MaterialId material);
+  template <typename Shaped>
+  void updateShaped(ShapeId id, const Shaped& params);
 
   std::unique_ptr<EmbreeDevice> device_;
   std::unique_ptr<EmbreeScene> rtc_;

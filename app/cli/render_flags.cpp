@@ -12,7 +12,8 @@ void addRenderFlags(CLI::App& cmd, RenderFlags& flags) {
   for (const std::string& name : qualityNames()) presets += "; " + name + ": " + qualityPreset(name).summary;
   cmd.add_option("--quality", flags.quality, "Render quality preset (overrides render.quality)" + presets)
       ->check(CLI::IsMember(qualityNames()));
-  cmd.add_option("--spp", flags.spp, "Samples per pixel, the most with adaptive sampling (overrides render.samples)")
+  cmd.add_option("--spp", flags.samples_per_pixel,
+                 "Samples per pixel, the most with adaptive sampling (overrides render.samples)")
       ->check(CLI::Range(1, 65536));
   cmd.add_option("--denoise", flags.denoise, "Denoise the PNG frames and video: on or off (overrides render.denoise)")
       ->check(CLI::IsMember({"on", "off"}));

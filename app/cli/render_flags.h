@@ -1,9 +1,9 @@
 // The rendering flags on a command line (CLI11): --render, --quality, --spp, --denoise, --resolution, --video, read
-// into RenderFlags, which become scene overrides (app/scene/render_overrides.h); and --skip-existing.
+// into RenderFlags, whose typed settings loadScene lays over the scene (app/scene/scene_flags.h); and --skip-existing.
 #pragma once
 #include <CLI/CLI.hpp>
 
-#include "app/scene/render_overrides.h"
+#include "app/scene/scene_flags.h"
 
 namespace wobble {
 

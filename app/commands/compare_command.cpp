@@ -3,14 +3,14 @@
 #include <algorithm>
 #include <atomic>
 #include <cctype>
-#include <charconv>
-#include <chrono>
 #include <deque>
 #include <exception>
 #include <future>
 #include <mutex>
 #include <thread>
 
+#include "app/commands/frame_range.h"
+#include "app/commands/wall_clock.h"
 #include "app/compare/compare_report.h"
 #include "app/compare/tile_label.h"
 #include "app/compare/vary.h"
@@ -24,6 +24,7 @@
 #include "app/view/camera_rig.h"
 #include "app/view/frame_picture.h"
 #include "app/view/render_scene.h"
+#include "io/number_text.h"
 #include "io/text_file.h"
 #include "render/image/compose.h"
 #include "render/image/font.h"
@@ -36,19 +37,8 @@ namespace fs = std::filesystem;
 namespace wobble {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
 constexpr int kMaxVariants = 36;
 constexpr render::Rgb8 kEmptyCell{40, 40, 40};
-
-double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
-
-// The shortest text that reads back as x (command lines: 0.0012, not 0.0011999999999999999).
-std::string shortestNumber(double x) {
-  char text[32];
-  const auto end = std::to_chars(text, text + sizeof text, x).ptr;
-  return std::string(text, end);
-}
 
 // Single quotes around a word the shell would split or expand.
 std::string shellWord(const std::string& word) {
@@ -67,7 +57,7 @@ std::string runFlags(const RunOptions& o, bool with_scene_and_out) {
   const auto add = [&](const std::string& word) { s += (s.empty() ? "" : " ") + shellWord(word); };
   if (with_scene_and_out) add(o.scene.string());
   if (o.integrator) add("--integrator"), add(*o.integrator);
-  if (o.dt) add("--dt"), add(shortestNumber(*o.dt));
+  if (o.dt) add("--dt"), add(io::shortestNumber(*o.dt));
   for (const std::string& set : o.sets) add("--set"), add(set);
   if (o.frames) add("--frames"), add(*o.frames);
   if (o.pc2) add("--pc2");
@@ -75,7 +65,7 @@ std::string runFlags(const RunOptions& o, bool with_scene_and_out) {
   const RenderFlags& r = o.render;
   if (r.render) add("--render"), add(*r.render);
   if (r.quality) add("--quality"), add(*r.quality);
-  if (r.spp) add("--spp"), add(std::to_string(*r.spp));
+  if (r.samples_per_pixel) add("--spp"), add(std::to_string(*r.samples_per_pixel));
   if (r.denoise) add("--denoise"), add(*r.denoise);
   if (r.resolution) add("--resolution"), add(*r.resolution);
   if (with_scene_and_out && o.out) add("--out"), add(o.out->string());
@@ -271,8 +261,8 @@ void checkRenderable(const std::vector<Planned>& plans) {
     const std::string who = "variant " + p.variant.folder + ": ";
     if (s.fps != first.fps || s.frameCount() != first.frameCount())
       throw InputError(who + "the variants of one video need the same frame rate and length (fps " +
-                       shortestNumber(s.fps) + ", " + std::to_string(s.frameCount()) + " frames against fps " +
-                       shortestNumber(first.fps) + ", " + std::to_string(first.frameCount()) +
+                       io::shortestNumber(s.fps) + ", " + std::to_string(s.frameCount()) + " frames against fps " +
+                       io::shortestNumber(first.fps) + ", " + std::to_string(first.frameCount()) +
                        "); compare them with --render none");
     if (!s.write_obj)
       throw InputError(who +
@@ -368,7 +358,7 @@ CompareSummary summarize(const CompareOptions& o, const std::vector<Planned>& pl
     s.video = report.video ? "`compare.mp4`" : "no video (ffmpeg missing)";
     s.video += " and `frames/compare_NNNN.png`, " + std::to_string(g.width()) + " x " + std::to_string(g.height()) +
                ", frames " + std::to_string(report.first_frame) + " to " + std::to_string(report.last_frame) + " at " +
-               shortestNumber(plans.front().picture.fps) + " fps";
+               io::shortestNumber(plans.front().picture.fps) + " fps";
     s.layout = std::to_string(g.rows) + " x " + std::to_string(g.cols) + " tiles of " + std::to_string(g.tile_width) +
                " x " + std::to_string(g.tile_height);
   }
@@ -401,7 +391,7 @@ CompareReport runCompare(const CompareOptions& o) {
   // Everything is checked first: the flags, every variant's scene, the font. Nothing is written before.
   const std::vector<VaryAxis> axes = parseAxes(o);
   if (o.jobs < 0) throw InputError("--jobs " + std::to_string(o.jobs) + ": must be >= 0 (0: one per hardware thread)");
-  if (!(o.strain_bound > 0)) throw InputError("--strain-bound " + shortestNumber(o.strain_bound) + ": must be > 0");
+  if (!(o.strain_bound > 0)) throw InputError("--strain-bound " + io::shortestNumber(o.strain_bound) + ": must be > 0");
   if (o.run.render.render && o.run.render.render->find("exr") != std::string::npos)
     throw InputError("--render " + *o.run.render.render +
                      ": wobble compare writes PNG frames and a video: png or none");

@@ -1,6 +1,6 @@
 #include "app/commands/frames_command.h"
 
-#include "app/commands/run_command.h"
+#include "app/commands/frame_range.h"
 #include "app/output/run_record.h"
 #include "app/scene/input_error.h"
 #include "app/scene/scene_file.h"

@@ -1,8 +1,7 @@
 #include "app/commands/render_command.h"
 
-#include <chrono>
-
-#include "app/commands/run_command.h"
+#include "app/commands/frame_range.h"
+#include "app/commands/wall_clock.h"
 #include "app/output/frame_name.h"
 #include "app/output/interrupt.h"
 #include "app/output/obj_sequence.h"
@@ -24,9 +23,7 @@ fs::path objPath(const fs::path& dir, const Body& body, int frame) { return objF
 }  // namespace
 
 RenderCommandReport renderSequence(const RenderCommandOptions& options) {
-  std::vector<std::string> overrides = options.sets;
-  for (const std::string& o : renderOverrides(options.render)) overrides.push_back(o);
-  SceneFile scene = loadScene(options.scene, overrides);
+  SceneFile scene = loadScene(options.scene, options.sets, renderFlagSettings(options.render));
   RenderCommandReport report;
   // A piece (--frames) makes no video of its own unless --video asks: the pieces of a split render would each write
   // OUT/<scene>.mp4 of their frames; `wobble video OUT` joins them all at the end.
@@ -69,7 +66,7 @@ RenderCommandReport renderSequence(const RenderCommandOptions& options) {
   checkDiskBudget(estimateRenderOutput(scene, report.first_frame, report.last_frame), report.out);
   // Only the frames of the range are written: pieces of a split render share the folder.
   const OutputFolder folder(report.out, OutputFolder::Access::shared);
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   FrameOutput pictures(scene, report.out, options.skip_existing);
 
   // The follow camera's smoothing runs over the frames before the range too, as in the run (camera_rig.h).
@@ -89,7 +86,7 @@ RenderCommandReport renderSequence(const RenderCommandOptions& options) {
   report.frames_rendered = pictures.framesRendered();
   report.frames_skipped = pictures.framesSkipped();
   report.video = pictures.finish();
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.seconds = secondsSince(start);
   return report;
 }
 

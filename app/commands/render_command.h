@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "app/scene/render_overrides.h"
+#include "app/scene/scene_flags.h"
 
 namespace wobble {
 

@@ -1,12 +1,12 @@
 #include "app/commands/run_command.h"
 
 #include <array>
-#include <chrono>
 #include <memory>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "app/commands/frame_range.h"
+#include "app/commands/wall_clock.h"
 #include "app/output/interrupt.h"
 #include "app/output/obj_sequence.h"
 #include "app/output/output_folder.h"
@@ -22,17 +22,6 @@ namespace fs = std::filesystem;
 
 namespace wobble {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
-
-std::string roundTripNumber(double x) {  // 17 digits: reads back as the same double
-  std::ostringstream out;
-  out.precision(17);
-  out << x;
-  return out.str();
-}
 
 void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overrides, const Simulation& sim,
                   const RunReport& r) {
@@ -95,40 +84,6 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
 }
 
 }  // namespace
-
-std::pair<int, int> parseFrameRange(const std::string& text, int count) {
-  return parseFrameRange(text, 1, count, "the scene has " + std::to_string(count) + " frames");
-}
-
-std::pair<int, int> parseFrameRange(const std::string& text, int first, int last, const std::string& why) {
-  const auto bad = [&] {
-    return InputError("--frames " + text + ": must be A:B or A with " + std::to_string(first) +
-                      " <= A <= B <= " + std::to_string(last) + " (" + why + ")");
-  };
-  int a = 0, b = 0;
-  std::istringstream in(text);
-  char colon = 0;
-  if (!(in >> a)) throw bad();
-  if (in >> colon) {
-    if (colon != ':' || !(in >> b)) throw bad();
-  } else {
-    b = a;
-  }
-  if (!in.eof() && in.peek() != EOF) throw bad();
-  if (a < first || b < a || b > last) throw bad();
-  return {a, b};
-}
-
-SceneFile loadRunScene(const RunOptions& options, std::vector<std::string>* overrides) {
-  std::vector<std::string> all = options.sets;
-  if (options.integrator) all.push_back("simulation.integrator=\"" + *options.integrator + "\"");
-  if (options.dt) all.push_back("simulation.dt=" + roundTripNumber(*options.dt));
-  if (options.pc2) all.push_back("output.pc2=true");
-  for (const std::string& o : renderOverrides(options.render)) all.push_back(o);
-  SceneFile scene = loadScene(options.scene, all);
-  if (overrides) *overrides = std::move(all);
-  return scene;
-}
 
 RunReport runScene(const RunOptions& options) {
   std::vector<std::string> overrides;

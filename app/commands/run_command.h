@@ -1,34 +1,14 @@
 // `wobble run`: load a scene, simulate it, write the OBJ sequence of every body and OUT/run.json.
 #pragma once
 #include <filesystem>
-#include <functional>
 #include <optional>
 #include <string>
-#include <vector>
 
-#include "app/scene/render_overrides.h"
-#include "app/scene/scene_file.h"
+#include "app/commands/run_scene.h"
 #include "app/study/error_estimate.h"
 #include "sim/simulation.h"
 
 namespace wobble {
-
-struct RunOptions {
-  std::filesystem::path scene = "scenes/jelly_slope.toml";
-  std::optional<std::string> integrator;
-  std::optional<double> dt;
-  std::optional<std::string> frames;         // "A:B", 1-based and inclusive, or "A"
-  std::optional<std::filesystem::path> out;  // default out/<scene name>
-  std::vector<std::string> sets;             // KEY=VALUE overrides
-  RenderFlags render;                        // --render, --spp, --resolution, --video (applied after --set)
-  bool estimate_error = false;               // rerun at dt/2 in lock step and report the error (error_estimate.h)
-  bool pc2 = false;                          // write the PC2 point cache (overrides output.pc2)
-  bool progress = true;                      // the progress line on a terminal (`wobble compare` shows its own)
-  // Called after the simulation reaches each frame's time, from frame 1 (also before the --frames range), with every
-  // particle's position; not for the frame a blow-up stopped. `wobble compare` follows strain and camera with it.
-  std::function<void(int frame, const VecX& x)> on_frame;
-  bool skip_existing = false;  // keep frames already rendered with the same settings (frame_output.h)
-};
 
 struct RunReport {
   std::filesystem::path out;
@@ -46,19 +26,9 @@ struct RunReport {
   int files_cleared = 0;     // of an earlier run in the folder (output_folder.h)
 };
 
-// The scene a run of `options` simulates: the file with --set, then the keys the flags set (--integrator, --dt,
-// --pc2, the render flags), in that order; `overrides` (when given) receives that list, as run.json records it.
-// Throws InputError.
-SceneFile loadRunScene(const RunOptions& options, std::vector<std::string>* overrides = nullptr);
-
 // Throws InputError for bad input before anything is written, and when another run holds OUT. Clears an earlier
 // run's files from OUT first. A blow-up or an interrupt stops the run at once: the frames written so far stay, and
 // the report (and run.json) says so.
 RunReport runScene(const RunOptions& options);
-
-// The 1-based inclusive frame range of "A:B" or "A" within [1, count]; throws InputError naming what is allowed.
-std::pair<int, int> parseFrameRange(const std::string& text, int count);
-// The same within [first, last], which `why` explains in the message ("the run wrote frames 5:40").
-std::pair<int, int> parseFrameRange(const std::string& text, int first, int last, const std::string& why);
 
 }  // namespace wobble

@@ -1,9 +1,9 @@
 #include "app/commands/video_command.h"
 
-#include <chrono>
 #include <map>
 
-#include "app/commands/run_command.h"
+#include "app/commands/frame_range.h"
+#include "app/commands/wall_clock.h"
 #include "app/output/external_program.h"
 #include "app/output/output_folder.h"
 #include "app/output/run_record.h"
@@ -105,9 +105,9 @@ VideoReport encodeFrames(const VideoOptions& options) {
 
   if (!findProgram("ffmpeg"))
     throw std::runtime_error("ffmpeg not found on PATH: wobble video needs it (install ffmpeg, e.g. ./setup.sh)");
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   report.mp4 = encodeVideo(frames_dir, name, report.first_frame, report.last_frame, report.fps, out / (name + ".mp4"));
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.seconds = secondsSince(start);
   return report;
 }
 

@@ -1,25 +1,17 @@
 #include "app/output/obj_sequence.h"
 
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
 #include "app/output/frame_name.h"
 #include "app/output/obj_text.h"
 #include "io/atomic_file.h"
+#include "io/text_file.h"
 
 namespace fs = std::filesystem;
 
 namespace wobble {
 namespace {
-
-std::string readFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  if (!(in && bytes << in.rdbuf())) throw std::runtime_error(path.string() + ": cannot read");
-  return bytes.str();
-}
 
 ObjMaterial materialOf(const Body& body, const std::optional<fs::path>& texture, const BodyLook& look) {
   return {body.name, look.color, texture ? texture->filename().string() : "", look.material == "jelly"};
@@ -43,7 +35,7 @@ ObjSequenceWriter::ObjSequenceWriter(fs::path mesh_dir, const Body& body, std::o
     : dir_(std::move(mesh_dir)), body_(body), order_(body.surface) {
   material_ = materialOf(body, texture, look);
   fs::create_directories(dir_);
-  if (texture) io::writeFileAtomically(dir_ / material_.texture, readFile(*texture));
+  if (texture) io::writeFileAtomically(dir_ / material_.texture, io::readTextFile(*texture));
 }
 
 fs::path ObjSequenceWriter::write(int frame, const SurfaceFrame& surface) const {

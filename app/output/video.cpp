@@ -8,7 +8,6 @@
 #include <csignal>
 #include <cstdio>
 #include <initializer_list>
-#include <sstream>
 #include <stdexcept>
 #include <system_error>
 #include <vector>
@@ -16,6 +15,7 @@
 #include "app/output/external_program.h"
 #include "app/output/interrupt.h"
 #include "io/atomic_file.h"
+#include "io/number_text.h"
 
 namespace fs = std::filesystem;
 
@@ -35,12 +35,7 @@ std::optional<fs::path> findFfmpeg(const fs::path& frames_dir) {
   return ffmpeg;
 }
 
-std::string rateOf(double fps) {
-  std::ostringstream rate;
-  rate.precision(17);
-  rate << fps;
-  return rate.str();
-}
+std::string rateOf(double fps) { return io::formatNumber(fps, io::kRoundTripDigits); }
 
 // The whole ffmpeg command: quiet, no prompts, the given input, then H.264 (x264 veryfast, CRF 20), yuv420p at even
 // dimensions, MP4 into `temp` ("-f mp4": the temporary name needs no extension); `frames` > 0 stops after that many.

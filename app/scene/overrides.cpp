@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <sstream>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include "app/scene/input_error.h"
@@ -26,6 +28,18 @@ toml::node_view<toml::node> parseValue(toml::table& holder, const std::string& t
   return holder["value"];
 }
 
+// The table that holds the last component of `path`, created as needed; `what` names the edit in messages.
+toml::table& parentTable(toml::table& root, const std::vector<std::string>& path, const std::string& what) {
+  toml::table* table = &root;
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+    toml::node* next = table->get(path[i]);
+    if (!next) next = &table->insert(path[i], toml::table{}).first->second;
+    if (!next->is_table()) throw InputError(what + ": '" + path[i] + "' is a value, not a table of keys");
+    table = next->as_table();
+  }
+  return *table;
+}
+
 }  // namespace
 
 void applyOverride(toml::table& root, const std::string& assignment) {
@@ -44,17 +58,24 @@ void applyOverride(toml::table& root, const std::string& assignment) {
         break;
       }
 
-  toml::table* table = &root;
-  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
-    toml::node* next = table->get(path[i]);
-    if (!next) next = &table->insert(path[i], toml::table{}).first->second;
-    if (!next->is_table())
-      throw InputError("--set " + assignment + ": '" + path[i] + "' is a value, not a table of keys");
-    table = next->as_table();
-  }
   toml::table holder;
   auto value = parseValue(holder, assignment.substr(eq + 1));
-  value.node()->visit([&](auto& concrete) { table->insert_or_assign(path.back(), concrete); });
+  toml::table& table = parentTable(root, path, "--set " + assignment);
+  value.node()->visit([&](auto& concrete) { table.insert_or_assign(path.back(), concrete); });
+}
+
+void applyFlags(toml::table& root, const SceneFlags& flags) {
+  for (const FlagSetting& s : flags.settings) {
+    const std::vector<std::string> path = split(s.key);
+    toml::table& table = parentTable(root, path, s.flag + " (" + s.text() + ")");
+    std::visit(
+        [&](const auto& value) {
+          if constexpr (std::is_same_v<std::decay_t<decltype(value)>, std::array<std::int64_t, 2>>)
+            table.insert_or_assign(path.back(), toml::array{value[0], value[1]});
+          else table.insert_or_assign(path.back(), value);
+        },
+        s.value);
+  }
 }
 
 }  // namespace wobble

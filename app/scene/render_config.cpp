@@ -51,7 +51,7 @@ std::vector<std::string> qualityNames() {
 
 render::RenderSettings renderSettings(const RenderOptionsConfig& o, int frame) {
   render::RenderSettings s;
-  s.samples_per_pixel = o.samples;
+  s.samples_per_pixel = o.samples_per_pixel;
   s.min_samples = o.min_samples;
   s.noise_threshold = static_cast<float>(o.noise_threshold);
   s.max_bounces = o.bounces;
@@ -81,9 +81,7 @@ void readColliderLook(TableReader& r, const ColliderKind& kind, const std::strin
 }
 
 void readRenderTables(TableReader& root, SceneFile& scene) {
-  static const toml::table kEmpty;
-  const toml::table* camera_table = root.table("camera");
-  TableReader c(camera_table ? *camera_table : kEmpty, scene.file, "camera");
+  TableReader c = root.child("camera");
   CameraConfig& cam = scene.render.camera;
   if (c.node("position")) cam.position = c.vec3("position", Vec3::Zero());
   if (c.node("look_at")) cam.look_at = c.vec3("look_at", Vec3::Zero());
@@ -105,19 +103,20 @@ void readRenderTables(TableReader& root, SceneFile& scene) {
   }
   c.finish();
 
-  const toml::table* render_table = root.table("render");
-  TableReader r(render_table ? *render_table : kEmpty, scene.file, "render");
+  // A scene renders only if it asks to: no [render] table, no frames (unless a flag that sets a render.* key, such as
+  // --render png or --spp, creates it).
+  const bool asks = root.table("render") != nullptr;
+  TableReader r = root.child("render");
   RenderOptionsConfig& o = scene.render.options;
-  // A scene renders only if it asks to: no [render] table, no frames (unless --render png, which creates it).
-  o.png = r.boolean("png", render_table != nullptr);
+  o.png = r.boolean("png", asks);
   o.exr = r.boolean("exr", o.exr);
   o.video = r.boolean("video", o.video);
   o.quality = r.string("quality", o.quality, qualityNames());
   const QualityPreset& preset = qualityPreset(o.quality);
-  o.samples = r.integer("samples", preset.samples, Range{1, 65536});
-  o.min_samples = r.integer("min_samples", std::min(preset.min_samples, o.samples), Range{1, 65536});
-  if (o.min_samples > o.samples)
-    r.fail("min_samples", "must be at most render.samples (" + std::to_string(o.samples) + ")");
+  o.samples_per_pixel = r.integer("samples", preset.samples_per_pixel, Range{1, 65536});
+  o.min_samples = r.integer("min_samples", std::min(preset.min_samples, o.samples_per_pixel), Range{1, 65536});
+  if (o.min_samples > o.samples_per_pixel)
+    r.fail("min_samples", "must be at most render.samples (" + std::to_string(o.samples_per_pixel) + ")");
   o.noise_threshold = r.number("noise_threshold", preset.noise_threshold, Range{0, 1});
   o.denoise = r.boolean("denoise", preset.denoise);
   o.sampler = r.string("sampler", o.sampler, {"sobol", "independent"});

@@ -32,7 +32,7 @@ struct CameraConfig {
 // on its own (an explicit key or flag wins over the preset). Chosen from `wobble study render` (docs/studies.md).
 struct QualityPreset {
   const char* name;
-  int samples;             // the most per pixel
+  int samples_per_pixel;   // the most
   int min_samples;         // adaptive sampling's first pass
   double noise_threshold;  // 0: no adaptive sampling
   bool denoise;
@@ -45,7 +45,7 @@ std::vector<std::string> qualityNames();
 struct RenderOptionsConfig {
   bool png = true, exr = false, video = false;
   std::string quality = "final";
-  int samples = 0;  // most per pixel; these four come from the quality preset unless set
+  int samples_per_pixel = 0;  // the most; these four come from the quality preset unless set
   int min_samples = 0;
   double noise_threshold = 0;
   bool denoise = true;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
 #include "app/scene/body_kinds.h"
@@ -13,7 +12,8 @@
 #include "app/scene/scene_budget.h"
 #include "app/scene/table_reader.h"
 #include "app/scene/toml_depth.h"
-#include "io/text_table.h"
+#include "io/number_text.h"
+#include "io/text_file.h"
 #include "render/image/image_header.h"
 
 namespace fs = std::filesystem;
@@ -111,12 +111,12 @@ template <typename ReadOne>
 void readGroup(TableReader& root, std::string_view group, SceneFile& scene, ReadOne readOne) {
   const toml::table* table = root.table(group);
   if (!table) return;
+  TableReader entries = root.child(group);
   for (const auto& [key, node] : *table) {
     const std::string name(key.str());
-    if (const std::string problem = identifierProblem(name); !problem.empty())
-      TableReader(*table, scene.file, std::string(group)).failName(name, problem);
-    if (!node.is_table()) TableReader(*table, scene.file, std::string(group)).fail(name, "must be a table");
-    readOne(TableReader(*node.as_table(), scene.file, std::string(group) + "." + name), name, scene);
+    if (const std::string problem = identifierProblem(name); !problem.empty()) entries.failName(name, problem);
+    if (!node.is_table()) entries.fail(name, "must be a table");
+    readOne(entries.child(name), name, scene);
   }
 }
 
@@ -132,9 +132,12 @@ toml::table parseFile(const fs::path& file) {
   if (const auto size = fs::file_size(file); size > kMaxSceneFileBytes)
     throw InputError(file.string() + ": " + std::to_string(size) + " bytes, above the limit of " +
                      std::to_string(kMaxSceneFileBytes) + " bytes for a scene file");
-  std::ostringstream text;
-  text << std::ifstream(file, std::ios::binary).rdbuf();
-  const std::string content = text.str();
+  std::string content;
+  try {
+    content = io::readTextFile(file);
+  } catch (const std::runtime_error& e) {
+    throw InputError(e.what());
+  }
   checkNesting(content, file.string() + ":");
   try {
     return toml::parse(content, file.string());
@@ -161,7 +164,8 @@ std::string pictureText(toml::table table) {
 // Frames are capped at kMaxFrames when the scene is read: the int cannot overflow.
 int SceneFile::frameCount() const { return std::max(1, static_cast<int>(std::floor(duration * fps + 1e-9))); }
 
-SceneFile loadScene(const fs::path& file, const std::vector<std::string>& overrides, std::uint64_t max_memory) {
+SceneFile loadScene(const fs::path& file, const std::vector<std::string>& overrides, const SceneFlags& flags,
+                    std::uint64_t max_memory) {
   SceneFile scene;
   scene.file = file;
   scene.name = file.stem().string();
@@ -174,18 +178,17 @@ SceneFile loadScene(const fs::path& file, const std::vector<std::string>& overri
     checkNesting(o, "--set " + o.substr(0, 40) + ": line ");
     applyOverride(table, o);
   }
+  applyFlags(table, flags);
   std::ostringstream text;
   text << table;
   scene.text = text.str();
   scene.picture_text = pictureText(table);
 
-  TableReader root(table, file, "");
+  TableReader root(table, file, "", &flags);
   Vec3 gravity;
-  static const toml::table kEmpty;
-  const toml::table* simulation = root.table("simulation");
-  readSimulation(TableReader(simulation ? *simulation : kEmpty, file, "simulation"), scene, gravity);
+  readSimulation(root.child("simulation"), scene, gravity);
   scene.system = std::make_unique<MassSpringSystem>(gravity);
-  if (const toml::table* output = root.table("output")) readOutput(TableReader(*output, file, "output"), scene);
+  readOutput(root.child("output"), scene);
   readGroup(root, "bodies", scene, readBody);
   readGroup(root, "colliders", scene, readCollider);
   readRenderTables(root, scene);
@@ -193,9 +196,8 @@ SceneFile loadScene(const fs::path& file, const std::vector<std::string>& overri
     SceneEstimate e = scene.estimate;
     e.render_pixels = std::int64_t(scene.render.camera.resolution[0]) * scene.render.camera.resolution[1];
     if (e.bytes(integratorTraits(scene.integrator).implicit) > scene.memory_budget) {
-      const toml::table* camera = root.table("camera");
-      TableReader c(camera ? *camera : kEmpty, file, "camera");
-      failOverBudget(c, scene, "resolution", e, "; a smaller camera.resolution (or --resolution) would fit");
+      TableReader camera = root.child("camera");
+      failOverBudget(camera, scene, "resolution", e, "; a smaller camera.resolution (or --resolution) would fit");
     }
     scene.estimate = e;
   }

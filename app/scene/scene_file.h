@@ -1,6 +1,6 @@
 // A scene file (TOML, see scenes/README.md) read into what a run needs: simulation settings, the mass-spring system
-// with only the bodies and colliders the file names, and per-body textures. --set overrides are applied to the
-// TOML before anything is read, so they get the same checks and messages as the file.
+// with only the bodies and colliders the file names, and per-body textures. --set overrides, then the flags' typed
+// settings (scene_flags.h), are laid over the TOML before anything is read, so they get the same checks as the file.
 #pragma once
 #include <filesystem>
 #include <map>
@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/scene/render_config.h"
+#include "app/scene/scene_flags.h"
 #include "app/scene/scene_limits.h"
 #include "sim/integrators/integrator.h"
 #include "sim/system.h"
@@ -29,7 +30,7 @@ struct SceneFile {
 
   std::unique_ptr<MassSpringSystem> system;
   std::map<std::string, std::filesystem::path> textures;  // body name -> texture file, only for bodies naming one
-  std::string text;  // the file after overrides, as TOML (keys sorted): what a cache of results may be keyed by
+  std::string text;  // the file after --set and flags, as TOML (keys sorted): what a cache of results may be keyed by
   // The same without the keys that choose which files are written, not what a frame shows (render.png, .exr, .video,
   // output.*, simulation.duration): what a frame's picture key hashes (app/view/picture_key.h).
   std::string picture_text;
@@ -44,9 +45,10 @@ struct SceneFile {
 
 // max_memory: the memory budget in bytes, 0 for memoryBudget(); a scene over it, or over any other limit of
 // scene_limits.h, is refused before its bodies are built.
-// overrides: "dotted.key=value" (value in TOML syntax; a bare word is taken as a string). A first component that
-// names a body or collider may omit "bodies." / "colliders.": "jelly.ks=2800". Throws InputError.
+// overrides: --set's "dotted.key=value" (value in TOML syntax; a bare word is taken as a string). A first component
+// that names a body or collider may omit "bodies." / "colliders.": "jelly.ks=2800".
+// flags: the command-line flags' settings, laid over the keys after the overrides. Throws InputError.
 SceneFile loadScene(const std::filesystem::path& file, const std::vector<std::string>& overrides = {},
-                    std::uint64_t max_memory = 0);
+                    const SceneFlags& flags = {}, std::uint64_t max_memory = 0);
 
 }  // namespace wobble

@@ -6,15 +6,10 @@
 
 #include "app/scene/identifier.h"
 #include "app/scene/input_error.h"
+#include "io/number_text.h"
 
 namespace wobble {
 namespace {
-
-std::string format(double x) {
-  std::ostringstream out;
-  out << x;
-  return out.str();
-}
 
 // What the user wrote, for messages; strings quoted as in TOML.
 std::string show(const toml::node& node) {
@@ -49,9 +44,10 @@ bool Range::contains(double x) const {
 }
 
 std::string Range::describe() const {
-  if (std::isinf(max)) return std::string(min_open ? "> " : ">= ") + format(min);
-  if (std::isinf(min)) return std::string(max_open ? "< " : "<= ") + format(max);
-  return std::string("in ") + (min_open ? "(" : "[") + format(min) + ", " + format(max) + (max_open ? ")" : "]");
+  if (std::isinf(max)) return std::string(min_open ? "> " : ">= ") + io::formatNumber(min);
+  if (std::isinf(min)) return std::string(max_open ? "< " : "<= ") + io::formatNumber(max);
+  return std::string("in ") + (min_open ? "(" : "[") + io::formatNumber(min) + ", " + io::formatNumber(max) +
+         (max_open ? ")" : "]");
 }
 
 std::string nearestKey(std::string_view unknown, const std::set<std::string>& known) {
@@ -64,14 +60,15 @@ std::string nearestKey(std::string_view unknown, const std::set<std::string>& kn
   return best;
 }
 
-TableReader::TableReader(const toml::table& table, std::filesystem::path file, std::string path)
-    : table_(table), file_(std::move(file)), path_(std::move(path)) {}
+TableReader::TableReader(const toml::table& table, std::filesystem::path file, std::string path,
+                         const SceneFlags* flags)
+    : table_(table), file_(std::move(file)), path_(std::move(path)), flags_(flags) {}
 
 std::string TableReader::keyPath(std::string_view key) const {
   return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
 }
 
-std::string TableReader::where(const toml::node* node) const {
+std::string TableReader::where(const toml::node* node, std::string_view key) const {
   std::string w = file_.string();
   const auto& src = (node ? node : &static_cast<const toml::node&>(table_))->source();
   if (src.begin.line > 0) {
@@ -79,15 +76,16 @@ std::string TableReader::where(const toml::node* node) const {
     w += std::to_string(src.begin.line);
     w += ':';
     w += std::to_string(src.begin.column);
-  } else if (node) {
-    w += " (--set)";  // parsed from the command line: no position in the file
+  } else if (node) {  // from the command line: no position in the file
+    const FlagSetting* flag = flags_ ? flags_->find(keyPath(key)) : nullptr;
+    w += " (" + (flag ? flag->flag : std::string("--set")) + ")";
   }
   return w;
 }
 
 void TableReader::fail(std::string_view key, const std::string& problem) const {
   const toml::node* node = table_.get(key);
-  std::string message = where(node) + ": " + keyPath(key);
+  std::string message = where(node, key) + ": " + keyPath(key);
   if (node) message += " = " + show(*node);
   throw InputError(message + ": " + problem);
 }
@@ -95,7 +93,7 @@ void TableReader::fail(std::string_view key, const std::string& problem) const {
 void TableReader::failName(std::string_view key, const std::string& problem) const {
   const toml::node* node = table_.get(key);
   const std::string path = path_.empty() ? quotedName(key) : path_ + "." + quotedName(key);
-  throw InputError(where(node) + ": " + path + ": " + problem);
+  throw InputError(where(node, key) + ": " + path + ": " + problem);
 }
 
 const toml::node* TableReader::get(std::string_view key) {
@@ -198,11 +196,17 @@ const toml::table* TableReader::table(std::string_view key) {
   return node ? node->as_table() : nullptr;
 }
 
+TableReader TableReader::child(std::string_view key) {
+  static const toml::table kEmpty;
+  const toml::table* sub = table(key);
+  return TableReader(sub ? *sub : kEmpty, file_, keyPath(key), flags_);
+}
+
 void TableReader::finish() const {
   for (const auto& [key, node] : table_) {
     const std::string name(key.str());
     if (known_.count(name)) continue;
-    std::string message = where(&node) + ": unknown key '" + keyPath(name) + "'";
+    std::string message = where(&node, name) + ": unknown key '" + keyPath(name) + "'";
     if (const std::string near = nearestKey(name, known_); !near.empty())
       message += "; did you mean '" + keyPath(near) + "'?";
     std::string list;

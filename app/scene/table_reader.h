@@ -1,6 +1,7 @@
 // Typed, range-checked reads from one TOML table of a scene, with errors that name the file, line, key, value and
 // what is allowed. Every key a table may hold must be read (or listed with allow()); finish() then reports any
-// other key as unknown, suggesting the nearest known one.
+// other key as unknown, suggesting the nearest known one. A value with no place in the file came from --set or, when
+// the flags (scene_flags.h) name its key, from a command-line flag: messages say which ("file (--dt): ...").
 #pragma once
 #include <array>
 #include <filesystem>
@@ -13,6 +14,7 @@
 
 #include <toml++/toml.h>
 
+#include "app/scene/scene_flags.h"
 #include "sim/types.h"
 
 namespace wobble {
@@ -34,7 +36,9 @@ struct Range {
 class TableReader {
  public:
   // file: the scene file, for messages; path: the table's dotted path ("" for the root), e.g. "bodies.jelly".
-  TableReader(const toml::table& table, std::filesystem::path file, std::string path);
+  // flags: the settings laid over the scene (kept by the caller while the reader lives), for messages.
+  TableReader(const toml::table& table, std::filesystem::path file, std::string path,
+              const SceneFlags* flags = nullptr);
 
   double number(std::string_view key, double fallback, Range range = {});
   int integer(std::string_view key, int fallback, Range range = {});
@@ -47,6 +51,8 @@ class TableReader {
   const toml::node* node(std::string_view key);
   // A sub-table; marks the key known. Nothing when absent; an error when present but not a table.
   const toml::table* table(std::string_view key);
+  // A reader of that sub-table (of an empty one when absent), of the same file and flags; marks the key known.
+  TableReader child(std::string_view key);
   void allow(std::string_view key) { known_.insert(std::string(key)); }
 
   // Throws InputError for any key that was never read or allowed.
@@ -62,12 +68,13 @@ class TableReader {
  private:
   const toml::node* get(std::string_view key);
   double toDouble(std::string_view key, const toml::node& node, const Range& range) const;
-  std::string where(const toml::node* node) const;
+  std::string where(const toml::node* node, std::string_view key) const;
 
   const toml::table& table_;
   std::filesystem::path file_;
   std::string path_;
   std::set<std::string> known_;
+  const SceneFlags* flags_;
 };
 
 // The known key nearest to an unknown one (edit distance), or "" if none is close.

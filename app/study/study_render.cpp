@@ -9,7 +9,7 @@
 
 #include "app/output/progress.h"
 #include "app/scene/input_error.h"
-#include "app/scene/render_overrides.h"
+#include "app/scene/scene_flags.h"
 #include "app/scene/scene_file.h"
 #include "app/study/order_fit.h"
 #include "app/view/frame_view.h"
@@ -111,9 +111,7 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
 
   RenderFlags flags;
   flags.resolution = o.resolution;
-  std::vector<std::string> overrides = o.sets;
-  for (const std::string& s : renderOverrides(flags)) overrides.push_back(s);
-  const SceneFile scene = loadScene(o.scene, overrides);
+  const SceneFile scene = loadScene(o.scene, o.sets, renderFlagSettings(flags));
   const int frame = o.frame > 0 ? o.frame : (scene.frameCount() + 1) / 2;
   check(frame <= scene.frameCount(),
         "--frame " + std::to_string(frame) + ": the scene has " + std::to_string(scene.frameCount()) + " frames");
