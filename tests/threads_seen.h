@@ -1,7 +1,9 @@
 // ThreadsSeen: which threads took part in TBB's parallel work while it was alive, for tests that claim a result does
 // not depend on the thread count: they check that a second thread really ran, not only that the results agree.
 // A local task_scheduler_observer of the creating thread's arena: TBB calls on_scheduler_entry on every thread that
-// joins the arena (a worker, before the first task it takes), so a worker's id is in the set once it ran there.
+// joins the arena, so a worker's id is in the set once parallel work woke it there. Joining is not yet taking a task
+// (a worker that finds the work all taken leaves again): what it proves is that the code offered work to a second
+// thread, which a serial path never does.
 #pragma once
 #include <mutex>
 #include <set>
