@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdlib>
@@ -16,14 +17,41 @@
 namespace wobble::io {
 namespace {
 
-// WOBBLE_FAIL_WRITE_AFTER=N: true for the N-th checked write of the process (1-based).
-bool injectedFailure() {
-  static const long fail_at = [] {
-    const char* n = std::getenv("WOBBLE_FAIL_WRITE_AFTER");
-    return n ? std::atol(n) : 0L;
+// WOBBLE_FAIL_WRITE_AFTER=N[:short|:close] (atomic_file.h): where the N-th checked write (or close) fails.
+enum class Fault { None, Before, Short, Close };
+
+struct Injection {
+  long at = 0;  // 1-based; 0: none
+  Fault fault = Fault::Before;
+};
+
+const Injection& injection() {
+  static const Injection i = [] {
+    Injection r;
+    const char* text = std::getenv("WOBBLE_FAIL_WRITE_AFTER");
+    if (!text) return r;
+    char* rest = nullptr;
+    r.at = std::strtol(text, &rest, 10);
+    const std::string how = rest;
+    r.fault = how == ":short" ? Fault::Short : how == ":close" ? Fault::Close : Fault::Before;
+    return r;
   }();
-  static std::atomic<long> writes{0};
-  return fail_at > 0 && writes.fetch_add(1) + 1 == fail_at;
+  return i;
+}
+
+// The fault this checked write (or, for closing, close) gets: None but for the N-th of its kind.
+Fault injectedFault(bool closing) {
+  static std::atomic<long> writes{0}, closes{0};
+  const Injection& i = injection();
+  if (i.at <= 0 || (i.fault == Fault::Close) != closing) return Fault::None;
+  return (closing ? closes : writes).fetch_add(1) + 1 == i.at ? i.fault : Fault::None;
+}
+
+// close(), checked; 0 or errno.
+int closeChecked(int fd) {
+  const bool fails = injectedFault(true) == Fault::Close;
+  if (::close(fd) != 0) return errno;
+  return fails ? ENOSPC : 0;
 }
 
 [[noreturn]] void fail(const std::filesystem::path& shown, int error) {
@@ -38,21 +66,27 @@ int openForWriting(const std::filesystem::path& path, const std::filesystem::pat
 
 // Writes all of bytes at offset (or at the file position when offset < 0), continuing short writes; 0 or errno.
 int writeAll(int fd, std::string_view bytes, off_t offset = -1) {
-  if (injectedFailure()) return ENOSPC;
+  const Fault fault = injectedFault(false);
+  if (fault == Fault::Before) return ENOSPC;
   for (std::size_t done = 0; done < bytes.size();) {
-    const ssize_t n = offset < 0 ? ::write(fd, bytes.data() + done, bytes.size() - done)
-                                 : ::pwrite(fd, bytes.data() + done, bytes.size() - done, offset + off_t(done));
+    std::size_t size = bytes.size() - done;
+    if (fault == Fault::Short) {
+      if (done > 0) return ENOSPC;  // the disk filled during the first write(): the next one fails
+      size = std::max<std::size_t>(1, size / 2);
+    }
+    const ssize_t n = offset < 0 ? ::write(fd, bytes.data() + done, size)
+                                 : ::pwrite(fd, bytes.data() + done, size, offset + off_t(done));
     if (n < 0 && errno != EINTR) return errno;
     if (n > 0) done += std::size_t(n);
   }
-  return 0;
+  return fault == Fault::Short ? ENOSPC : 0;  // a single byte, written whole: the disk is full now all the same
 }
 
 // Writes bytes to path, checking open, every write (short writes continue) and close.
 void writeBytes(const std::filesystem::path& path, std::string_view bytes, const std::filesystem::path& shown) {
   const int fd = openForWriting(path, shown);
   int error = writeAll(fd, bytes);
-  if (::close(fd) != 0 && error == 0) error = errno;  // NFS and friends report write errors at close
+  if (const int closed = closeChecked(fd); closed != 0 && error == 0) error = closed;  // NFS reports errors here
   if (error != 0) fail(shown, error);
 }
 
@@ -111,7 +145,7 @@ void AtomicFileWriter::overwrite(std::size_t offset, std::string_view bytes) {
 
 void AtomicFileWriter::commit() {
   const int fd = std::exchange(fd_, -1);
-  const int error = ::close(fd) != 0 ? errno : 0;
+  const int error = closeChecked(fd);
   std::error_code renamed;
   if (error == 0) std::filesystem::rename(temp_, target_, renamed);
   if (error == 0 && !renamed) return;

@@ -7,7 +7,9 @@
 // ("No space left on device") and never leaves a truncated file under its final name.
 //
 // Test hook: WOBBLE_FAIL_WRITE_AFTER=N in the environment (read once) makes the N-th checked write of the process
-// fail with ENOSPC, as a full disk would.
+// fail with ENOSPC, as a full disk would: before any byte is written; with N:short, after write() has stored part of
+// the bytes (a short write, then ENOSPC for the rest, as a disk that fills during the write); with N:close, at the
+// N-th checked close() (every byte written: network file systems report write errors there).
 #pragma once
 #include <filesystem>
 #include <functional>

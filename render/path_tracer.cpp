@@ -77,15 +77,20 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
     other += t_other.cwiseProduct(light);
   };
 
+  // Suns and area lights found by BSDF continuations: MIS-weighted, or fully when light samples are off.
+  const bool bsdf_finds_lights = context.settings.mis || !context.settings.light_samples;
+  const auto foundWeight = [&](float light_pdf) {
+    return context.settings.light_samples ? powerHeuristic(previous_pdf, light_pdf) : 1.0f;
+  };
   int leaving = -1;  // the surface the current ray starts on (none for the camera ray)
   for (int bounce = 0;; ++bounce) {
     ++result.rays;
     auto hit = scene.intersect(ray, leaving);
-    if (bounce > 0 && context.settings.mis) {  // a BSDF continuation may pass an area light before what it hits
+    if (bounce > 0 && bsdf_finds_lights) {  // a BSDF continuation may pass an area light before what it hits
       const float tmax = hit ? hit->t : ray.tfar;
       for (const RectLight& rect : lights.rects) {
         const LightHit h = rectAlongRay(rect, ray.origin, ray.direction, tmax);
-        if (h.pdf > 0) arrive(h.radiance * powerHeuristic(previous_pdf, h.pdf));
+        if (h.pdf > 0) arrive(h.radiance * foundWeight(h.pdf));
       }
     }
     if (!hit) {
@@ -95,7 +100,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
           light *= powerHeuristic(previous_pdf, context.sky_distribution.pdf(ray.direction));
         for (const SunCone& sun : context.suns) {
           const LightHit h = sunInDirection(sun, ray.direction);
-          if (h.pdf > 0 && context.settings.mis) light += h.radiance * powerHeuristic(previous_pdf, h.pdf);
+          if (h.pdf > 0 && bsdf_finds_lights) light += h.radiance * foundWeight(h.pdf);
         }
       }
       arrive(light);
@@ -146,7 +151,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
       }
     };
     const auto sampleLight = [&](const LightSample& s) {
-      if (s.value.isZero() || ns.dot(s.wi) <= 0) return;
+      if (!context.settings.light_samples || s.value.isZero() || ns.dot(s.wi) <= 0) return;
       ++result.rays;
       if (!unoccluded(scene, s.shadow, hit->shape)) return;
       // With no continuation from here, light samples are the only strategy: full weight.

@@ -38,6 +38,9 @@ struct PathSettings {
   // false: suns and area lights by light sampling alone (full weight; BSDF samples that find them are ignored), as
   // the renderer did before MIS. For the render study's comparison.
   bool mis = true;
+  // false: suns and area lights by BSDF sampling alone (no light samples; a continuation that finds one counts it
+  // fully), the other strategy MIS combines. For tests of MIS's variance: light at the last vertex is lost.
+  bool light_samples = true;
   // Russian roulette from the second continuation on: a path goes on with its throughput as probability (at least
   // 0.05) and is weighted by its inverse (unbiased), so dim indirect light costs fewer rays.
   bool roulette = false;

@@ -16,6 +16,7 @@
 //   sampler            SamplerKind::Sobol (default) or Independent (sampler.h)
 //   sample_sky         next-event estimation of the sky with MIS (path_tracer.h)
 //   mis                multiple importance sampling of suns and area lights (path_tracer.h); off only for comparisons
+//   light_samples      false: suns and area lights by BSDF sampling alone (path_tracer.h); for tests of MIS only
 //   roulette           Russian roulette from the second path continuation on, by throughput (path_tracer.h)
 //   tile_size          tiles of tile_size^2 pixels are the units of parallel work (tbb::parallel_for)
 //   frame              animation frame index: seeds the per-pixel sample streams, so consecutive frames get
@@ -44,6 +45,7 @@ struct RenderSettings {
   SamplerKind sampler = SamplerKind::Sobol;
   bool sample_sky = false;
   bool mis = true;
+  bool light_samples = true;
   bool roulette = false;
   int tile_size = 16;
   std::uint32_t frame = 0;

@@ -1,7 +1,8 @@
 // A full disk during `wobble run`: every write is checked, the run fails at the first error (exit 1) naming the file
 // and "No space left on device", no temporary file stays, and every file with a final name is complete (the bytes
-// of a clean run). Injected (WOBBLE_FAIL_WRITE_AFTER, io/atomic_file.h) at every kind of write, and for real on
-// a small tmpfs where the test may mount one.
+// of a clean run). Injected (WOBBLE_FAIL_WRITE_AFTER, io/atomic_file.h) at every kind of write: before any byte, after
+// a short write() stored part of the file, and at close() once all of it is written; and for real on a small tmpfs
+// where the test may mount one.
 #include <sys/mount.h>
 
 #include <cerrno>
@@ -10,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "app/output/external_program.h"
 #include "tests/app/output_check.h"
 #include "tests/app/scratch_dir.h"
 
@@ -50,25 +52,42 @@ samples = 1
   std::string args(const fs::path& file, const fs::path& out, const std::string& size = "32x18") {
     return "run " + file.string() + " --render png,exr --resolution " + size + " --out " + out.string();
   }
+
+  // `wobble run` with the N-th checked write (or close) failing as `how` says (atomic_file.h: "", ":short" or
+  // ":close"): exit 1 naming the file and the reason, nothing half-written, no report.
+  void expectCleanFailure(const fs::path& file, const fs::path& clean, int n, const std::string& how) {
+    const fs::path out = dir() / ("fail" + std::to_string(n) + how), log = dir() / "log.txt";
+    const std::string at = std::to_string(n) + how;
+    EXPECT_EQ(runWobble(args(file, out), log, "WOBBLE_FAIL_WRITE_AFTER=" + at), 1) << at << ": " << slurpFile(log);
+    const std::string message = slurpFile(log);
+    EXPECT_NE(message.find("No space left on device"), std::string::npos) << at << ": " << message;
+    EXPECT_NE(message.find(out.string() + "/"), std::string::npos) << at << ": names the file: " << message;
+    expectCompleteFiles(out, clean);
+    EXPECT_FALSE(fs::exists(out / "run.json")) << at;  // the run failed before its report
+  }
 };
 
+// texture + 4 frames x (mtl, obj, png, exr) + run.json = 18 checked writes and closes; PNG/EXR are written on another
+// thread.
 TEST_F(FullDisk, InjectedWriteFailureAtEveryKindOfFile) {
   const fs::path file = scene(), clean = dir() / "clean", log = dir() / "log.txt";
   ASSERT_EQ(runWobble(args(file, clean), log), 0) << slurpFile(log);
-  // texture + 4 frames x (mtl, obj, png, exr) + run.json = 18 checked writes; PNG/EXR are written on another thread.
-  for (int n : {1, 2, 3, 4, 5, 9, 13, 17, 18}) {
-    const fs::path out = dir() / ("fail" + std::to_string(n));
-    EXPECT_EQ(runWobble(args(file, out), log, "WOBBLE_FAIL_WRITE_AFTER=" + std::to_string(n)), 1)
-        << n << ": " << slurpFile(log);
-    const std::string message = slurpFile(log);
-    EXPECT_NE(message.find("No space left on device"), std::string::npos) << n << ": " << message;
-    EXPECT_NE(message.find(out.string() + "/"), std::string::npos) << n << ": names the file: " << message;
-    expectCompleteFiles(out, clean);
-    EXPECT_FALSE(fs::exists(out / "run.json")) << n;  // the run failed before its report
-  }
+  for (int n : {1, 2, 3, 4, 5, 9, 13, 17, 18}) expectCleanFailure(file, clean, n, "");
 }
 
-// A real full file system: a 2 MB tmpfs, when the test may mount one (root outside a restricted container).
+// The disk fills during a write(): part of the file is on disk (under its temporary name) when the error comes.
+// And a close() that reports the error after every write() succeeded.
+TEST_F(FullDisk, InjectedShortWriteAndFailingCloseAtEveryKindOfFile) {
+  const fs::path file = scene(), clean = dir() / "clean", log = dir() / "log.txt";
+  ASSERT_EQ(runWobble(args(file, clean), log), 0) << slurpFile(log);
+  for (const std::string how : {":short", ":close"})
+    for (int n : {1, 2, 3, 4, 5, 9, 13, 17, 18}) expectCleanFailure(file, clean, n, how);
+}
+
+// A real full file system: a small tmpfs (2 MB, or 64 MB with room for 40 files). Mounted by the test where it may (root outside a restricted container);
+// elsewhere by the run's own shell in a user and mount namespace of its own (unshare(1): an unprivileged user may
+// mount a tmpfs there where the kernel allows user namespaces), which copies the output out before the namespace and
+// its tmpfs go. Skipped, saying why, only where neither is allowed.
 class SmallTmpfs : public FullDisk {
  protected:
   void TearDown() override {
@@ -82,6 +101,23 @@ class SmallTmpfs : public FullDisk {
     if (!mounted_) reason_ = std::strerror(errno);
     return mounted_;
   }
+  // `wobble arguments > log` in a new user and mount namespace on a tmpfs mounted with `options` at mount_, its output
+  // folder `out` copied to `copy` afterwards. The exit status, or -1 (reason_ says why) when the namespace or the
+  // mount is refused.
+  int runInNamespace(const std::string& arguments, const fs::path& log, const fs::path& out, const fs::path& copy,
+                     const std::string& options) {
+    const fs::path mounted = dir() / "mounted", said = dir() / "unshare.txt";
+    const std::string script = "mount -t tmpfs -o " + options + " tmpfs " + mount_.string() + " && touch " + mounted.string() +
+                               " || exit 99; " + WOBBLE_BINARY + " " + arguments + " > " + log.string() +
+                               " 2>&1; status=$?; cp -a " + out.string() + " " + copy.string() + "; exit $status";
+    const int status =
+        std::system(("unshare --user --map-root-user --mount sh -c '" + script + "' 2> " + said.string()).c_str());
+    if (!fs::exists(mounted)) {
+      reason_ += "; unshare --user --mount: " + slurpFile(said);
+      return -1;
+    }
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
   fs::path mount_;
   bool mounted_ = false;
   std::string reason_;
@@ -90,17 +126,28 @@ class SmallTmpfs : public FullDisk {
 // The disk budget (app/view/disk_budget.h) refuses a run estimated above the free space before it writes, so the disk
 // here fills with files, not bytes: 64 MB but room for 40 files (ENOSPC all the same).
 TEST_F(SmallTmpfs, RunFailsCleanlyWhenTheDiskFills) {
-  if (!mount("size=64m,nr_inodes=40"))
-    GTEST_SKIP() << "cannot mount a tmpfs here (" << reason_ << "): needs root outside a container";
   // About 40 frames of an OBJ, MTL, PNG and EXR each: more than 40 files.
+  const char* options = "size=64m,nr_inodes=40";
   const fs::path file = scene(8, 2.0), clean = dir() / "clean", log = dir() / "log.txt";
-  ASSERT_EQ(runWobble(args(file, clean, "128x72"), log), 0) << slurpFile(log);
+  const bool mounted = mount(options);
   const fs::path out = mount_ / "out";
-  EXPECT_EQ(runWobble(args(file, out, "128x72"), log), 1) << slurpFile(log);
+  fs::path written = out;  // where the run's files are checked
+  int status = -1;
+  if (mounted) {
+    ASSERT_EQ(runWobble(args(file, clean, "128x72"), log), 0) << slurpFile(log);
+    status = runWobble(args(file, out, "128x72"), log);
+  } else {
+    if (!findProgram("unshare")) GTEST_SKIP() << "cannot mount a tmpfs here (" << reason_ << ") and no unshare";
+    written = dir() / "copied";
+    status = runInNamespace(args(file, out, "128x72"), log, out, written, options);
+    if (status < 0) GTEST_SKIP() << "cannot mount a tmpfs here (" << reason_ << ")";
+    ASSERT_EQ(runWobble(args(file, clean, "128x72"), log.string() + ".clean"), 0) << slurpFile(log.string() + ".clean");
+  }
+  EXPECT_EQ(status, 1) << slurpFile(log);
   const std::string message = slurpFile(log);
   EXPECT_NE(message.find("No space left on device"), std::string::npos) << message;
   EXPECT_NE(message.find(out.string() + "/"), std::string::npos) << message;
-  EXPECT_FALSE(expectCompleteFiles(out, clean).empty());  // some frames made it, all of them whole
+  EXPECT_FALSE(expectCompleteFiles(written, clean).empty());  // some frames made it, all of them whole
 }
 
 // A run estimated above the free space of a real 2 MB file system (about 40 frames of 60 KB OBJs and 20 KB PNGs)

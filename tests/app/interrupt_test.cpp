@@ -1,12 +1,16 @@
 // SIGINT/SIGTERM during `wobble run` and `wobble render`, two runs on one folder, and re-runs into an old folder:
 // a signalled run stops after a complete frame with run.json saying "interrupted", ends ffmpeg and removes every
-// temporary file, exiting 130 or 143; a second run on a held folder is refused (exit 2) naming the holder; a re-run
-// replaces the earlier run's files, while `wobble render --frames` overwrites only its frames.
+// temporary file, exiting 130 or 143; a signalled `wobble render` likewise stops after a complete frame, saying
+// which, with no video; a second run on a held folder is refused (exit 2) naming the holder; a re-run replaces the
+// earlier run's files, while `wobble render --frames` overwrites only its frames.
 #include <signal.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <regex>
+
+#include "app/output/external_program.h"
 #include "render/image/png_io.h"
 #include "tests/app/output_check.h"
 #include "tests/app/scratch_dir.h"
@@ -109,6 +113,53 @@ TEST_F(Interrupt, SigintAndSigtermStopAfterACompleteFrame) {
     fs::remove(out() / "run.json");
     expectCompleteFiles(out(), reference);
     EXPECT_FALSE(fs::exists(out() / "mesh/.partial"));
+  }
+}
+
+// `wobble render` of a run's 400 OBJ frames, signalled after its second frame: exit 130 (SIGINT) or 143 (SIGTERM),
+// "interrupted: stopped after frame K", frames 1..K written whole (the bytes of a clean render of them) and no
+// further one, no temporary file and no video (when ffmpeg is there to make one).
+TEST_F(Interrupt, RenderStopsAfterACompleteFrame) {
+  const fs::path file = scene();
+  ASSERT_EQ(runWobble(run(file, "--render none"), log()), 0) << slurpFile(log());
+  const bool video = findProgram("ffmpeg").has_value();
+  const std::string render = "render " + (out() / "mesh").string() + " --scene " + file.string() +
+                             " --resolution 32x18" + (video ? " --video" : "");
+  // A clean render of the first `frames` frames of a copy of the run, for the bytes the interrupted ones must hold.
+  const fs::path clean = dir() / "clean";
+  fs::create_directories(clean);
+  fs::copy(out() / "mesh", clean / "mesh", fs::copy_options::recursive);
+  const auto cleanRender = [&](int frames) {
+    const fs::path clean_log = dir() / "clean.txt";
+    return runWobble("render " + (clean / "mesh").string() + " --scene " + file.string() +
+                         " --resolution 32x18 --frames 1:" + std::to_string(frames),
+                     clean_log) == 0
+               ? ::testing::AssertionSuccess()
+               : ::testing::AssertionFailure() << slurpFile(clean_log);
+  };
+  ASSERT_TRUE(cleanRender(40));
+  int cleaned = 40;
+  for (const auto& [signal, status] : {std::pair{SIGINT, 130}, std::pair{SIGTERM, 143}}) {
+    fs::remove_all(out() / "frames");
+    const pid_t child = startWobble(render, log());
+    ASSERT_TRUE(waitUntil(child, [&] { return frameExists(2); })) << slurpFile(log());
+    ::kill(child, signal);
+    EXPECT_EQ(waitExit(child), status) << slurpFile(log());
+    const std::string said = slurpFile(log());
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(said, m, std::regex("interrupted: stopped after frame ([0-9]+)"))) << said;
+    const int last = std::stoi(m[1]);
+    EXPECT_GE(last, 2) << said;
+    EXPECT_LT(last, 400) << said;
+    for (int k = 1; k <= last; ++k) EXPECT_TRUE(frameExists(k)) << k;
+    EXPECT_FALSE(frameExists(last + 1)) << said;
+    EXPECT_FALSE(fs::exists(out() / "long.mp4"));
+    // As in the run's test: a machine busy enough to let more than 40 frames through gets a longer clean render.
+    if (last > cleaned) {
+      ASSERT_TRUE(cleanRender(last));
+      cleaned = last;
+    }
+    expectCompleteFiles(out(), clean);
   }
 }
 

@@ -10,6 +10,7 @@
 
 #include <fstream>
 #include <regex>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -162,6 +163,31 @@ TEST_F(SplitRender, FramesPrintsThePiecesOfASceneOrARun) {
   }
   EXPECT_EQ(wobble("frames " + s.string() + " --chunks 9"), 2);
   EXPECT_NE(said().find("must be 1 to 8"), std::string::npos) << said();
+}
+
+// The pieces of a split render, rendered at the same time into one folder, are the bytes of one render. Needs neither
+// GNU parallel nor ffmpeg: `wobble frames` cuts the range, the pieces are three wobble processes started at once,
+// each asked for a video it must leave to `wobble video` (a piece makes none).
+TEST_F(SplitRender, PiecesRenderedAtOnceAreOneRendersBytes) {
+  const fs::path s = scene();
+  simulate(s);
+  const fs::path whole = dir() / "whole";
+  ASSERT_EQ(wobble(render(s, "--out " + whole.string())), 0) << said();
+  ASSERT_EQ(wobble("frames " + out().string() + " --chunks 3"), 0) << said();
+  std::istringstream ranges(said());
+  std::vector<pid_t> pieces;
+  std::vector<fs::path> logs;
+  for (std::string range; std::getline(ranges, range);) {
+    logs.push_back(dir() / ("piece" + std::to_string(pieces.size()) + ".txt"));
+    pieces.push_back(testing::startWobble(render(s, "--frames " + range + " --set render.video=true"), logs.back()));
+  }
+  ASSERT_EQ(pieces.size(), 3u);
+  for (std::size_t i = 0; i < pieces.size(); ++i) EXPECT_EQ(testing::waitExit(pieces[i]), 0) << slurpFile(logs[i]);
+  EXPECT_FALSE(fs::exists(out() / "split.mp4"));
+  for (int k = 1; k <= 8; ++k) {
+    ASSERT_TRUE(fs::exists(frame(out(), k))) << "frame " << k;
+    EXPECT_TRUE(slurpFile(frame(out(), k)) == slurpFile(frame(whole, k))) << "frame " << k << " differs";
+  }
 }
 
 // The recipe of docs/farm-rendering.md: simulate once, render the pieces with GNU parallel (all at once, into one
