@@ -139,8 +139,8 @@ DiffResult diffImages(const ImageF& a, const ImageF& b, const DiffOptions& o, Im
   }
   const auto percent = [&](long k) { return 100.0 * double(k) / double(r.pixels); };
   m += "\n  " + std::to_string(r.warn_pixels) + " pixels (" + printf1("%1.3g", percent(r.warn_pixels)) + "%) over " +
-       printf1("%g", o.warn) + "\n  " + std::to_string(r.fail_pixels) + " pixels (" +
-       printf1("%1.3g", percent(r.fail_pixels)) + "%) over " + printf1("%g", o.fail) + "\n";
+       shortest(o.warn) + "\n  " + std::to_string(r.fail_pixels) + " pixels (" +
+       printf1("%1.3g", percent(r.fail_pixels)) + "%) over " + shortest(o.fail) + "\n";
   if (o.perceptual)
     m += "  " + std::to_string(r.perceptual_failures) + " pixels (" +
          printf1("%3g", percent(r.perceptual_failures)) + "%) failed the perceptual test\n";
