@@ -54,6 +54,8 @@ void addDiffCommand(CLI::App& app, int& status) {
   cmd->add_option("--out", c.out,
                   "One pair: write the difference image |A - B| * scale (idiff) or the FLIP heatmap here (PNG). "
                   "Folders: a folder for the heatmaps of the pairs that warn or fail");
+  cmd->add_option("--heatmap", c.heatmap,
+                  "One pair: write the heatmap of the per-pixel error (magma) here when the pair warns or fails");
   cmd->add_option("--scale", c.idiff.diff_scale, "Multiplier of the difference image and idiff heatmaps")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

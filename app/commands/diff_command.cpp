@@ -55,8 +55,8 @@ Compared compareIdiff(const fs::path& a, const fs::path& b, const DiffCommandOpt
     c.pair.summary = r.message;
   } else {
     std::ostringstream s;
-    s << "max " << io::formatNumber(r.max_error, 4) << ", " << r.fail_pixels << " of " << r.pixels
-      << " pixels over " << io::formatNumber(o.idiff.fail, 4);
+    s << "max " << io::formatNumber(r.max_error, 4) << ", " << r.fail_pixels << " of " << r.pixels << " pixels over "
+      << io::formatNumber(o.idiff.fail, 4);
     if (o.idiff.perceptual) s << ", " << r.perceptual_failures << " failing the perceptual test";
     c.pair.summary = s.str();
   }
@@ -134,12 +134,23 @@ std::string xmlEscaped(const std::string& text) {
   for (const char ch : text) {
     const auto u = static_cast<unsigned char>(ch);
     switch (ch) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += (u < 0x20 && ch != '\n' && ch != '\t') ? '?' : ch;  // no control characters in XML 1.0
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += (u < 0x20 && ch != '\n' && ch != '\t') ? '?' : ch;  // no control characters in XML 1.0
     }
   }
   return out;
@@ -188,15 +199,20 @@ DiffReport runDiff(const DiffCommandOptions& o, std::ostream& log) {
 
   const auto compare = [&](const fs::path& a, const fs::path& b, const std::string& name, bool single) {
     const auto start = std::chrono::steady_clock::now();
-    Compared c = o.metric == DiffMetric::Flip ? compareFlip(a, b, o)
-                                              : compareIdiff(a, b, o, single ? o.out : fs::path());
+    Compared c =
+        o.metric == DiffMetric::Flip ? compareFlip(a, b, o) : compareIdiff(a, b, o, single ? o.out : fs::path());
     c.pair.name = name;
     c.pair.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const bool flagged = c.pair.code == DiffCode::Fail || c.pair.code == DiffCode::Warning;
+    if (single && !o.heatmap.empty() && flagged && !c.error_map.pixels.empty()) {
+      c.pair.heatmap = o.heatmap;
+      heatmaps.emplace_back(o.heatmap, c.error_map);
+    }
     if (!o.out.empty() && c.pair.code != DiffCode::FileError) {
       if (single) {  // the idiff metric's difference image is written by diffFiles
         if (o.metric == DiffMetric::Flip) heatmaps.emplace_back(o.out, std::move(c.error_map));
         c.pair.heatmap = o.out;
-      } else if ((c.pair.code == DiffCode::Fail || c.pair.code == DiffCode::Warning) && !c.error_map.pixels.empty()) {
+      } else if (flagged && !c.error_map.pixels.empty()) {
         c.pair.heatmap = o.out / (name + ".heatmap.png");
         heatmaps.emplace_back(c.pair.heatmap, std::move(c.error_map));
       }
@@ -239,8 +255,8 @@ DiffReport runDiff(const DiffCommandOptions& o, std::ostream& log) {
   // Outputs: heatmaps, then the report.
   for (const auto& [file, error] : heatmaps) writeHeatmap(file, error);
   if (!o.junit.empty())
-    io::writeFileAtomically(o.junit, junitXml(report, report.folders ? o.a.string() + " vs " + o.b.string()
-                                                                     : "wobble diff"));
+    io::writeFileAtomically(o.junit,
+                            junitXml(report, report.folders ? o.a.string() + " vs " + o.b.string() : "wobble diff"));
 
   if (!report.folders) {
     const DiffPair& p = report.pairs.front();
@@ -256,21 +272,26 @@ DiffReport runDiff(const DiffCommandOptions& o, std::ostream& log) {
     }
     return report;
   }
+  for (const DiffPair& p : report.pairs) {
+    log << render::verdict(p.code) << "  " << p.name << ": " << p.summary << "\n";
+    if (o.verbose) log << p.report << "\n";
+  }
+  log << "\n" << diffTable(report) << render::verdict(report.worst) << "\n";
+  return report;
+}
+
+std::string diffTable(const DiffReport& report) {
   io::TextTable table;
   table.header = {"image", "result", "details"};
   int counts[5] = {};
   for (const DiffPair& p : report.pairs) {
     ++counts[static_cast<int>(p.code)];
-    log << render::verdict(p.code) << "  " << p.name << ": " << p.summary << "\n";
-    if (o.verbose) log << p.report << "\n";
-    table.add({p.name, render::verdict(p.code), p.summary + (p.heatmap.empty() ? "" : "; heatmap " +
-                                                                                        p.heatmap.string())});
+    table.add(
+        {p.name, render::verdict(p.code), p.summary + (p.heatmap.empty() ? "" : "; heatmap " + p.heatmap.string())});
   }
-  log << "\n" << table.markdown() << "\n"
-      << report.pairs.size() << " pairs: " << counts[0] << " pass, " << counts[1] << " warning, " << counts[2]
-      << " failure, " << counts[4] << " file error\n"
-      << render::verdict(report.worst) << "\n";
-  return report;
+  return table.markdown() + "\n" + std::to_string(report.pairs.size()) + " pairs: " + std::to_string(counts[0]) +
+         " pass, " + std::to_string(counts[1]) + " warning, " + std::to_string(counts[2]) + " failure, " +
+         std::to_string(counts[4]) + " file error\n";
 }
 
 std::string junitXml(const DiffReport& report, const std::string& suite) {
@@ -289,8 +310,8 @@ std::string junitXml(const DiffReport& report, const std::string& suite) {
   x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"wobble diff\" " << attrs() << ">\n"
     << "  <testsuite name=\"" << xmlEscaped(suite) << "\" " << attrs() << " skipped=\"0\">\n";
   for (const DiffPair& p : report.pairs) {
-    x << "    <testcase classname=\"wobble.diff\" name=\"" << xmlEscaped(p.name) << "\" time=\""
-      << fixed(p.seconds, 3) << "\"";
+    x << "    <testcase classname=\"wobble.diff\" name=\"" << xmlEscaped(p.name) << "\" time=\"" << fixed(p.seconds, 3)
+      << "\"";
     const std::string details = p.report + (p.heatmap.empty() ? "" : "\nheatmap: " + p.heatmap.string());
     if (p.code == DiffCode::Fail)
       x << ">\n      <failure type=\"FAILURE\" message=\"" << xmlEscaped(p.summary) << "\">" << xmlEscaped(details)

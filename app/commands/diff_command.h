@@ -10,6 +10,7 @@
 //   out    one pair: the difference image |A - B| * scale (idiff metric, as idiff -o) or the FLIP heatmap (magma);
 //          folders: a folder receiving <name>.heatmap.png for each pair that warns or fails (the per-pixel error,
 //          idiff metric: max over channels * scale, clamped to 1; FLIP: its error), through the magma colour map
+//   heatmap  one pair: that heatmap, written when the pair warns or fails (with either metric)
 //   junit  a JUnit XML report, one test case per image pair (<failure> for failing and missing pairs, <error> for
 //          file errors), which CI systems (GitLab, Jenkins, GitHub actions) read
 // FLIP thresholds (fail, warn): "mean=0.05,p99=0.5" or a bare number (the mean); statistics: mean, max, pNN (the
@@ -31,7 +32,7 @@ enum class DiffMetric { Idiff, Flip };
 
 struct DiffCommandOptions {
   std::filesystem::path a, b;  // two files, or two folders (golden, new)
-  std::filesystem::path out, junit;
+  std::filesystem::path out, junit, heatmap;
   DiffMetric metric = DiffMetric::Idiff;
   render::DiffOptions idiff;  // thresholds and channels (the channel choice applies to FLIP too)
   std::map<std::string, double> flip_fail = {{"mean", 0.0}}, flip_warn;  // statistic -> limit
@@ -61,6 +62,9 @@ struct DiffReport {
 // Compares, prints to `log` (the per-pair lines and, for folders, the table), writes the outputs. Never throws for
 // unreadable images (they are file errors, 4); throws only when an output cannot be written.
 DiffReport runDiff(const DiffCommandOptions& options, std::ostream& log);
+
+// The table of a report's pairs (Markdown: image, result, details) and the line of counts.
+std::string diffTable(const DiffReport& report);
 
 // The JUnit XML text of a report (suite name given).
 std::string junitXml(const DiffReport& report, const std::string& suite);

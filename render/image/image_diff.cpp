@@ -50,10 +50,14 @@ std::string channelName(int c, const std::vector<std::string>& a, const std::vec
 
 const char* verdict(DiffCode code) {
   switch (code) {
-    case DiffCode::Pass: return "PASS";
-    case DiffCode::Warning: return "WARNING";
-    case DiffCode::Fail: return "FAILURE";
-    default: return "FILE ERROR";
+    case DiffCode::Pass:
+      return "PASS";
+    case DiffCode::Warning:
+      return "WARNING";
+    case DiffCode::Fail:
+      return "FAILURE";
+    default:
+      return "FILE ERROR";
   }
 }
 
@@ -82,7 +86,7 @@ DiffResult diffImages(const ImageF& a, const ImageF& b, const DiffOptions& o, Im
         }
         if (!std::isfinite(va) || !std::isfinite(vb)) {
           if (std::isnan(va) == std::isnan(vb) && std::isinf(va) == std::isinf(vb)) continue;  // NaN = NaN, inf = inf
-          pixel_error = 1;  // shown at full scale in the error map
+          pixel_error = 1;                 // shown at full scale in the error map
           if (std::isfinite(max_error)) {  // non-finite errors trump finite ones, and this one is not counted
             max_error = std::numeric_limits<float>::infinity();
             r.max_x = x, r.max_y = y, r.max_channel = c;
@@ -121,8 +125,7 @@ DiffResult diffImages(const ImageF& a, const ImageF& b, const DiffOptions& o, Im
     r.code = DiffCode::Fail;
   else if (double(r.warn_pixels) > o.warn_percent / 100.0 * double(r.pixels) || max_error > o.hard_warn)
     r.code = DiffCode::Warning;
-  else
-    r.code = DiffCode::Pass;
+  else r.code = DiffCode::Pass;
 
   std::string m;
   if (!a.sameShape(b))
@@ -142,8 +145,8 @@ DiffResult diffImages(const ImageF& a, const ImageF& b, const DiffOptions& o, Im
        shortest(o.warn) + "\n  " + std::to_string(r.fail_pixels) + " pixels (" +
        printf1("%1.3g", percent(r.fail_pixels)) + "%) over " + shortest(o.fail) + "\n";
   if (o.perceptual)
-    m += "  " + std::to_string(r.perceptual_failures) + " pixels (" +
-         printf1("%3g", percent(r.perceptual_failures)) + "%) failed the perceptual test\n";
+    m += "  " + std::to_string(r.perceptual_failures) + " pixels (" + printf1("%3g", percent(r.perceptual_failures)) +
+         "%) failed the perceptual test\n";
   r.stats = m;
   r.message = m + verdict(r.code);
   return r;

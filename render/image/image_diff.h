@@ -58,8 +58,8 @@ struct DiffResult {
   double mean_error = 0, rms_error = 0, psnr = 0;     // over all channel values of the union
   double max_error = 0;
   int max_x = 0, max_y = 0, max_channel = 0;  // where max_error occurs (first such)
-  std::string stats;    // idiff's report lines (empty for a file error)
-  std::string message;  // stats and the verdict, or why the files could not be compared
+  std::string stats;                          // idiff's report lines (empty for a file error)
+  std::string message;                        // stats and the verdict, or why the files could not be compared
 
   int exitCode() const { return static_cast<int>(code); }
 };

@@ -111,10 +111,14 @@ ImageFile select(const std::filesystem::path& file, ImageFile all, const Channel
 
 std::vector<std::string> unnamedChannels(int channels) {
   switch (channels) {
-    case 1: return {"Y"};
-    case 2: return {"Y", "A"};
-    case 3: return {"R", "G", "B"};
-    default: return {"R", "G", "B", "A"};
+    case 1:
+      return {"Y"};
+    case 2:
+      return {"Y", "A"};
+    case 3:
+      return {"R", "G", "B"};
+    default:
+      return {"R", "G", "B", "A"};
   }
 }
 
@@ -127,15 +131,16 @@ ImageFile readExr(const std::filesystem::path& file) {
     ImageFile out;
     out.format = "EXR";
     out.linear = true;
-    for (auto c = in.header().channels().begin(); c != in.header().channels().end(); ++c) out.channels.push_back(c.name());
+    for (auto c = in.header().channels().begin(); c != in.header().channels().end(); ++c)
+      out.channels.push_back(c.name());
     if (out.channels.empty()) fail(file, "the EXR file has no channels");
     out.image = ImageF(int(width), int(height), int(out.channels.size()));
     // Every channel as float, interleaved; the slice's origin is shifted so the data window starts at pixel 0.
     Imf::FrameBuffer frame;
     const std::size_t xs = sizeof(float) * out.channels.size(), ys = xs * std::size_t(width);
     for (std::size_t c = 0; c < out.channels.size(); ++c) {
-      char* base = reinterpret_cast<char*>(out.image.pixels.data() + c) - window.min.x * long(xs) -
-                   window.min.y * long(ys);
+      char* base =
+          reinterpret_cast<char*>(out.image.pixels.data() + c) - window.min.x * long(xs) - window.min.y * long(ys);
       frame.insert(out.channels[c], Imf::Slice(Imf::FLOAT, base, xs, ys));
     }
     in.setFrameBuffer(frame);
@@ -195,8 +200,8 @@ ImageFile readStb(const std::filesystem::path& file, bool png) {
   const auto loaded = [&](void* data) {
     if (!data) {
       const char* reason = stbi_failure_reason();
-      fail(file, std::string("cannot decode the image (") + (reason ? reason : "unknown error") +
-                     "): truncated or corrupt");
+      fail(file,
+           std::string("cannot decode the image (") + (reason ? reason : "unknown error") + "): truncated or corrupt");
     }
     return std::unique_ptr<void, void (*)(void*)>(data, stbi_image_free);
   };

@@ -14,8 +14,7 @@ using Lab = std::array<float, 3>;
 // OpenImageIO's constants: Adobe RGB (1998), reference white D65 -> XYZ (Bruce Lindbloom's matrix), then L*a*b*
 // relative to the white the matrix maps (1, 1, 1) to.
 Lab adobeRgbToLab(float r, float g, float b) {
-  const float xyz[3] = {r * 0.576700f + g * 0.185556f + b * 0.188212f,
-                        r * 0.297361f + g * 0.627355f + b * 0.0752847f,
+  const float xyz[3] = {r * 0.576700f + g * 0.185556f + b * 0.188212f, r * 0.297361f + g * 0.627355f + b * 0.0752847f,
                         r * 0.0270328f + g * 0.0706879f + b * 0.991248f};
   const float white[3] = {0.576700f + 0.185556f + 0.188212f, 0.297361f + 0.627355f + 0.0752847f,
                           0.0270328f + 0.0706879f + 0.991248f};

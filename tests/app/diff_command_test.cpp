@@ -45,7 +45,7 @@ class DiffFolders : public testing::ScratchDir {
     render::writePng(fresh() / "sub/edge.png", picture(2));  // an edge moved by two pixels: fails
     render::writeExrImage(golden() / "frame.exr", linear(1), {"R", "G", "B"}, true);
     render::writeExrImage(fresh() / "frame.exr", linear(1), {"R", "G", "B"}, true);
-    render::writePng(golden() / "gone.png", picture(0));   // missing from the new renders
+    render::writePng(golden() / "gone.png", picture(0));  // missing from the new renders
     render::writePng(fresh() / "stray.png", picture(0));  // extra
     std::ofstream(golden() / ".hidden") << "skipped";
   }
@@ -56,9 +56,9 @@ class DiffFolders : public testing::ScratchDir {
 
 TEST_F(DiffFolders, PairsByNameWorstStatusHeatmapsAndJunit) {
   const fs::path heat = dir() / "heat", junit = dir() / "report.xml";
-  const int status = testing::runWobble(
-      "diff " + golden().string() + " " + fresh().string() + " --out " + heat.string() + " --junit " + junit.string(),
-      log());
+  const int status = testing::runWobble("diff " + golden().string() + " " + fresh().string() + " --out " +
+                                            heat.string() + " --junit " + junit.string(),
+                                        log());
   const std::string out = testing::slurpFile(log());
   EXPECT_EQ(status, 2) << out;
   for (const char* line : {"PASS  same.png", "FAILURE  sub/edge.png", "PASS  frame.exr", "FAILURE  gone.png: missing",
@@ -71,8 +71,8 @@ TEST_F(DiffFolders, PairsByNameWorstStatusHeatmapsAndJunit) {
   EXPECT_FALSE(fs::exists(heat / "same.png.heatmap.png"));
   EXPECT_FALSE(fs::exists(heat / "frame.exr.heatmap.png"));
   const Image8 map = render::readImage(heat / "sub/edge.png.heatmap.png");
-  EXPECT_EQ(map.at(2, 2, 0), 0);      // magma's first entry: no error
-  EXPECT_GT(map.at(12, 5, 0), 200);   // the moved edge
+  EXPECT_EQ(map.at(2, 2, 0), 0);     // magma's first entry: no error
+  EXPECT_GT(map.at(12, 5, 0), 200);  // the moved edge
   // The JUnit report, read by python3's XML parser: one test case per image, the failing ones with <failure>.
   const fs::path summary = dir() / "junit.txt";
   const std::string python =
@@ -84,8 +84,8 @@ TEST_F(DiffFolders, PairsByNameWorstStatusHeatmapsAndJunit) {
       "    print(c.get('name'), 'failure' if c.find('failure') is not None else 'error' if c.find('error') is not "
       "None else 'pass')\n";
   std::ofstream(dir() / "read.py") << python;
-  ASSERT_EQ(std::system(("python3 " + (dir() / "read.py").string() + " " + junit.string() + " > " + summary.string())
-                            .c_str()),
+  ASSERT_EQ(std::system(
+                ("python3 " + (dir() / "read.py").string() + " " + junit.string() + " > " + summary.string()).c_str()),
             0)
       << testing::slurpFile(junit);
   EXPECT_EQ(testing::slurpFile(summary),
@@ -97,7 +97,8 @@ TEST_F(DiffFolders, PairsByNameWorstStatusHeatmapsAndJunit) {
 TEST_F(DiffFolders, FileErrorsAreTheWorstStatus) {
   std::ofstream(fresh() / "frame.exr") << "truncated";
   const fs::path junit = dir() / "report.xml";
-  EXPECT_EQ(testing::runWobble("diff " + golden().string() + " " + fresh().string() + " --junit " + junit.string(), log()),
+  EXPECT_EQ(testing::runWobble("diff " + golden().string() + " " + fresh().string() + " --junit " + junit.string(),
+                               log()),
             4);
   const std::string out = testing::slurpFile(log());
   EXPECT_NE(out.find("FILE ERROR  frame.exr: " + (fresh() / "frame.exr").string()), std::string::npos) << out;

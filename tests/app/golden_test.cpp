@@ -3,13 +3,16 @@
 // Tolerance (idiff semantics, render/image_diff.h): fail when more than 1% of the pixels differ by more than 0.02
 // (of full scale) or any pixel by more than 0.25. Embree may differ in the last bits across CPUs; a real change in
 // geometry, camera, lighting or materials moves far more than that.
-// On failure the new image and the difference image (x 10) are written to golden_failures/ next to the test binary
-// and named in the message. To accept new images on purpose: WOBBLE_UPDATE_GOLDENS=1 ctest -R Golden (or run
-// app_tests with it), then look at and commit tests/golden/.
+// On failure the new image and a heatmap of the per-pixel error (x 10, magma) are written to golden_failures/ next to
+// the test binary, and the message holds `wobble diff`'s report and table (app/commands/diff_command.h). To accept new
+// images on purpose: WOBBLE_UPDATE_GOLDENS=1 ctest -R Golden (or run app_tests with it), then look at and commit
+// tests/golden/.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <sstream>
 
+#include "app/commands/diff_command.h"
 #include "app/commands/run_command.h"
 #include "render/image/image_diff.h"
 #include "tests/app/scratch_dir.h"
@@ -55,18 +58,19 @@ TEST_P(Golden, SmallRenderMatches) {
   }
   const fs::path failures = fs::path(WOBBLE_BINARY).parent_path() / "golden_failures";
   fs::create_directories(failures);
-  const fs::path kept = failures / (name + ".new.png"), difference = failures / (name + ".diff.png");
+  const fs::path kept = failures / (name + ".new.png"), difference = failures / (name + ".heatmap.png");
   render::DiffOptions tolerance;
   tolerance.fail = 0.02f;
   tolerance.fail_percent = 1;
   tolerance.hard_fail = 0.25f;
   tolerance.warn = 0.02f;  // smaller differences pass silently
   tolerance.diff_scale = 10;
-  const render::DiffResult r = render::diffFiles(golden, image, tolerance, difference);
-  if (r.code >= render::DiffCode::Fail) {
+  std::ostringstream log;
+  const DiffReport r = runDiff({.a = golden, .b = image, .heatmap = difference, .idiff = tolerance}, log);
+  if (r.worst >= render::DiffCode::Fail) {
     fs::copy_file(image, kept, fs::copy_options::overwrite_existing);
     FAIL() << name << " differs from " << golden << ":\n"
-           << r.message << "\nnew image: " << kept << "\ndifference (x10): " << difference
+           << log.str() << diffTable(r) << "\nnew image: " << kept << "\nheatmap (x10): " << difference
            << "\nIf the change is intended: WOBBLE_UPDATE_GOLDENS=1 ctest -R Golden, then commit tests/golden/.";
   }
   fs::remove(difference);

@@ -87,9 +87,12 @@ ImageF with(ImageF img, int x, int y, int c, float value) {
 
 std::vector<std::string> names(int channels) {
   switch (channels) {
-    case 1: return {"Y"};
-    case 3: return {"R", "G", "B"};
-    default: return {"R", "G", "B", "A"};
+    case 1:
+      return {"Y"};
+    case 3:
+      return {"R", "G", "B"};
+    default:
+      return {"R", "G", "B", "A"};
   }
 }
 
@@ -140,12 +143,22 @@ const std::vector<std::string> kOptions = {
 };
 
 const std::vector<std::string> kHdrOptions = {
-    "", "--fail 0.02", "--fail 0.5 --warn 0.01", "--fail 0.01 --failpercent 20", "--failpercent 100 --hardfail 1",
-    "--allowfailures 3", "--failpercent 100 --warnpercent 20 --hardwarn 0.5", "--fail 1e30 --hardfail 1e30",
+    "",
+    "--fail 0.02",
+    "--fail 0.5 --warn 0.01",
+    "--fail 0.01 --failpercent 20",
+    "--failpercent 100 --hardfail 1",
+    "--allowfailures 3",
+    "--failpercent 100 --warnpercent 20 --hardwarn 0.5",
+    "--fail 1e30 --hardfail 1e30",
 };
 
 const std::vector<std::string> kPerceptualOptions = {
-    "-p", "-p --failpercent 30", "-p --failpercent 60", "-p --failpercent 90 --fail 0.01", "-p --fail 2",
+    "-p",
+    "-p --failpercent 30",
+    "-p --failpercent 60",
+    "-p --failpercent 90 --fail 0.01",
+    "-p --fail 2",
     "-p --allowfailures 5 --failpercent 50",
 };
 
@@ -235,7 +248,8 @@ TEST_F(IdiffConformance, ExrPairs) {
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
   compare({exr("exr_equal", base, base), exr("exr_equal_half", base, base, true),
            exr("exr_noise", base, noisy(base, 0.05f, 7)), exr("exr_noise_half", base, noisy(base, 0.05f, 3), true),
-           exr("exr_edge_shifted", edge(10), edge(11)), exr("exr_nan_both", with(base, 3, 2, 1, nan), with(base, 3, 2, 1, nan)),
+           exr("exr_edge_shifted", edge(10), edge(11)),
+           exr("exr_nan_both", with(base, 3, 2, 1, nan), with(base, 3, 2, 1, nan)),
            exr("exr_nan_one", base, with(base, 3, 2, 1, nan)),
            exr("exr_nan_two", base, with(with(base, 3, 2, 1, nan), 5, 5, 0, nan)),
            exr("exr_inf_one", base, with(base, 4, 1, 2, inf)),
@@ -287,7 +301,8 @@ TEST_F(IdiffConformance, Perceptual) {
         light.at(x, y, c) = 200;
       }
   Image8 bw_noise = gradient(20, 10, 3);
-  for (std::size_t i = 0; i < bw_noise.pixels.size(); i += 4) bw_noise.pixels[i] = std::uint8_t(bw_noise.pixels[i] ^ 0x30);
+  for (std::size_t i = 0; i < bw_noise.pixels.size(); i += 4)
+    bw_noise.pixels[i] = std::uint8_t(bw_noise.pixels[i] ^ 0x30);
   compare({png("p_equal", grey, grey), png("p_red_sweep", grey, reddish), png("p_brighter", grey, light),
            png("p_noise", gradient(20, 10, 3), bw_noise), png("p_black_white", Image8(20, 10, 3), light)},
           kPerceptualOptions);

@@ -14,7 +14,8 @@ namespace {
 
 ImageF flat(int w, int h, float r, float g, float b) {
   ImageF img(w, h, 3);
-  for (std::size_t i = 0; i < img.pixels.size(); i += 3) img.pixels[i] = r, img.pixels[i + 1] = g, img.pixels[i + 2] = b;
+  for (std::size_t i = 0; i < img.pixels.size(); i += 3)
+    img.pixels[i] = r, img.pixels[i + 1] = g, img.pixels[i + 2] = b;
   return img;
 }
 

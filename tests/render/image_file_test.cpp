@@ -116,8 +116,8 @@ TEST(ImageFile, BadFilesNameTheFileAndTheReason) {
   std::ofstream(dir / "truncated.pfm", std::ios::binary) << "PF\n4 4\n-1.0\n" << std::string(20, '\0');
 
   const std::pair<const char*, const char*> cases[] = {
-      {"text.png", "not an image"},       {"empty.exr", "empty"},        {"truncated.png", "truncated"},
-      {"truncated.exr", "cannot read"},   {"huge.pfm", "at most 16384"}, {"truncated.pfm", "truncated"},
+      {"text.png", "not an image"},     {"empty.exr", "empty"},        {"truncated.png", "truncated"},
+      {"truncated.exr", "cannot read"}, {"huge.pfm", "at most 16384"}, {"truncated.pfm", "truncated"},
       {"missing.png", "cannot open"},
   };
   for (const auto& [name, reason] : cases) {
