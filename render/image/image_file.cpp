@@ -3,9 +3,11 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -186,6 +188,40 @@ ImageFile readPfmFile(const std::filesystem::path& file) {
   return out;
 }
 
+// A PNG's gAMA chunk (the file gamma, e.g. 0.45455), read from the chunks before the image data; 0 when absent.
+double pngFileGamma(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  in.seekg(8);  // the signature
+  unsigned char head[8];
+  while (in.read(reinterpret_cast<char*>(head), 8)) {
+    const std::uint32_t length = std::uint32_t(head[0]) << 24 | head[1] << 16 | head[2] << 8 | head[3];
+    const std::string type(reinterpret_cast<char*>(head + 4), 4);
+    if (type == "IDAT" || type == "IEND") break;
+    if (type == "gAMA" && length == 4) {
+      unsigned char g[4];
+      if (!in.read(reinterpret_cast<char*>(g), 4)) break;
+      return double(std::uint32_t(g[0]) << 24 | g[1] << 16 | g[2] << 8 | g[3]) / 100000.0;
+    }
+    in.seekg(length + 4, std::ios::cur);  // the data and the CRC
+  }
+  return 0;
+}
+
+// OpenImageIO hands out PNG colours with associated (premultiplied) alpha, computed on the stored codes: times
+// alpha / max in integers, or, when the file states a gamma, times (alpha / max)^(1 / file gamma), truncated. idiff
+// compares those values, and so do we.
+template <class Code>
+void associateAlpha(Code* codes, std::size_t pixels, int channels, double file_gamma) {
+  constexpr unsigned max = std::numeric_limits<Code>::max();
+  const float gamma = file_gamma > 0 ? float(1.0 / file_gamma) : 1.0f;
+  for (std::size_t i = 0; i < pixels; ++i, codes += channels) {
+    const Code alpha = codes[channels - 1];
+    const float factor = std::pow(float(alpha) * float(1.0 / max), gamma);
+    for (int c = 0; c < channels - 1; ++c)
+      codes[c] = gamma == 1.0f ? Code(unsigned(codes[c]) * alpha / max) : Code(float(codes[c]) * factor);
+  }
+}
+
 // PNG, Radiance HDR and the other formats stb_image reads.
 ImageFile readStb(const std::filesystem::path& file, bool png) {
   int w = 0, h = 0, channels = 0;
@@ -214,12 +250,16 @@ ImageFile readStb(const std::filesystem::path& file, bool png) {
   } else if (stbi_is_16_bit(file.c_str())) {
     const auto data = loaded(stbi_load_16(file.c_str(), &w, &h, &channels, 0));
     out.image = ImageF(w, h, channels);
-    const auto* codes = static_cast<const std::uint16_t*>(data.get());
+    auto* codes = static_cast<std::uint16_t*>(data.get());
+    if (png && (channels == 2 || channels == 4))
+      associateAlpha(codes, std::size_t(w) * h, channels, pngFileGamma(file));
     for (std::size_t i = 0; i < out.image.pixels.size(); ++i) out.image.pixels[i] = float(codes[i]) / 65535.0f;
   } else {
     const auto data = loaded(stbi_load(file.c_str(), &w, &h, &channels, 0));
     out.image = ImageF(w, h, channels);
-    const auto* codes = static_cast<const std::uint8_t*>(data.get());
+    auto* codes = static_cast<std::uint8_t*>(data.get());
+    if (png && (channels == 2 || channels == 4))
+      associateAlpha(codes, std::size_t(w) * h, channels, pngFileGamma(file));
     // Times 1/255 as OpenImageIO converts (not divided by 255: they differ in the last bit for some codes).
     for (std::size_t i = 0; i < out.image.pixels.size(); ++i) out.image.pixels[i] = float(codes[i]) * (1.0f / 255.0f);
   }

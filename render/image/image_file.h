@@ -4,7 +4,8 @@
 //   HDR   Radiance RGBE, linear values (stb_image decodes RGBE exactly as OpenImageIO does: mantissa * 2^(e - 136))
 //   PFM   "PF" (RGB) or "Pf" (grey), either byte order, rows stored bottom to top
 //   PNG   8-bit (codes * 1/255) or 16-bit (codes / 65535), the stored values: no colour decoding, as idiff reads them;
-//         other 8-bit formats stb_image reads (JPEG, BMP, TGA) likewise
+//         with alpha, the colour premultiplied by it as OpenImageIO does (on the codes; with the file's gAMA if any);
+//         other 8-bit formats stb_image reads (JPEG, BMP, TGA) as stored
 // Channel names follow OpenImageIO: Y; Y, A; R, G, B; R, G, B, A for the formats without names.
 // Every file's size is read from its header first: more than kMaxImageSide on a side is refused before anything is
 // decoded. Errors throw ImageFileError naming the file and the reason (not an image, truncated, empty, too large, no

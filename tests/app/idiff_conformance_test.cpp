@@ -243,6 +243,28 @@ TEST_F(IdiffConformance, Png16Bit) {
   compare({equal, changed}, kOptions);
 }
 
+// Colour with partial alpha: idiff compares the colour premultiplied by alpha (OpenImageIO, on the 8-bit codes).
+TEST_F(IdiffConformance, PngAlpha) {
+  Image8 a = gradient(20, 10, 4), b = gradient(20, 10, 4);
+  for (int y = 0; y < 10; ++y)
+    for (int x = 0; x < 20; ++x) {
+      a.at(x, y, 3) = std::uint8_t(12 * x + y);
+      b.at(x, y, 3) = std::uint8_t(12 * x + y);
+      b.at(x, y, 0) = std::uint8_t(a.at(x, y, 0) + (x % 3) * 2);  // hidden where alpha is low
+    }
+  // The same through libpng's simplified writer, which adds an sRGB chunk.
+  const FilePair srgb{"rgba_srgb_chunk", dir() / "srgb_a.png", dir() / "srgb_b.png"};
+  for (const auto& [file, img] : {std::pair{srgb.a, a}, std::pair{srgb.b, b}}) {
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    image.width = 20;
+    image.height = 10;
+    image.format = PNG_FORMAT_RGBA;
+    ASSERT_TRUE(png_image_write_to_file(&image, file.c_str(), 0, img.pixels.data(), 0, nullptr)) << image.message;
+  }
+  compare({png("rgba_alpha", a, b), png("rgba_alpha_same", a, a), srgb}, kOptions);
+}
+
 TEST_F(IdiffConformance, ExrPairs) {
   const ImageF base = hdrGradient(20, 10, 3);
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
