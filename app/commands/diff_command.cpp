@@ -248,7 +248,9 @@ DiffReport runDiff(const DiffCommandOptions& o, std::ostream& log) {
       }
     }
   } else {
-    compare(o.a, o.b, o.a.string() + " vs " + o.b.string(), true);
+    // As idiff: an image and a folder compare the image with the folder's file of the same name.
+    const fs::path b = fs::is_directory(o.b, ec) && !fs::is_directory(o.a, ec) ? o.b / o.a.filename() : o.b;
+    compare(o.a, b, o.a.string() + " vs " + b.string(), true);
   }
   for (const DiffPair& p : report.pairs) report.worst = std::max(report.worst, p.code);
 

@@ -2,6 +2,7 @@
 // idiff 2.4's numbers and exit codes (render/image/image_diff.h, -p: render/image/yee.h) or with FLIP
 // (render/image/flip.h: LDR-FLIP for display images, HDR-FLIP when either file holds linear values: EXR, HDR, PFM).
 //
+// An image and a folder: the image against the folder's file of the same name (as idiff).
 // Folders: the files of the same relative path in both (sub-folders included, names starting with '.' skipped) are
 // compared pair by pair; a file in only one folder is a failing pair ("missing" or "extra"); folders with no file in
 // common are a file error (4) naming both. One line per pair, then a table of all pairs and the counts.

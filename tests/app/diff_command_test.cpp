@@ -105,6 +105,14 @@ TEST_F(DiffFolders, FileErrorsAreTheWorstStatus) {
   EXPECT_NE(testing::slurpFile(junit).find("<error type=\"FILE ERROR\""), std::string::npos);
 }
 
+TEST_F(DiffFolders, AnImageAgainstAFolderTakesItsNamesake) {
+  EXPECT_EQ(testing::runWobble("diff " + (golden() / "sub/edge.png").string() + " " + (fresh() / "sub").string(),
+                               log()),
+            2);
+  EXPECT_NE(testing::slurpFile(log()).find((fresh() / "sub/edge.png").string()), std::string::npos);
+  EXPECT_EQ(testing::runWobble("diff " + (golden() / "same.png").string() + " " + fresh().string(), log()), 0);
+}
+
 TEST_F(DiffFolders, NothingInCommonIsAFileError) {
   fs::create_directories(dir() / "empty");
   const fs::path junit = dir() / "report.xml";
