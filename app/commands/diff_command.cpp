@@ -195,6 +195,8 @@ DiffReport runDiff(const DiffCommandOptions& o, std::ostream& log) {
   DiffReport report;
   std::error_code ec;
   report.folders = fs::is_directory(o.a, ec) && fs::is_directory(o.b, ec);
+  // As idiff: an image and a folder compare the image with the folder's file of the same name.
+  const fs::path single_b = !report.folders && fs::is_directory(o.b, ec) ? o.b / o.a.filename() : o.b;
   std::vector<std::pair<fs::path, render::ImageF>> heatmaps;  // written once all pairs are compared
 
   const auto compare = [&](const fs::path& a, const fs::path& b, const std::string& name, bool single) {
@@ -248,9 +250,7 @@ DiffReport runDiff(const DiffCommandOptions& o, std::ostream& log) {
       }
     }
   } else {
-    // As idiff: an image and a folder compare the image with the folder's file of the same name.
-    const fs::path b = fs::is_directory(o.b, ec) && !fs::is_directory(o.a, ec) ? o.b / o.a.filename() : o.b;
-    compare(o.a, b, o.a.string() + " vs " + b.string(), true);
+    compare(o.a, single_b, o.a.string() + " vs " + single_b.string(), true);
   }
   for (const DiffPair& p : report.pairs) report.worst = std::max(report.worst, p.code);
 
@@ -265,7 +265,7 @@ DiffReport runDiff(const DiffCommandOptions& o, std::ostream& log) {
     if (p.code == DiffCode::FileError) {
       log << p.report << "\n";
     } else {
-      log << "Comparing \"" << o.a.string() << "\" and \"" << o.b.string() << "\"\n";
+      log << "Comparing \"" << o.a.string() << "\" and \"" << single_b.string() << "\"\n";
       // idiff prints the numbers only when the images are not the same (or with -v); FLIP's always.
       const bool numbers = o.verbose || p.code != DiffCode::Pass || o.metric == DiffMetric::Flip;
       const std::string& r = p.report;
