@@ -1,59 +1,99 @@
-// `wobble diff A.png B.png`: compare two images with OpenImageIO idiff 2.4's semantics and exit codes
-// (render/image_diff.h): 0 the same or within tolerance, 1 warning, 2 failure, 4 a file cannot be read.
-#include <cstdio>
+// `wobble diff A B`: compare two images, or two folders of them, with OpenImageIO idiff 2.4's semantics and exit
+// codes (render/image/image_diff.h; -p: render/image/yee.h) or with FLIP (--metric flip, render/image/flip.h);
+// folders, heatmaps and JUnit reports: app/commands/diff_command.h. Exit status: 0 same or within tolerance,
+// 1 warning, 2 failure (also bad arguments), 4 a file cannot be read.
+#include <iostream>
 #include <memory>
 
 #include "app/cli/commands.h"
-#include "render/image/image_diff.h"
+#include "app/commands/diff_command.h"
+#include "app/scene/input_error.h"
 
 namespace wobble {
 namespace {
 
 struct DiffCliOptions {
-  std::filesystem::path a, b, out;
-  render::DiffOptions diff;
+  DiffCommandOptions command;
+  std::string metric = "idiff", fail, warn, channels;
 };
 
 }  // namespace
 
 void addDiffCommand(CLI::App& app, int& status) {
   auto o = std::make_shared<DiffCliOptions>();
+  DiffCommandOptions& c = o->command;
   CLI::App* cmd = app.add_subcommand("diff",
-                                     "Compare two images like idiff: exit 0 same or within tolerance, "
-                                     "1 warning, 2 fail, 4 file error");
-  cmd->add_option("a", o->a, "First image (PNG)")->required();
-  cmd->add_option("b", o->b, "Second image (PNG)")->required();
-  const auto nonNegative = CLI::Range(0.0, 1e30);
-  cmd->add_option("--fail", o->diff.fail, "A pixel fails when its error exceeds this (values in [0, 1])")
+                                     "Compare two images (EXR, HDR, PFM, PNG) or two folders of them like idiff, or "
+                                     "with FLIP: exit 0 same or within tolerance, 1 warning, 2 fail, 4 file error");
+  cmd->add_option("a", c.a, "First image, or folder of golden images")->required();
+  cmd->add_option("b", c.b, "Second image, or folder of new images (same names)")->required();
+  cmd->add_option("--metric", o->metric, "idiff (numbers, as OpenImageIO's idiff) or flip (Andersson et al. 2020)")
       ->capture_default_str()
-      ->check(nonNegative);
-  cmd->add_option("--failpercent", o->diff.fail_percent, "Fail when more than this % of the pixels fail")
+      ->check(CLI::IsMember({"idiff", "flip"}));
+  cmd->add_option("--fail", o->fail,
+                  "idiff: a pixel fails when its error exceeds this (default 1e-06). flip: limits such as 0.05 (the "
+                  "mean) or mean=0.05,p99=0.5 (mean, max, pNN; default mean=0)");
+  cmd->add_option("--failpercent", c.idiff.fail_percent, "Fail when more than this % of the pixels fail")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 100.0));
-  cmd->add_option("--hardfail", o->diff.hard_fail, "Fail when any pixel's error exceeds this")->check(nonNegative);
-  cmd->add_option("--allowfailures", o->diff.allow_failures, "Pass when at most this many pixels fail, by any amount")
+  const auto nonNegative = CLI::Range(0.0, 1e30);
+  cmd->add_option("--hardfail", c.idiff.hard_fail, "Fail when any pixel's error exceeds this")->check(nonNegative);
+  cmd->add_option("--allowfailures", c.idiff.allow_failures, "Pass when at most this many pixels fail, by any amount")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--warn", o->diff.warn, "A pixel warns when its error exceeds this")
-      ->capture_default_str()
-      ->check(nonNegative);
-  cmd->add_option("--warnpercent", o->diff.warn_percent, "Warn when more than this % of the pixels warn")
+  cmd->add_option("--warn", o->warn,
+                  "idiff: a pixel warns when its error exceeds this (default 1e-06). flip: limits as --fail (none)");
+  cmd->add_option("--warnpercent", c.idiff.warn_percent, "Warn when more than this % of the pixels warn")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 100.0));
-  cmd->add_option("--hardwarn", o->diff.hard_warn, "Warn when any pixel's error exceeds this")->check(nonNegative);
-  cmd->add_option("--out", o->out, "Write the difference image |A - B| * scale here (PNG)");
-  cmd->add_option("--scale", o->diff.diff_scale, "Multiplier of the difference image")
+  cmd->add_option("--hardwarn", c.idiff.hard_warn, "Warn when any pixel's error exceeds this")->check(nonNegative);
+  cmd->add_flag("-p,--perceptual", c.idiff.perceptual, "idiff -p: also fail on Yee's perceptual test (as idiff 2.4)");
+  cmd->add_option("--channels", o->channels,
+                  "EXR channels to compare, e.g. R,G,B or noisy.R,G,B (default: the unnamed layer's)");
+  cmd->add_option("--layer", c.idiff.channels.layer, "EXR layer to compare, e.g. albedo (its R, G, B, A first)");
+  cmd->add_option("--out", c.out,
+                  "One pair: write the difference image |A - B| * scale (idiff) or the FLIP heatmap here (PNG). "
+                  "Folders: a folder for the heatmaps of the pairs that warn or fail");
+  cmd->add_option("--heatmap", c.heatmap,
+                  "One pair: write the heatmap of the per-pixel error (magma) here when the pair warns or fails");
+  cmd->add_option("--scale", c.idiff.diff_scale, "Multiplier of the difference image and idiff heatmaps")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--junit", c.junit, "Write a JUnit XML report here (one test case per image pair)");
+  cmd->add_option("--ppd", c.pixels_per_degree,
+                  "FLIP: the observer's pixels per degree (default: a 0.7 m wide 4K display at 0.7 m)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("-v,--verbose", c.verbose, "Print the full report of passing pairs too");
   cmd->footer(
-      "Example:\n  wobble diff golden.png new.png --fail 0.02 --failpercent 1 --hardfail 0.25 --out d.png\n"
+      "Examples:\n  wobble diff golden.png new.png --fail 0.02 --failpercent 1 --hardfail 0.25 --out d.png\n"
+      "  wobble diff frame.exr golden.exr --layer albedo\n"
+      "  wobble diff tests/golden out/frames --metric flip --fail mean=0.02,p99=0.3 --out heatmaps --junit r.xml\n"
       "As idiff: when no pixel is over --fail (or at most --allowfailures are), the images pass, whatever the warn\n"
       "options say; images of different size or channel count are compared over both, missing values as 0.\n"
-      "Exit status: 0 pass, 1 warning, 2 fail (also bad arguments), 4 file error.");
+      "Folders: files of the same name are compared; a file in only one of them fails. See docs/rendering-tests.md.\n"
+      "Exit status: 0 pass, 1 warning, 2 fail (also bad arguments), 4 file error (the worst pair's).");
   cmd->callback([o, &status] {
-    const render::DiffResult r = render::diffFiles(o->a, o->b, o->diff, o->out);
-    std::printf("%s\n", r.message.c_str());
-    status = r.exitCode();
+    DiffCommandOptions c = o->command;
+    c.metric = o->metric == "flip" ? DiffMetric::Flip : DiffMetric::Idiff;
+    if (!o->channels.empty()) c.idiff.channels.channels = render::splitChannelList(o->channels);
+    if (c.metric == DiffMetric::Flip) {
+      if (!o->fail.empty()) c.flip_fail = parseFlipThresholds("--fail", o->fail);
+      if (!o->warn.empty()) c.flip_warn = parseFlipThresholds("--warn", o->warn);
+    } else {
+      const auto number = [](const std::string& flag, const std::string& text, float& to) {
+        if (text.empty()) return;
+        try {
+          std::size_t used = 0;
+          to = std::stof(text, &used);
+          if (used == text.size() && to >= 0) return;
+        } catch (const std::exception&) {
+        }
+        throw InputError(flag + " '" + text + "': expected a number >= 0 (the idiff metric's pixel threshold)");
+      };
+      number("--fail", o->fail, c.idiff.fail);
+      number("--warn", o->warn, c.idiff.warn);
+    }
+    status = runDiff(c, std::cout).exitCode();
   });
 }
 

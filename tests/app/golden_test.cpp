@@ -8,8 +8,8 @@
 // Embree may differ in the last bits across CPUs (scattered edge pixels: a few per window, a small mean); a real
 // change in geometry, camera, lighting or materials moves far more than that. (Measured when written: two renders the
 // goldens' pixels, two a pixel or so off by 1 of 255, mean error under 1e-6, worst window under 0.001.)
-// On failure the new image and the difference image (x 10) are written to golden_failures/ next to the test binary
-// and named in the message. To accept new images on purpose: WOBBLE_UPDATE_GOLDENS=1 ctest -R Golden (or run
+// On failure the new image and a heatmap of the per-pixel error (x 10, magma) are written to golden_failures/ next to
+// the test binary, and the message holds the verdict, `wobble diff`'s report and table (app/commands/diff_command.h). To accept new images on purpose: WOBBLE_UPDATE_GOLDENS=1 ctest -R Golden (or run
 // app_tests with it), then look at and commit tests/golden/.
 #include <gtest/gtest.h>
 
@@ -19,6 +19,7 @@
 #include <sstream>
 #include <vector>
 
+#include "app/commands/diff_command.h"
 #include "app/commands/run_command.h"
 #include "render/image/image_diff.h"
 #include "render/image/png_io.h"
@@ -143,14 +144,17 @@ TEST_P(Golden, SmallRenderMatches) {
   }
   const fs::path failures = fs::path(WOBBLE_BINARY).parent_path() / "golden_failures";
   fs::create_directories(failures);
-  const fs::path kept = failures / (name + ".new.png"), difference = failures / (name + ".diff.png");
-  const render::DiffResult r = render::diffFiles(golden, image, idiffTolerance(), difference);
+  const fs::path kept = failures / (name + ".new.png"), difference = failures / (name + ".heatmap.png");
+  const render::DiffResult r = render::diffFiles(golden, image, idiffTolerance());
   ASSERT_NE(r.code, render::DiffCode::FileError) << r.message;
   const Verdict v = goldenVerdict(unitFloat(render::readImage(golden)), unitFloat(render::readImage(image)), r);
   if (!v.pass) {
     fs::copy_file(image, kept, fs::copy_options::overwrite_existing);
+    std::ostringstream log;
+    const DiffReport report = runDiff({.a = golden, .b = image, .heatmap = difference, .idiff = idiffTolerance()}, log);
     FAIL() << name << " differs from " << golden << ":\n"
-           << v.message << "\nnew image: " << kept << "\ndifference (x10): " << difference
+           << v.message << "\n" << log.str() << diffTable(report) << "\nnew image: " << kept
+           << "\nheatmap (x10): " << difference
            << "\nIf the change is intended: WOBBLE_UPDATE_GOLDENS=1 ctest -R Golden, then commit tests/golden/.";
   }
   fs::remove(difference);
