@@ -1,6 +1,7 @@
 #include "sim/collision/broad_phase.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "sim/solver/parallel.h"
@@ -96,18 +97,27 @@ void overlappingPairs(const std::vector<Box>& queries, const std::vector<Box>& t
   out.clear();
   if (queries.empty() || targets.empty()) return;
   const HashGrid grid(targets);
+  static std::atomic<std::uint64_t> calls{0};
+  const std::uint64_t call = ++calls;
   const int n = static_cast<int>(queries.size()), chunk = particleChunk(n), chunks = (n + chunk - 1) / chunk;
   std::vector<std::vector<std::pair<int, int>>> parts(chunks);
   forEachChunk(n, parallel, [&](int begin, int end) {
-    std::vector<int> found;
+    // A target met again within one query (it spans several of the query's cells) is skipped by its stamp: the
+    // call's number and the query's index, unique over the process. The order of a query's pairs is the grid's, built
+    // serially: the same whatever the threads.
+    thread_local std::vector<int> found;
+    thread_local std::vector<std::uint64_t> stamp;
+    if (stamp.size() < targets.size()) stamp.resize(targets.size(), 0);
     auto& part = parts[begin / chunk];
     for (int q = begin; q < end; ++q) {
       found.clear();
       grid.candidates(queries[q], found);
-      std::sort(found.begin(), found.end());
-      found.erase(std::unique(found.begin(), found.end()), found.end());
-      for (const int t : found)
+      const std::uint64_t mark = (call << 32) | std::uint64_t(q);
+      for (const int t : found) {
+        if (stamp[t] == mark) continue;
+        stamp[t] = mark;
         if ((!same || q < t) && queries[q].overlaps(targets[t]) && keep(q, t)) part.emplace_back(q, t);
+      }
     }
   });
   for (const auto& part : parts) out.insert(out.end(), part.begin(), part.end());

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -42,14 +43,25 @@ TEST_P(ContactScene, NoTrianglesIntersectAtAnyFrame) {
   for (std::size_t b = 0; b < scene.system->bodies().size(); ++b)
     testing::addSurface(tris, scene.system->bodies()[b].body.surface, scene.system->bodies()[b].first, int(b));
   int frames = 0, worst = 0;
-  o.on_frame = [&](int, const VecX& x) {
+  std::string first;  // the first intersecting pair seen: frame, bodies, triangles' particles
+  o.on_frame = [&](int frame, const VecX& x) {
     ++frames;
-    worst = std::max(worst, testing::intersectingPairs(tris, x));
+    std::vector<std::array<int, 2>> pairs;
+    worst = std::max(worst, testing::intersectingPairs(tris, x, &pairs));
+    if (pairs.empty() || !first.empty()) return;
+    std::ostringstream m;
+    m << "frame " << frame << ":";
+    for (const int t : pairs[0]) {
+      m << " body " << tris.body[t] << " triangle (";
+      for (const int p : tris.triangles[t]) m << p << " ";
+      m << ")";
+    }
+    first = m.str();
   };
   const RunReport r = runScene(o);
   ASSERT_FALSE(r.blow_up) << r.blow_up_message;
   EXPECT_EQ(frames, scene.frameCount());
-  EXPECT_EQ(worst, 0) << c.scene << " " << c.integrator;
+  EXPECT_EQ(worst, 0) << c.scene << " " << c.integrator << ", first at " << first;
   std::ifstream in(dir() / "out" / "run.json");
   const auto j = nlohmann::json::parse(in);
   ASSERT_TRUE(j.contains("body_contact"));

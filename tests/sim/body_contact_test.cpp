@@ -139,6 +139,14 @@ TEST(TriangleIntersection, HandCases) {
   EXPECT_FALSE(trianglesIntersect(t, {Vec3(0.8, 0.8, -1), Vec3(0.8, 0.8, 1), Vec3(2, 2, 0)}));    // beside the edge
   EXPECT_TRUE(trianglesIntersect(t, {Vec3(0.1, 0.1, 0), Vec3(0.5, 0.1, 0), Vec3(0.1, 0.5, 0)}));  // coplanar, inside
   EXPECT_FALSE(trianglesIntersect(t, {Vec3(2, 2, 0), Vec3(3, 2, 0), Vec3(2, 3, 0)}));             // coplanar, apart
+  // Two triangles of one rotated face, apart: coplanar up to rounding, which must not read as crossing.
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(0.35, Vec3(0.3, 1, 0.2).normalized()).toRotationMatrix();
+  const auto turned = [&](std::array<Vec3, 3> a) {
+    for (Vec3& p : a) p = r * p;
+    return a;
+  };
+  EXPECT_FALSE(trianglesIntersect(turned({Vec3(0, 2, 2), Vec3(0, 3, 1), Vec3(0, 3, 2)}),
+                                  turned({Vec3(0, 1, 2), Vec3(0, 1, 1), Vec3(0, 2, 1)})));
 }
 
 testing::ParticleTriangles surfaces(const MassSpringSystem& system) {
@@ -171,9 +179,19 @@ void jellyMeetsCloth(const char* integrator, double dt) {
   jelly.mass = 0.1;
   jelly.velocity = Vec3(0, -10, 0);
   system.addBody(buildJelly("jelly", jelly));
+  const auto tris = surfaces(system);
+  {  // The control: the integrator and the colliders alone let the jelly through the cloth, as the oracle sees.
+    VecX x = system.initialPositions(), v = system.initialVelocities();
+    auto alone = makeIntegrator(integrator);
+    int worst = 0;
+    for (int k = 0; k < int(0.1 / dt); ++k) {
+      alone->step(system, k * dt, dt, x, v);
+      worst = std::max(worst, testing::intersectingPairs(tris, x));
+    }
+    EXPECT_GT(worst, 0) << integrator;
+  }
   Simulation sim(system, makeIntegrator(integrator), dt);
   ASSERT_TRUE(sim.bodyContact());
-  const auto tris = surfaces(system);
   const int jelly_first = system.bodies()[1].first;
   for (int k = 1; k <= 40; ++k) {
     ASSERT_FALSE(sim.advanceTo(k * 0.01)) << integrator;

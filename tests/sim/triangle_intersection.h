@@ -78,16 +78,30 @@ inline bool coplanar(const Vec3& n, const std::array<Vec3, 3>& v, const std::arr
 }  // namespace moller
 
 inline bool trianglesIntersect(const std::array<Vec3, 3>& v, const std::array<Vec3, 3>& u) {
+  // Signed distances within rounding of a plane are 0 (Moller's epsilon test): two triangles of one flat face of a
+  // rotated jelly are coplanar, and the sign of rounding noise must not decide that they cross.
+  double size = 0;
+  for (int k = 0; k < 3; ++k) size = std::max({size, (v[k] - v[0]).norm(), (u[k] - v[0]).norm()});
+  const auto snap = [&](std::array<double, 3>& d, const Vec3& n) {
+    for (double& x : d)
+      if (std::abs(x) <= 1e-12 * n.norm() * size) x = 0;
+  };
   const Vec3 n1 = (v[1] - v[0]).cross(v[2] - v[0]);
   std::array<double, 3> du;
   for (int k = 0; k < 3; ++k) du[k] = n1.dot(u[k] - v[0]);
+  snap(du, n1);
   if ((du[0] > 0 && du[1] > 0 && du[2] > 0) || (du[0] < 0 && du[1] < 0 && du[2] < 0)) return false;
   const Vec3 n2 = (u[1] - u[0]).cross(u[2] - u[0]);
   std::array<double, 3> dv;
   for (int k = 0; k < 3; ++k) dv[k] = n2.dot(v[k] - u[0]);
+  snap(dv, n2);
   if ((dv[0] > 0 && dv[1] > 0 && dv[2] > 0) || (dv[0] < 0 && dv[1] < 0 && dv[2] < 0)) return false;
-  if (du[0] == 0 && du[1] == 0 && du[2] == 0) return moller::coplanar(n1, v, u);
   const Vec3 d = n1.cross(n2);
+  // Coplanar, or so nearly (planes within 1e-9 rad and within 1e-9 of the size of each other) that the line where the
+  // planes meet is lost in rounding: decided in the plane, as Moller does for the coplanar case.
+  const bool flat = d.norm() <= 1e-9 * n1.norm() * n2.norm() &&
+                    std::max({std::abs(du[0]), std::abs(du[1]), std::abs(du[2])}) <= 1e-9 * n1.norm() * size;
+  if ((du[0] == 0 && du[1] == 0 && du[2] == 0) || flat) return moller::coplanar(n1, v, u);
   int axis;
   d.cwiseAbs().maxCoeff(&axis);  // projecting on the largest axis of D orders points along L alike
   std::array<double, 3> pv, pu;
@@ -112,8 +126,10 @@ inline void addSurface(ParticleTriangles& out, const SurfaceMesh& mesh, int firs
   }
 }
 
-// Intersecting pairs: any two triangles of different bodies, and two of one body that share no particle.
-inline int intersectingPairs(const ParticleTriangles& s, const VecX& x) {
+// Intersecting pairs: any two triangles of different bodies, and two of one body that share no particle. With list,
+// also the pairs themselves (triangle indices), for messages.
+inline int intersectingPairs(const ParticleTriangles& s, const VecX& x,
+                             std::vector<std::array<int, 2>>* list = nullptr) {
   const int n = static_cast<int>(s.triangles.size());
   std::vector<std::array<Vec3, 3>> tri(n);
   std::vector<Vec3> lo(n), hi(n);
@@ -138,7 +154,9 @@ inline int intersectingPairs(const ParticleTriangles& s, const VecX& x) {
           for (int b : s.triangles[j]) shared |= a == b;
         if (shared) continue;
       }
-      count += trianglesIntersect(tri[i], tri[j]);
+      if (!trianglesIntersect(tri[i], tri[j])) continue;
+      ++count;
+      if (list) list->push_back({i, j});
     }
   }
   return count;
