@@ -245,6 +245,16 @@ struct BodyCollisions::Impl {
   void repel(double h, Stats& stats) {
     const std::vector<Contact> near = gather([&](int k, const PairInfo& p) -> std::optional<Contact> {
       const auto x = points(xs, p.stencil);
+      // The start's boxes (the swept ones found the pair) further apart than the thickness: not near.
+      Vec3 lo0 = x[0].cwiseMin(x[1]), hi0 = x[0].cwiseMax(x[1]), lo1 = x[2].cwiseMin(x[3]), hi1 = x[2].cwiseMax(x[3]);
+      if (p.kind == Primitive::PointTriangle) {
+        lo0 = hi0 = x[0];
+        lo1 = x[1].cwiseMin(lo1);
+        hi1 = x[1].cwiseMax(hi1);
+      }
+      if (((lo0.array() - hi1.array()).maxCoeff() > p.thickness) ||
+          ((lo1.array() - hi0.array()).maxCoeff() > p.thickness))
+        return std::nullopt;
       const Closest c =
           p.kind == Primitive::PointTriangle ? pointTriangle(x[0], x[1], x[2], x[3]) : edgeEdge(x[0], x[1], x[2], x[3]);
       if (c.distance >= p.thickness) return Contact{k, c, Vec3::Zero(), -1};  // only its distance counts

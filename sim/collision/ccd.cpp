@@ -118,15 +118,21 @@ std::optional<Hit> firstHit(Primitive kind, const std::array<Vec3, 4>& x0, const
   candidateTimes(cubic, times);
   // Coplanar all along (f = 0 to rounding): the elements meet in their plane, where a point crosses the other
   // element's edge line; those times are the roots of quadratics n . ((q - a) x (b - a)) for the plane's normal n.
-  double scale = 0;
-  for (int i = 0; i < 4; ++i) scale = std::max({scale, (x0[i] - x0[0]).norm(), (x1[i] - x1[0]).norm()});
-  const double size3 = scale * scale * scale;
+  double scale2 = 0;
+  for (int i = 1; i < 4; ++i) scale2 = std::max({scale2, (x0[i] - x0[0]).squaredNorm(), (x1[i] - x1[0]).squaredNorm()});
+  const double size3 = scale2 * std::sqrt(scale2);
   if (std::abs(cubic[0]) + std::abs(cubic[1]) + std::abs(cubic[2]) + std::abs(cubic[3]) <= 1e-12 * size3)
     addInPlaneTimes(kind, x0, d, times);
-  const Closest start = closest(kind, x0);
+  std::optional<Closest> start;  // computed when first needed: most pairs never get that far
   for (const double t : times) {
     std::array<Vec3, 4> x;
     for (int i = 0; i < 4; ++i) x[i] = x0[i] + t * d[i];
+    // |f| is six times the volume of the four points' tetrahedron: the triangle's area times twice the point's
+    // height over its plane, or |d1 x d2| times the distance between the edges' lines. So |f| / (|e1| |e2|), with e1,
+    // e2 the triangle's edges or the two edges, bounds the distance from below: at least eta, the pair is apart.
+    const double e1 = kind == Primitive::PointTriangle ? (x[2] - x[1]).norm() : (x[1] - x[0]).norm();
+    const double e2 = kind == Primitive::PointTriangle ? (x[3] - x[1]).norm() : (x[3] - x[2]).norm();
+    if (std::abs(evaluate(cubic, t)) > 1.01 * eta * e1 * e2) continue;
     const Closest at = closest(kind, x);
     if (at.distance >= eta) continue;
     // The normal: the plane's (triangle normal, or the two edges' cross product) at t, oriented along the relative
@@ -139,8 +145,8 @@ std::optional<Hit> firstHit(Primitive kind, const std::array<Vec3, 4>& x0, const
     if (length > 1e-12 * (x[1] - x[0]).squaredNorm() && length > 0) {
       normal /= length;
       if (normal.dot(start_delta) < 0) normal = -normal;
-    } else if (start.distance > 0) {
-      normal = start.delta / start.distance;
+    } else if ((start ? start : (start = closest(kind, x0)))->distance > 0) {
+      normal = start->delta / start->distance;
     } else {
       continue;
     }
