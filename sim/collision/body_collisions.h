@@ -38,8 +38,8 @@ struct Stats {
   long zone_activations = 0;  // steps that needed rigid impact zones
   long zone_rounds = 0;       // impact-zone rounds over all steps
   int largest_zone = 0;       // particles in the largest impact zone
-  // Smallest distance between non-adjacent surface elements seen at any step's start (infinity when no two came
-  // within the broad phase's reach: the thickness plus the step's motion).
+  // Smallest distance between non-adjacent surface elements seen at any step's start, over the pairs whose boxes
+  // there are within the thickness (infinity when no pair ever was).
   double min_distance = std::numeric_limits<double>::infinity();
 };
 
