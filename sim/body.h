@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/collision/params.h"
 #include "sim/springs.h"
 #include "sim/surface.h"
 #include "sim/types.h"
@@ -20,6 +21,7 @@ struct Body {
   double drag = 0;           // viscous air drag coefficient: f = -drag v on each particle
   Springs springs;
   SurfaceMesh surface;
+  collision::SurfaceParams contact;  // contact with other bodies and itself (sim/collision/)
 
   int particleCount() const { return static_cast<int>(mass.size()); }
 };

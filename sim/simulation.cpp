@@ -11,7 +11,8 @@ Simulation::Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> int
       integrator_(std::move(integrator)),
       dt_(dt),
       x_(system.initialPositions()),
-      v_(system.initialVelocities()) {
+      v_(system.initialVelocities()),
+      collisions_(collision::makeBodyCollisions(system)) {
   system.setStepSize(dt);
   for (int i = 0; i < system.particleCount(); ++i)
     max_speed_squared_ = std::max(max_speed_squared_, particle(v_, i).squaredNorm());
@@ -30,10 +31,14 @@ std::optional<BlowUp> Simulation::advanceTo(double t_end) {
   for (long k = 1; k <= count; ++k) {
     const bool last = k == count;
     const double h = last ? t_end - t_ : dt_;
+    if (collisions_) x_start_ = x_;
     integrator_->step(system_, t_, h, x_, v_);
     t_ = last ? t_end : start + double(k) * dt_;
     ++steps_;
     system_.resolveCollisions(t_, x_, v_);
+    if (collisions_)
+      if (auto failure = collisions_->resolve(x_start_, x_, v_, h))
+        return BlowUp{std::string(integrator_->name()), steps_, t_, failure->particle, 0, failure->reason};
     if (auto blow_up = check()) return blow_up;
   }
   return std::nullopt;
@@ -51,6 +56,12 @@ std::optional<BlowUp> Simulation::check() {
 
 std::string BlowUp::message(double dt) const {
   std::ostringstream out;
+  if (!reason.empty()) {
+    out << "contact between bodies failed: integrator " << integrator << ", step " << step << ", t = " << time
+        << " s: " << reason << ". Try a smaller time step (--dt " << dt / 4
+        << "), a larger contact thickness, or a larger [contact] zone_iterations.";
+    return out.str();
+  }
   out << "the simulation blew up: integrator " << integrator << ", step " << step << ", t = " << time << " s: particle "
       << particle << (std::isnan(speed_squared) ? " has a NaN state" : " has |v|^2 = ")
       << (std::isnan(speed_squared) ? std::string() : std::to_string(speed_squared))

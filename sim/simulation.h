@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "sim/collision/body_collisions.h"
 #include "sim/integrators/integrator.h"
 #include "sim/system.h"
 
@@ -20,6 +21,7 @@ struct BlowUp {
   double time;           // simulated time at its end
   int particle;          // first offending particle
   double speed_squared;  // NaN when a value was NaN
+  std::string reason;    // set when contact between bodies failed (then speed_squared is 0): what is left, where
   // One paragraph for the user: what happened, where, and what to try.
   std::string message(double dt) const;
 };
@@ -41,6 +43,8 @@ class Simulation {
   double maxSpeed() const;
   const Integrator& integrator() const { return *integrator_; }
   const MassSpringSystem& system() const { return system_; }
+  // Contact between bodies (sim/collision/): nothing when no two surface elements may meet.
+  const collision::Stats* bodyContact() const { return collisions_ ? &collisions_->stats() : nullptr; }
 
  private:
   std::optional<BlowUp> check();
@@ -52,6 +56,8 @@ class Simulation {
   double t_ = 0;
   long steps_ = 0;
   double max_speed_squared_ = 0;
+  std::unique_ptr<collision::BodyCollisions> collisions_;
+  VecX x_start_;  // the step's start, for collisions_
 };
 
 }  // namespace wobble

@@ -26,6 +26,9 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   // The step size the system will be integrated with: static friction stops sticking contacts over 2 h
   // (see contact.h). Simulation sets it; a constant during each step, so accelerations stay pure.
   void setStepSize(double h) { stick_time_ = 2 * h; }
+  // The caps of contact between bodies (sim/collision/body_collisions.h).
+  void setContactSettings(const collision::Settings& s) { contact_settings_ = s; }
+  const collision::Settings& contactSettings() const { return contact_settings_; }
 
   void acceleration(double t, const VecX& x, const VecX& v, VecX& a) const override;
   const ForceJacobian* forceJacobian() const override { return this; }
@@ -64,6 +67,7 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
  private:
   Vec3 gravity_;
   double stick_time_ = 2e-3;
+  collision::Settings contact_settings_;
   std::vector<BodySlot> bodies_;
   std::vector<std::unique_ptr<Collider>> colliders_;
   VecX x0_, v0_, mass_, inv_mass_, drag_;

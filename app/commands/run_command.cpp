@@ -1,6 +1,7 @@
 #include "app/commands/run_command.h"
 
 #include <array>
+#include <cmath>
 #include <memory>
 
 #include <nlohmann/json.hpp>
@@ -61,6 +62,15 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
          {"cg_iterations", s.cg_iterations},
          {"cg_iterations_per_step", s.steps ? double(s.cg_iterations) / double(s.steps) : 0.0},
          {"max_relative_residual", s.max_cg_residual}};
+  if (const collision::Stats* c = sim.bodyContact())  // contact between bodies (sim/collision/body_collisions.h)
+    j["body_contact"] = {{"steps_checked", c->passes},
+                         {"contacts", c->contacts},
+                         {"ccd_hits", c->ccd_hits},
+                         {"failsafe_activations", c->zone_activations},
+                         {"impact_zone_rounds", c->zone_rounds},
+                         {"largest_impact_zone", c->largest_zone},
+                         {"min_distance_m", std::isfinite(c->min_distance) ? nlohmann::ordered_json(c->min_distance)
+                                                                           : nlohmann::ordered_json(nullptr)}};
   j["interrupted"] = r.interrupted;
   j["blew_up"] = r.blow_up.has_value();
   if (r.blow_up)

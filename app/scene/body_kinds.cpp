@@ -1,13 +1,16 @@
 #include "app/scene/body_kinds.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "app/scene/kind_table.h"
 #include "app/scene/scene_budget.h"
 #include "app/scene/scene_file.h"
 #include "app/scene/table_reader.h"
+#include "io/text_table.h"
 #include "sim/bodies/cloth.h"
 #include "sim/bodies/jelly.h"
 #include "sim/simulation.h"
@@ -88,8 +91,8 @@ Body readCloth(TableReader& r, const std::string& name, SceneFile& scene) {
 
 // Untextured: a jelly red (deeper than the OBJ material's: the glossy coat whitens it) or the OBJ's cloth blue.
 const std::array kKinds{
-    BodyKind{"jelly", Vec3(0.8, 0.12, 0.15), "jelly", readJelly},
-    BodyKind{"cloth", Vec3(0.25, 0.4, 0.8), "diffuse", readCloth},
+    BodyKind{"jelly", Vec3(0.8, 0.12, 0.15), "jelly", false, readJelly},
+    BodyKind{"cloth", Vec3(0.25, 0.4, 0.8), "diffuse", true, readCloth},
 };
 
 }  // namespace
@@ -99,5 +102,18 @@ std::span<const BodyKind> bodyKinds() { return kKinds; }
 std::vector<std::string> bodyTypes() { return kindTypes(bodyKinds()); }
 
 const BodyKind& bodyKind(std::string_view type) { return findKind(bodyKinds(), type, "body"); }
+
+void readBodyContact(TableReader& r, const BodyKind& kind, Body& body) {
+  const auto& rest = body.springs.rest;
+  const double shortest =
+      rest.empty() ? std::numeric_limits<double>::infinity() : *std::min_element(rest.begin(), rest.end());
+  collision::SurfaceParams& c = body.contact;
+  c.thickness = r.number("thickness", std::min(c.thickness, 0.25 * shortest), Range::positive());
+  if (c.thickness >= shortest)
+    r.fail("thickness", "must be > 0 and below the body's shortest spring, " + io::formatNumber(shortest) +
+                            " m (a thicker contact layer would hold a surface's own neighbours apart)");
+  c.friction = r.number("friction", c.friction, Range::nonNegative());
+  c.self_contact = r.boolean("self_contact", kind.self_contact);
+}
 
 }  // namespace wobble

@@ -83,6 +83,7 @@ void readBody(TableReader r, const std::string& name, SceneFile& scene) {
   // Built after every check of its table but the look (read below, cheap): nothing large is allocated for a body
   // the reader refuses.
   Body body = kind.read(r, name, scene);
+  readBodyContact(r, kind, body);
   readBodyLook(r, kind, name, scene);
   r.finish();
   scene.system->addBody(std::move(body));
@@ -94,6 +95,15 @@ ContactParams readContact(TableReader& r) {
   c.friction = r.number("friction", c.friction, Range::nonNegative());
   c.epsilon = r.number("epsilon", c.epsilon, Range::positive());
   return c;
+}
+
+// [contact]: the caps of contact between bodies (sim/collision/params.h).
+collision::Settings readContactTable(TableReader r) {
+  collision::Settings s;
+  s.ccd_iterations = r.integer("ccd_iterations", s.ccd_iterations, Range{0, 1000});
+  s.zone_iterations = r.integer("zone_iterations", s.zone_iterations, Range{1, 10000});
+  r.finish();
+  return s;
 }
 
 void readCollider(TableReader r, const std::string& name, SceneFile& scene) {
@@ -189,6 +199,7 @@ SceneFile loadScene(const fs::path& file, const std::vector<std::string>& overri
   readSimulation(root.child("simulation"), scene, gravity);
   scene.system = std::make_unique<MassSpringSystem>(gravity);
   readOutput(root.child("output"), scene);
+  if (root.table("contact")) scene.system->setContactSettings(readContactTable(root.child("contact")));
   readGroup(root, "bodies", scene, readBody);
   readGroup(root, "colliders", scene, readCollider);
   readRenderTables(root, scene);

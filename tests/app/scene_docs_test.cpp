@@ -67,6 +67,10 @@ TEST_F(SceneDocs, SimulationAndOutput) {
   EXPECT_EQ(acceptedKeys("[output]\nzzz = 1\n" + kBody), documentedKeys("### `[output]`"));
 }
 
+TEST_F(SceneDocs, Contact) {
+  EXPECT_EQ(acceptedKeys("[contact]\nzzz = 1\n" + kBody), documentedKeys("### `[contact]`"));
+}
+
 TEST_F(SceneDocs, CameraAndRender) {
   EXPECT_EQ(acceptedKeys("[camera]\nzzz = 1\n" + kBody), documentedKeys("### `[camera]`"));
   EXPECT_EQ(acceptedKeys("[render]\nzzz = 1\n" + kBody), documentedKeys("### `[render]`"));

@@ -1,0 +1,476 @@
+#include "sim/collision/body_collisions.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+#include "sim/collision/broad_phase.h"
+#include "sim/collision/ccd.h"
+#include "sim/solver/parallel.h"
+#include "sim/surface.h"
+#include "sim/system.h"
+
+namespace wobble::collision {
+namespace {
+
+// Collisions are reported within this fraction of the pair's thickness (ccd.h's eta): the cubic's roots are exact to
+// rounding, so this only has to cover a touching root and the rounding of the closest-point query.
+constexpr double kEtaFraction = 1e-3;
+// Repulsion pushes apart at most this fraction of the thickness left per step (Bridson 2002, 7.2: 0.1 d / h).
+constexpr double kRepulsionFraction = 0.1;
+// A collision impulse leaves at most this fraction of the approach speed as separation (no restitution beyond it),
+// and aims to end the step this fraction of the thickness apart.
+constexpr double kSeparation = 0.1, kEndGapFraction = 0.01;
+
+struct PairInfo {
+  Primitive kind;
+  Stencil stencil;
+  double thickness, friction, stiffness;
+};
+
+// A point-triangle or edge-edge pair found near (proximity) or colliding (hit).
+struct Contact {
+  int pair;  // index into the round's candidate list
+  Closest at;
+  Vec3 normal;
+  double t;  // hit time (0 for a proximity)
+};
+
+class UnionFind {
+ public:
+  void reset(int n) {
+    parent_.resize(n);
+    std::iota(parent_.begin(), parent_.end(), 0);
+  }
+  int find(int i) {
+    while (parent_[i] != i) i = parent_[i] = parent_[parent_[i]];
+    return i;
+  }
+  // The smaller root becomes the parent: zones are the same whatever the order of merges.
+  void merge(int a, int b) {
+    a = find(a), b = find(b);
+    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+  }
+
+ private:
+  std::vector<int> parent_;
+};
+
+}  // namespace
+
+struct BodyCollisions::Impl {
+  // The surfaces over particles: triangles and edges in system particle indices, each with its body.
+  std::vector<std::array<int, 3>> triangles;
+  std::vector<std::array<int, 2>> edges;
+  std::vector<int> vertices;  // particles on a surface, ascending
+  std::vector<int> triangle_body, edge_body, vertex_body;
+  std::vector<SurfaceParams> params;
+  std::vector<double> stiffness;
+  const VecX& inv_mass;
+  Settings settings;
+  bool parallel;
+  double max_thickness = 0;
+
+  // Per step
+  VecX xs;                           // the step's start positions
+  VecX vbar, vbar0, xe;              // trajectory velocity (changed and at the start), trajectory end
+  std::vector<char> changed, dirty;  // per particle: vbar changed this step; since the last detection
+  std::vector<Box> vertex_boxes, edge_boxes, triangle_boxes;
+  std::vector<std::pair<int, int>> vf, ee;  // candidate pairs: (vertex slot, triangle), (edge, edge)
+  UnionFind zones;
+  std::vector<int> root;  // zones.find of each surface particle, for the threads of a detection round
+
+  Impl(const std::vector<Surface>& surfaces, const VecX& inverse_mass, Settings s, bool threads)
+      : inv_mass(inverse_mass), settings(s), parallel(threads) {
+    for (std::size_t b = 0; b < surfaces.size(); ++b) {
+      const Surface& surface = surfaces[b];
+      params.push_back(surface.params);
+      stiffness.push_back(surface.stiffness);
+      max_thickness = std::max(max_thickness, surface.params.thickness);
+      std::vector<std::array<int, 2>> body_edges;
+      std::vector<int> body_vertices;
+      for (const auto& t : surface.mesh->triangles) {
+        std::array<int, 3> p;
+        for (int k = 0; k < 3; ++k) p[k] = surface.first_particle + surface.mesh->particle[t[k]];
+        if (p[0] == p[1] || p[1] == p[2] || p[0] == p[2]) continue;
+        triangles.push_back(p);
+        triangle_body.push_back(int(b));
+        for (int k = 0; k < 3; ++k) {
+          body_edges.push_back({std::min(p[k], p[(k + 1) % 3]), std::max(p[k], p[(k + 1) % 3])});
+          body_vertices.push_back(p[k]);
+        }
+      }
+      std::sort(body_edges.begin(), body_edges.end());
+      body_edges.erase(std::unique(body_edges.begin(), body_edges.end()), body_edges.end());
+      std::sort(body_vertices.begin(), body_vertices.end());
+      body_vertices.erase(std::unique(body_vertices.begin(), body_vertices.end()), body_vertices.end());
+      edges.insert(edges.end(), body_edges.begin(), body_edges.end());
+      edge_body.insert(edge_body.end(), body_edges.size(), int(b));
+      vertices.insert(vertices.end(), body_vertices.begin(), body_vertices.end());
+      vertex_body.insert(vertex_body.end(), body_vertices.size(), int(b));
+    }
+  }
+
+  bool bodiesMeet(int a, int b) const { return a != b || params[a].self_contact; }
+
+  PairInfo info(Primitive kind, int first, int second) const {
+    PairInfo p;
+    p.kind = kind;
+    int a, b;
+    if (kind == Primitive::PointTriangle) {
+      const auto& t = triangles[second];
+      p.stencil.particle = {vertices[first], t[0], t[1], t[2]};
+      a = vertex_body[first], b = triangle_body[second];
+    } else {
+      p.stencil.particle = {edges[first][0], edges[first][1], edges[second][0], edges[second][1]};
+      a = edge_body[first], b = edge_body[second];
+    }
+    p.thickness = std::max(params[a].thickness, params[b].thickness);
+    p.friction = 0.5 * (params[a].friction + params[b].friction);
+    p.stiffness = 0.5 * (stiffness[a] + stiffness[b]);
+    return p;
+  }
+
+  template <class Points>
+  Box box(const Points& points, double pad) const {
+    Box out{Vec3::Constant(std::numeric_limits<double>::infinity()),
+            Vec3::Constant(-std::numeric_limits<double>::infinity())};
+    for (const int i : points) {
+      out.lo = out.lo.cwiseMin(particle(xs, i)).cwiseMin(particle(xe, i));
+      out.hi = out.hi.cwiseMax(particle(xs, i)).cwiseMax(particle(xe, i));
+    }
+    out.lo.array() -= pad;
+    out.hi.array() -= -pad;
+    return out;
+  }
+
+  // The candidate pairs of the swept boxes (padded by half the largest thickness, so that every pair within the
+  // thickness at the start or meeting on the way is found).
+  void broadPhase() {
+    const double pad = 0.5 * max_thickness;
+    const auto fill = [&](auto& boxes, const auto& items) {
+      boxes.resize(items.size());
+      forEachChunk(int(items.size()), parallel, [&](int begin, int end) {
+        for (int k = begin; k < end; ++k) boxes[k] = box(items[k], pad);
+      });
+    };
+    thread_local std::vector<std::array<int, 1>> single;
+    single.resize(vertices.size());
+    for (std::size_t k = 0; k < vertices.size(); ++k) single[k] = {vertices[k]};
+    fill(vertex_boxes, single);
+    fill(edge_boxes, edges);
+    fill(triangle_boxes, triangles);
+    overlappingPairs(
+        vertex_boxes, triangle_boxes, false, parallel,
+        [&](int v, int t) {
+          if (!bodiesMeet(vertex_body[v], triangle_body[t])) return false;
+          const int p = vertices[v];
+          const auto& tri = triangles[t];
+          if (p == tri[0] || p == tri[1] || p == tri[2]) return false;
+          return inv_mass[p] + inv_mass[tri[0]] + inv_mass[tri[1]] + inv_mass[tri[2]] > 0;
+        },
+        vf);
+    overlappingPairs(
+        edge_boxes, edge_boxes, true, parallel,
+        [&](int e, int f) {
+          if (!bodiesMeet(edge_body[e], edge_body[f])) return false;
+          const auto &a = edges[e], &b = edges[f];
+          if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return false;
+          return inv_mass[a[0]] + inv_mass[a[1]] + inv_mass[b[0]] + inv_mass[b[1]] > 0;
+        },
+        ee);
+  }
+
+  int pairCount() const { return int(vf.size() + ee.size()); }
+  PairInfo pairInfo(int k) const {
+    return k < int(vf.size()) ? info(Primitive::PointTriangle, vf[k].first, vf[k].second)
+                              : info(Primitive::EdgeEdge, ee[k - vf.size()].first, ee[k - vf.size()].second);
+  }
+
+  // fn(k, info) over every candidate pair on threads in fixed chunks; what it returns is gathered in pair order.
+  template <class Fn>
+  std::vector<Contact> gather(Fn&& fn) {
+    const int n = pairCount();
+    const int chunk = 1024, chunks = (n + chunk - 1) / chunk;
+    std::vector<std::vector<Contact>> parts(chunks);
+    const auto run = [&](int c) {
+      for (int k = c * chunk; k < std::min(n, (c + 1) * chunk); ++k)
+        if (auto found = fn(k, pairInfo(k))) parts[c].push_back(*found);
+    };
+    if (parallel && chunks > 1)
+      tbb::parallel_for(tbb::blocked_range<int>(0, chunks, 1), [&](const tbb::blocked_range<int>& r) {
+        for (int c = r.begin(); c != r.end(); ++c) run(c);
+      });
+    else
+      for (int c = 0; c < chunks; ++c) run(c);
+    std::vector<Contact> out;
+    for (const auto& part : parts) out.insert(out.end(), part.begin(), part.end());
+    return out;
+  }
+
+  std::array<Vec3, 4> points(const VecX& x, const Stencil& s) const {
+    return {particle(x, s.particle[0]), particle(x, s.particle[1]), particle(x, s.particle[2]),
+            particle(x, s.particle[3])};
+  }
+
+  Vec3 relativeVelocity(const Stencil& s, const std::array<double, 4>& w) const {
+    Vec3 u = Vec3::Zero();
+    for (int i = 0; i < 4; ++i) u += w[i] * particle(vbar, s.particle[i]);
+    return u;
+  }
+
+  // Changes the relative velocity sum w_i vbar_i by dv, split by the weights and inverse masses (an impulse).
+  void applyImpulse(const Stencil& s, const std::array<double, 4>& w, const Vec3& dv, double h) {
+    double denom = 0;
+    for (int i = 0; i < 4; ++i) denom += w[i] * w[i] * inv_mass[s.particle[i]];
+    if (denom <= 0) return;
+    for (int i = 0; i < 4; ++i) {
+      const int p = s.particle[i];
+      const double share = w[i] * inv_mass[p] / denom;
+      if (share == 0) continue;
+      particle(vbar, p) += share * dv;
+      particle(xe, p) = particle(xs, p) + h * particle(vbar, p);
+      changed[p] = dirty[p] = 1;
+    }
+  }
+
+  double weightNorm(const Stencil& s, const std::array<double, 4>& w) const {
+    double denom = 0;
+    for (int i = 0; i < 4; ++i) denom += w[i] * w[i] * inv_mass[s.particle[i]];
+    return denom;
+  }
+
+  // Step 1: repulsion and friction for pairs within the thickness at the start.
+  void repel(double h, Stats& stats) {
+    const std::vector<Contact> near = gather([&](int k, const PairInfo& p) -> std::optional<Contact> {
+      const auto x = points(xs, p.stencil);
+      // The start's boxes (the swept ones found the pair) further apart than the thickness: not near.
+      Vec3 lo0 = x[0].cwiseMin(x[1]), hi0 = x[0].cwiseMax(x[1]), lo1 = x[2].cwiseMin(x[3]), hi1 = x[2].cwiseMax(x[3]);
+      if (p.kind == Primitive::PointTriangle) {
+        lo0 = hi0 = x[0];
+        lo1 = x[1].cwiseMin(lo1);
+        hi1 = x[1].cwiseMax(hi1);
+      }
+      if (((lo0.array() - hi1.array()).maxCoeff() > p.thickness) ||
+          ((lo1.array() - hi0.array()).maxCoeff() > p.thickness))
+        return std::nullopt;
+      const Closest c =
+          p.kind == Primitive::PointTriangle ? pointTriangle(x[0], x[1], x[2], x[3]) : edgeEdge(x[0], x[1], x[2], x[3]);
+      if (c.distance >= p.thickness) return Contact{k, c, Vec3::Zero(), -1};  // only its distance counts
+      Vec3 normal;
+      if (c.distance > 0) {
+        normal = c.delta / c.distance;
+      } else if (p.kind == Primitive::PointTriangle) {
+        normal = (x[2] - x[1]).cross(x[3] - x[1]).normalized();
+      } else {
+        normal = (x[1] - x[0]).cross(x[3] - x[2]).normalized();
+      }
+      if (!normal.allFinite()) return Contact{k, c, Vec3::Zero(), -1};
+      return Contact{k, c, normal, 0};
+    });
+    for (const Contact& c : near) {
+      stats.min_distance = std::min(stats.min_distance, c.at.distance);
+      if (c.t < 0) continue;
+      ++stats.contacts;
+      const PairInfo p = pairInfo(c.pair);
+      const double denom = weightNorm(p.stencil, c.at.w);
+      if (denom <= 0) continue;
+      const Vec3 u = relativeVelocity(p.stencil, c.at.w);
+      const double un = c.normal.dot(u), gap = p.thickness - c.at.distance;
+      // Inelastic: stop the approach. Repulsion: a spring of stiffness k over the gap left for one step, at most
+      // enough to close a tenth of it within the step (Bridson 2002, 7.2).
+      const double stop = std::max(0.0, -un), after = un + stop;
+      const double spring = h * p.stiffness * gap * denom;
+      const double repel = std::max(0.0, std::min(spring, kRepulsionFraction * gap / h - after));
+      const double dn = stop + repel;
+      if (dn <= 0) continue;
+      Vec3 dv = dn * c.normal;
+      const Vec3 ut = u - un * c.normal;
+      const double speed = ut.norm();
+      if (speed > 0) dv -= std::min(p.friction * dn / speed, 1.0) * ut;  // Coulomb: at most mu times the normal change
+      applyImpulse(p.stencil, c.at.w, dv, h);
+    }
+  }
+
+  // Continuous detection over the pairs with a particle moved since the last round (every pair when all is set).
+  // Within zones: pairs inside one impact zone are skipped, as its motion x0 + s h (v + w x r) is an invertible
+  // affine map of the zone for every s (det(I + s h [w]x) = 1 + s^2 h^2 |w|^2), which keeps four points off a plane.
+  std::vector<Contact> detect(bool all, bool within_zones = false) {
+    if (within_zones)
+      for (const int p : vertices) root[p] = zones.find(p);
+    std::vector<Contact> hits = gather([&](int k, const PairInfo& p) -> std::optional<Contact> {
+      if (!all) {
+        bool moved = false;
+        for (const int i : p.stencil.particle) moved |= dirty[i] != 0;
+        if (!moved) return std::nullopt;
+      }
+      if (within_zones) {
+        const int r = root[p.stencil.particle[0]];
+        if (r == root[p.stencil.particle[1]] && r == root[p.stencil.particle[2]] && r == root[p.stencil.particle[3]])
+          return std::nullopt;
+      }
+      const auto hit = firstHit(p.kind, points(xs, p.stencil), points(xe, p.stencil), kEtaFraction * p.thickness);
+      if (!hit) return std::nullopt;
+      return Contact{k, hit->at, hit->normal, hit->t};
+    });
+    std::fill(dirty.begin(), dirty.end(), 0);
+    return hits;
+  }
+
+  void impulses(const std::vector<Contact>& hits, double h) {
+    for (const Contact& c : hits) {
+      const PairInfo p = pairInfo(c.pair);
+      const double un = c.normal.dot(relativeVelocity(p.stencil, c.at.w));
+      if (un >= 0) continue;  // an earlier impulse of this round already separated it
+      const double left = std::max(1 - c.t, 1e-6) * h;
+      const double target = std::min(kSeparation * -un, kEndGapFraction * p.thickness / left);
+      applyImpulse(p.stencil, c.at.w, (target - un) * c.normal, h);
+    }
+  }
+
+  // Step 3: merge the hits' particles into zones, and move every zone touched as a rigid body. Returns its size.
+  int rigidify(const std::vector<Contact>& hits, double h) {
+    std::vector<char> touched(inv_mass.size(), 0);
+    for (const Contact& c : hits) {
+      const auto& s = pairInfo(c.pair).stencil;
+      for (int i = 1; i < 4; ++i) zones.merge(s.particle[0], s.particle[i]);
+      for (const int i : s.particle) touched[i] = 1;
+    }
+    // Every member of a touched zone: zones grow across rounds, so gather them from the roots.
+    std::vector<char> root_touched(inv_mass.size(), 0);
+    for (const int p : vertices)
+      if (touched[p]) root_touched[zones.find(p)] = 1;
+    std::vector<std::vector<int>> members(inv_mass.size());
+    for (const int p : vertices)
+      if (root_touched[zones.find(p)]) members[zones.find(p)].push_back(p);
+    int largest = 0;
+    for (const auto& zone : members) {
+      if (zone.empty()) continue;
+      largest = std::max(largest, int(zone.size()));
+      bool pinned = false;
+      double mass = 0;
+      Vec3 center = Vec3::Zero(), momentum = Vec3::Zero();
+      for (const int p : zone) {
+        if (inv_mass[p] == 0) {
+          pinned = true;
+          continue;
+        }
+        const double m = 1 / inv_mass[p];
+        mass += m;
+        center += m * particle(xs, p);
+        momentum += m * particle(vbar, p);
+      }
+      Vec3 velocity = Vec3::Zero(), omega = Vec3::Zero();
+      if (!pinned) {
+        center /= mass;
+        velocity = momentum / mass;
+        Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
+        Vec3 angular = Vec3::Zero();
+        for (const int p : zone) {
+          const double m = 1 / inv_mass[p];
+          const Vec3 r = particle(xs, p) - center;
+          angular += m * r.cross(particle(vbar, p) - velocity);
+          inertia += m * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+        }
+        omega = inertia.completeOrthogonalDecomposition().solve(angular);  // collinear zones: the least-norm spin
+      }
+      for (const int p : zone) {
+        particle(vbar, p) = pinned ? Vec3::Zero() : Vec3(velocity + omega.cross(particle(xs, p) - center));
+        particle(xe, p) = particle(xs, p) + h * particle(vbar, p);
+        changed[p] = dirty[p] = 1;
+      }
+    }
+    return largest;
+  }
+};
+
+BodyCollisions::BodyCollisions(const std::vector<Surface>& surfaces, const VecX& inverse_mass, Settings settings,
+                               bool parallel)
+    : impl_(std::make_unique<Impl>(surfaces, inverse_mass, settings, parallel)) {}
+
+BodyCollisions::~BodyCollisions() = default;
+
+bool BodyCollisions::needed(const std::vector<Surface>& surfaces) {
+  if (surfaces.size() > 1) return true;
+  return !surfaces.empty() && surfaces[0].params.self_contact;
+}
+
+std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v1, double h) {
+  Impl& s = *impl_;
+  if (!x1.allFinite() || !v1.allFinite()) return std::nullopt;  // a blow-up: Simulation reports it next
+  ++stats_.passes;
+  const Eigen::Index n = x0.size();
+  s.xs = x0;
+  s.xe = x1;
+  s.vbar = (x1 - x0) / h;
+  s.vbar0 = s.vbar;
+  s.changed.assign(n / 3, 0);
+  s.dirty.assign(n / 3, 0);
+  s.root.resize(n / 3);
+  s.broadPhase();
+  s.repel(h, stats_);
+
+  std::optional<Failure> failure;
+  bool all = true, clean = false;  // the first detection tests every pair: repulsion moved only some
+  std::vector<Contact> hits;
+  for (int round = 0; round < s.settings.ccd_iterations; ++round) {
+    if (round > 0) s.broadPhase();
+    hits = s.detect(all);
+    all = false;
+    if (hits.empty()) {
+      clean = true;
+      break;
+    }
+    stats_.ccd_hits += long(hits.size());
+    s.impulses(hits, h);
+  }
+  if (!clean) {  // the last round's impulses are not checked yet
+    s.broadPhase();
+    hits = s.detect(all);
+  }
+  if (!hits.empty()) {
+    ++stats_.zone_activations;
+    s.zones.reset(int(n / 3));
+    int round = 0;
+    for (; round < s.settings.zone_iterations && !hits.empty(); ++round) {
+      stats_.largest_zone = std::max(stats_.largest_zone, s.rigidify(hits, h));
+      ++stats_.zone_rounds;
+      s.broadPhase();
+      hits = s.detect(false, true);
+    }
+    if (!hits.empty()) {
+      const PairInfo p = s.pairInfo(hits[0].pair);
+      std::ostringstream why;
+      why << hits.size() << (hits.size() > 1 ? " collisions" : " collision") << " between body surfaces left after "
+          << round << " rounds of rigid impact zones (the first: "
+          << (p.kind == Primitive::PointTriangle ? "particle " : "edge of particles ") << p.stencil.particle[0]
+          << (p.kind == Primitive::PointTriangle ? "" : " and " + std::to_string(p.stencil.particle[1]))
+          << (p.kind == Primitive::PointTriangle ? " against the triangle of particles "
+                                                 : " against the edge of particles ")
+          << p.stencil.particle[1 + int(p.kind == Primitive::EdgeEdge)] << ", " << p.stencil.particle[2] << ", "
+          << p.stencil.particle[3] << " at " << hits[0].t << " of the step)";
+      failure = Failure{p.stencil.particle[0], why.str()};
+    }
+  }
+  for (Eigen::Index i = 0; i < n / 3; ++i)
+    if (s.changed[i]) {
+      particle(x1, i) = particle(s.xe, i);
+      particle(v1, i) += particle(s.vbar, i) - particle(s.vbar0, i);
+    }
+  return failure;
+}
+
+std::unique_ptr<BodyCollisions> makeBodyCollisions(const MassSpringSystem& system) {
+  std::vector<Surface> surfaces;
+  for (const BodySlot& slot : system.bodies()) {
+    const Springs& springs = slot.body.springs;
+    const double stiffness =
+        springs.size() ? std::accumulate(springs.ks.begin(), springs.ks.end(), 0.0) / double(springs.size()) : 0.0;
+    surfaces.push_back({&slot.body.surface, slot.first, slot.body.contact, stiffness});
+  }
+  if (!BodyCollisions::needed(surfaces)) return nullptr;
+  return std::make_unique<BodyCollisions>(surfaces, system.inverseMass(), system.contactSettings(), system.parallel());
+}
+
+}  // namespace wobble::collision

@@ -1,0 +1,78 @@
+// Contact between bodies and within a body's own surface: the pass that runs after every step, for every integrator
+// (Bridson, Fedkiw & Anderson 2002, "Robust treatment of collisions, contact and friction for cloth animation";
+// Harmon, Vouga, Tamstorf & Grinspun 2008, "Robust treatment of simultaneous collisions"; Provot 1997 for rigid impact
+// zones). Given the step's start x0 (free of intersections) and the integrator's candidate end x1, v1, the particles
+// of every surface move along x0 + s h vbar, vbar = (x1 - x0) / h, s in [0, 1]. The pass changes vbar only:
+//   1. repulsion: each point-triangle and edge-edge pair within the contact thickness at x0 gets an inelastic impulse
+//      that stops its approach, a repulsion capped by a spring of the bodies' stiffness over the thickness left,
+//      and Coulomb friction on its tangential relative velocity (Bridson 2002, 7.2);
+//   2. collisions: continuous detection of every pair along the trajectories (ccd.h); each hit gets an impulse that
+//      stops the approach (with at most a tenth of it back as separation), in a fixed order, iterated up to
+//      ccd_iterations rounds, each testing only the pairs whose particles moved in the last one;
+//   3. fail-safe: hits left after those rounds merge their particles into rigid impact zones (union-find) that move as
+//      rigid bodies with their linear and angular momentum (a zone holding a pinned particle stands still), until a
+//      round finds no hit or zone_iterations rounds pass: then the pass fails.
+// Then x1 = x0 + h vbar and v1 += vbar - (x1 - x0) / h for the particles whose vbar changed; every other byte of x1 and
+// v1 is left as it was, so a step in which no two surfaces come within the thickness is unchanged.
+#pragma once
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sim/collision/params.h"
+#include "sim/types.h"
+
+namespace wobble {
+
+class MassSpringSystem;
+struct SurfaceMesh;
+
+namespace collision {
+
+struct Stats {
+  long passes = 0;            // steps checked
+  long contacts = 0;          // pairs within the thickness at a step's start (repulsion impulses)
+  long ccd_hits = 0;          // collisions found by continuous detection and stopped by impulses
+  long zone_activations = 0;  // steps that needed rigid impact zones
+  long zone_rounds = 0;       // impact-zone rounds over all steps
+  int largest_zone = 0;       // particles in the largest impact zone
+  // Smallest distance between non-adjacent surface elements seen at any step's start, over the pairs whose boxes
+  // there are within the thickness (infinity when no pair ever was).
+  double min_distance = std::numeric_limits<double>::infinity();
+};
+
+struct Failure {
+  int particle;  // one particle of a collision left
+  std::string reason;
+};
+
+struct Surface {
+  const SurfaceMesh* mesh;
+  int first_particle;
+  SurfaceParams params;
+  double stiffness;  // N/m of the repulsion spring: the body's mean spring stiffness (Bridson 2002, 7.2)
+};
+
+class BodyCollisions {
+ public:
+  BodyCollisions(const std::vector<Surface>& surfaces, const VecX& inverse_mass, Settings settings, bool parallel);
+  ~BodyCollisions();
+  // Whether any pair of elements may collide at all: two bodies, or one with self-contact.
+  static bool needed(const std::vector<Surface>& surfaces);
+  // The pass over one step of size h from x0 to (x1, v1); see above. Nothing when the end is free of collisions.
+  std::optional<Failure> resolve(const VecX& x0, VecX& x1, VecX& v1, double h);
+  const Stats& stats() const { return stats_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  Stats stats_;
+};
+
+// The pass for a system's bodies (their SurfaceParams), or nothing when no two elements may collide.
+std::unique_ptr<BodyCollisions> makeBodyCollisions(const MassSpringSystem& system);
+
+}  // namespace collision
+}  // namespace wobble

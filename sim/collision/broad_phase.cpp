@@ -1,0 +1,126 @@
+#include "sim/collision/broad_phase.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+#include "sim/solver/parallel.h"
+
+namespace wobble::collision {
+namespace {
+
+constexpr std::int64_t kMaxCellsPerBox = 512;  // a larger box (a fast element) goes to the list every query sees
+
+class HashGrid {
+ public:
+  explicit HashGrid(const std::vector<Box>& targets) {
+    const int n = static_cast<int>(targets.size());
+    double extent = 0;
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+    for (const Box& b : targets) {
+      extent += (b.hi - b.lo).maxCoeff();
+      lo = lo.cwiseMin(b.lo);
+    }
+    const double cell = n > 0 && extent > 0 ? extent / n : 1.0;
+    inverse_cell_ = 1 / cell;
+    origin_ = n > 0 ? lo : Vec3::Zero();
+    std::uint64_t size = 1024;
+    while (size < 2 * std::uint64_t(n)) size *= 2;
+    mask_ = size - 1;
+    start_.assign(size + 1, 0);
+    // Two passes of a counting sort: count each box's cells per bucket, then place.
+    for (int pass = 0; pass < 2; ++pass) {
+      if (pass == 1) {
+        for (std::uint64_t k = 0; k < size; ++k) start_[k + 1] += start_[k];
+        entries_.resize(start_[size]);
+      }
+      std::vector<int> fill = pass == 1 ? std::vector<int>(start_.begin(), start_.end() - 1) : std::vector<int>();
+      for (int t = 0; t < n; ++t) {
+        Eigen::Array3i a, b;
+        if (!cellRange(targets[t], a, b)) {
+          if (pass == 0) oversized_.push_back(t);
+          continue;
+        }
+        forCells(a, b, [&](std::uint64_t k) {
+          if (pass == 0) ++start_[k + 1];
+          else entries_[fill[k]++] = t;
+        });
+      }
+    }
+  }
+
+  // Appends the targets in the buckets of the box's cells (duplicates and false overlaps included).
+  void candidates(const Box& box, std::vector<int>& out) const {
+    out.insert(out.end(), oversized_.begin(), oversized_.end());
+    Eigen::Array3i a, b;
+    if (!cellRange(box, a, b)) {  // a huge query: every target
+      for (int k = 0; k + 1 < int(start_.size()); ++k)
+        out.insert(out.end(), entries_.begin() + start_[k], entries_.begin() + start_[k + 1]);
+      return;
+    }
+    forCells(a, b, [&](std::uint64_t k) {
+      out.insert(out.end(), entries_.begin() + start_[k], entries_.begin() + start_[k + 1]);
+    });
+  }
+
+ private:
+  template <class Fn>
+  void forCells(const Eigen::Array3i& a, const Eigen::Array3i& b, Fn&& fn) const {
+    for (int i = a.x(); i <= b.x(); ++i)
+      for (int j = a.y(); j <= b.y(); ++j)
+        for (int k = a.z(); k <= b.z(); ++k)
+          fn((std::uint64_t(i) * 73856093u ^ std::uint64_t(j) * 19349663u ^ std::uint64_t(k) * 83492791u) & mask_);
+  }
+
+  bool cellRange(const Box& box, Eigen::Array3i& a, Eigen::Array3i& b) const {
+    const Eigen::Array3d lo = ((box.lo - origin_) * inverse_cell_).array().floor();
+    const Eigen::Array3d hi = ((box.hi - origin_) * inverse_cell_).array().floor();
+    const Eigen::Array3d span = hi - lo + 1;
+    if (!(span.prod() <= double(kMaxCellsPerBox)) || !(lo.abs().maxCoeff() < 1e9) || !(hi.abs().maxCoeff() < 1e9))
+      return false;
+    a = lo.cast<int>();
+    b = hi.cast<int>();
+    return true;
+  }
+
+  double inverse_cell_ = 1;
+  Vec3 origin_ = Vec3::Zero();
+  std::uint64_t mask_ = 0;
+  std::vector<int> start_, entries_;
+  std::vector<int> oversized_;
+};
+
+}  // namespace
+
+void overlappingPairs(const std::vector<Box>& queries, const std::vector<Box>& targets, bool same, bool parallel,
+                      const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out) {
+  out.clear();
+  if (queries.empty() || targets.empty()) return;
+  const HashGrid grid(targets);
+  static std::atomic<std::uint64_t> calls{0};
+  const std::uint64_t call = ++calls;
+  const int n = static_cast<int>(queries.size()), chunk = particleChunk(n), chunks = (n + chunk - 1) / chunk;
+  std::vector<std::vector<std::pair<int, int>>> parts(chunks);
+  forEachChunk(n, parallel, [&](int begin, int end) {
+    // A target met again within one query (it spans several of the query's cells) is skipped by its stamp: the
+    // call's number and the query's index, unique over the process. The order of a query's pairs is the grid's, built
+    // serially: the same whatever the threads.
+    thread_local std::vector<int> found;
+    thread_local std::vector<std::uint64_t> stamp;
+    if (stamp.size() < targets.size()) stamp.resize(targets.size(), 0);
+    auto& part = parts[begin / chunk];
+    for (int q = begin; q < end; ++q) {
+      found.clear();
+      grid.candidates(queries[q], found);
+      const std::uint64_t mark = (call << 32) | std::uint64_t(q);
+      for (const int t : found) {
+        if (stamp[t] == mark) continue;
+        stamp[t] = mark;
+        if ((!same || q < t) && queries[q].overlaps(targets[t]) && keep(q, t)) part.emplace_back(q, t);
+      }
+    }
+  });
+  for (const auto& part : parts) out.insert(out.end(), part.begin(), part.end());
+}
+
+}  // namespace wobble::collision

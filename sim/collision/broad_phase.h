@@ -1,0 +1,27 @@
+// Broad phase: which boxes of one list may overlap which boxes of another, with a uniform spatial hash (Teschner et
+// al. 2003, "Optimized spatial hashing for collision detection of deformable objects"). The targets are counted into
+// hash buckets of a grid whose cell is their mean extent; each query visits the buckets of its cells. A hash rather
+// than a refitted BVH or Embree's rtcCollide: sim/ may not include render/ (where Embree is wrapped), the hash is
+// rebuilt from scratch in two linear passes each time (no refit quality to lose as a cloth crumples), and its output
+// is sorted, hence the same whatever the thread count (docs/body-contact.md).
+#pragma once
+#include <functional>
+#include <utility>
+#include <vector>
+
+#include "sim/types.h"
+
+namespace wobble::collision {
+
+struct Box {
+  Vec3 lo, hi;
+  bool overlaps(const Box& o) const { return (lo.array() <= o.hi.array()).all() && (o.lo.array() <= hi.array()).all(); }
+};
+
+// Every pair (query q, target t) whose boxes overlap and for which keep(q, t) holds, ascending by (q, t). With the
+// same list on both sides pass same = true: each unordered pair once, q < t. Runs queries in fixed chunks on threads
+// when parallel; the result does not depend on it.
+void overlappingPairs(const std::vector<Box>& queries, const std::vector<Box>& targets, bool same, bool parallel,
+                      const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out);
+
+}  // namespace wobble::collision

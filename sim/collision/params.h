@@ -1,0 +1,19 @@
+// What a scene sets for contact between bodies (sim/collision/body_collisions.h): per body, and the [contact] caps.
+#pragma once
+
+namespace wobble::collision {
+
+// Per body, read from its scene table (scenes/README.md).
+struct SurfaceParams {
+  double thickness = 0.02;  // m: surfaces are kept this far apart (the larger of two bodies' values between them)
+  double friction = 0.3;    // Coulomb coefficient (the mean of two bodies' values between them)
+  bool self_contact = false;
+};
+
+// The caps of the [contact] table of a scene.
+struct Settings {
+  int ccd_iterations = 8;    // rounds of collision impulses before impact zones
+  int zone_iterations = 64;  // rounds of impact zones before the pass gives up
+};
+
+}  // namespace wobble::collision

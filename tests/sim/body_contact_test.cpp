@@ -1,0 +1,244 @@
+// Contact between bodies (sim/collision/): the continuous test's cubic against analytic cases, the closest-point
+// queries against brute force, and whole runs checked by an independent triangle-triangle intersection test
+// (triangle_intersection.h): a fast jelly meeting a one-particle-thick cloth does not pass through it, and a step in
+// which no two surfaces come near is the same bytes with the pass as without it.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+
+#include "sim/bodies/cloth.h"
+#include "sim/bodies/jelly.h"
+#include "sim/collision/ccd.h"
+#include "sim/simulation.h"
+#include "tests/sim/triangle_intersection.h"
+
+namespace wobble {
+namespace {
+
+using collision::firstHit;
+using collision::Primitive;
+
+std::array<Vec3, 4> pts(Vec3 a, Vec3 b, Vec3 c, Vec3 d) { return {a, b, c, d}; }
+
+// A point falls through the fixed triangle z = 0 from z = 1 to z = -1: it meets the face at t = 1/2.
+TEST(Ccd, VertexThroughFaceAtKnownTime) {
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  const auto hit = firstHit(Primitive::PointTriangle, pts({0.2, 0.2, 1}, a, b, c), pts({0.2, 0.2, -1}, a, b, c), 1e-6);
+  ASSERT_TRUE(hit);
+  EXPECT_NEAR(hit->t, 0.5, 1e-12);
+  EXPECT_NEAR(hit->normal.z(), 1, 1e-12);  // along the start's relative position: out of the side it came from
+  // Through at t = 1/4, with the triangle moving up to meet it: z_p = 1 - 2t, z_tri = 2t.
+  const auto moving = firstHit(Primitive::PointTriangle, pts({0.2, 0.2, 1}, a, b, c),
+                               pts({0.2, 0.2, -1}, a + Vec3(0, 0, 2), b + Vec3(0, 0, 2), c + Vec3(0, 0, 2)), 1e-6);
+  ASSERT_TRUE(moving);
+  EXPECT_NEAR(moving->t, 0.25, 1e-12);
+}
+
+TEST(Ccd, VertexBesideFaceMisses) {
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  // Through the plane at t = 1/2 but outside the triangle (x + y = 1.2 > 1).
+  EXPECT_FALSE(firstHit(Primitive::PointTriangle, pts({0.6, 0.6, 1}, a, b, c), pts({0.6, 0.6, -1}, a, b, c), 1e-6));
+  // Moving away from the face.
+  EXPECT_FALSE(firstHit(Primitive::PointTriangle, pts({0.2, 0.2, 0.1}, a, b, c), pts({0.2, 0.2, 1}, a, b, c), 1e-6));
+}
+
+// Two crossed edges: a along x at z = 1 - 2t, b along y at z = 0; they meet at t = 1/2 at the origin.
+TEST(Ccd, EdgeEdgeAtKnownTime) {
+  const Vec3 b0(0, -1, 0), b1(0, 1, 0);
+  const auto hit =
+      firstHit(Primitive::EdgeEdge, pts({-1, 0, 1}, {1, 0, 1}, b0, b1), pts({-1, 0, -1}, {1, 0, -1}, b0, b1), 1e-6);
+  ASSERT_TRUE(hit);
+  EXPECT_NEAR(hit->t, 0.5, 1e-12);
+  EXPECT_NEAR(hit->at.w[0], 0.5, 1e-12);  // the middle of each edge
+  EXPECT_NEAR(hit->at.w[2], -0.5, 1e-12);
+  EXPECT_NEAR(std::abs(hit->normal.z()), 1, 1e-12);
+  // Shifted along y beyond b's end: the lines cross, the segments do not.
+  EXPECT_FALSE(
+      firstHit(Primitive::EdgeEdge, pts({-1, 2, 1}, {1, 2, 1}, b0, b1), pts({-1, 2, -1}, {1, 2, -1}, b0, b1), 1e-6));
+}
+
+// Parallel edges in one plane all along: the cubic vanishes identically, and the meeting is found in the plane.
+TEST(Ccd, ParallelEdgesMeetInTheirPlane) {
+  const Vec3 b0(0, 0, 0), b1(1, 0, 0);
+  const auto hit =
+      firstHit(Primitive::EdgeEdge, pts({0, 0, 1}, {1, 0, 1}, b0, b1), pts({0, 0, -1}, {1, 0, -1}, b0, b1), 1e-6);
+  ASSERT_TRUE(hit);
+  EXPECT_NEAR(hit->t, 0.5, 1e-9);
+  EXPECT_NEAR(hit->normal.z(), 1, 1e-9);
+  // Parallel, in one plane, sliding past each other without meeting (1 apart in z all along).
+  EXPECT_FALSE(
+      firstHit(Primitive::EdgeEdge, pts({0, 0, 1}, {1, 0, 1}, b0, b1), pts({3, 0, 1}, {4, 0, 1}, b0, b1), 1e-6));
+}
+
+// Near-degenerate: a point crossing the face at a grazing angle (1e-6 of height over 0.14 of travel), and one that
+// arrives exactly on the face at the step's end (a root at t = 1).
+TEST(Ccd, NearDegenerateCases) {
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  const auto grazing =
+      firstHit(Primitive::PointTriangle, pts({0.2, 0.2, 1e-6}, a, b, c), pts({0.3, 0.3, -1e-6}, a, b, c), 1e-9);
+  ASSERT_TRUE(grazing);
+  EXPECT_NEAR(grazing->t, 0.5, 1e-6);
+  const auto landing =
+      firstHit(Primitive::PointTriangle, pts({0.2, 0.2, 1}, a, b, c), pts({0.2, 0.2, 0}, a, b, c), 1e-9);
+  ASSERT_TRUE(landing);
+  EXPECT_DOUBLE_EQ(landing->t, 1);
+  // The triangle flattening onto the point: c rises through the point's height (a cubic with three real roots).
+  const auto tilting = firstHit(Primitive::PointTriangle, pts({0.25, 0.25, 0.1}, a, b, c),
+                                pts({0.25, 0.25, 0.1}, a, b, Vec3(0, 1, 1)), 1e-9);
+  ASSERT_TRUE(tilting);
+  EXPECT_NEAR(tilting->t, 0.4, 1e-9);  // z at the point's (x, y) = t * 0.25 reaches 0.1
+}
+
+// Every root of random cubics in [0, 1] is among the candidate times (checked by sign changes on a fine grid).
+TEST(Ccd, CandidatesHoldEveryRoot) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<double> times;
+  for (int trial = 0; trial < 2000; ++trial) {
+    // Roots placed in [0, 1] on purpose: (t - r1)(t - r2)(t - r3) scaled.
+    const double r1 = 0.5 + 0.5 * u(rng), r2 = 0.5 + 0.5 * u(rng), r3 = 2 * u(rng), k = u(rng);
+    const std::array<double, 4> c{-k * r1 * r2 * r3, k * (r1 * r2 + r1 * r3 + r2 * r3), -k * (r1 + r2 + r3), k};
+    collision::candidateTimes(c, times);
+    for (const double r : {r1, r2, r3}) {
+      if (r < 0 || r > 1) continue;
+      double nearest = 1;
+      for (const double t : times) nearest = std::min(nearest, std::abs(t - r));
+      EXPECT_LT(nearest, 1e-7) << "root " << r << " of trial " << trial;
+    }
+  }
+}
+
+// The closest-point queries against a brute-force search over the elements' parameters.
+TEST(Ccd, ClosestPointsMatchBruteForce) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 200; ++trial) {
+    const Vec3 p(u(rng), u(rng), u(rng)), a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)),
+        c(u(rng), u(rng), u(rng));
+    double best = 1e9;
+    const int n = 200;
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) best = std::min(best, (p - (a + (b - a) * i / n + (c - a) * j / n)).norm());
+    EXPECT_LE(collision::pointTriangle(p, a, b, c).distance, best + 1e-12);
+    EXPECT_GE(collision::pointTriangle(p, a, b, c).distance, best - 0.02);
+    double best_ee = 1e9;
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; j <= n; ++j) best_ee = std::min(best_ee, ((p + (a - p) * i / n) - (b + (c - b) * j / n)).norm());
+    EXPECT_LE(collision::edgeEdge(p, a, b, c).distance, best_ee + 1e-12);
+    EXPECT_GE(collision::edgeEdge(p, a, b, c).distance, best_ee - 0.02);
+  }
+}
+
+// The independent test itself, on cases decided by hand.
+TEST(TriangleIntersection, HandCases) {
+  using testing::trianglesIntersect;
+  const std::array<Vec3, 3> t{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  EXPECT_TRUE(trianglesIntersect(t, {Vec3(0.2, 0.2, -1), Vec3(0.2, 0.2, 1), Vec3(2, 2, 0.5)}));   // pierces
+  EXPECT_FALSE(trianglesIntersect(t, {Vec3(0.2, 0.2, 0.1), Vec3(1, 0.2, 1), Vec3(0.2, 1, 1)}));   // above
+  EXPECT_FALSE(trianglesIntersect(t, {Vec3(0.8, 0.8, -1), Vec3(0.8, 0.8, 1), Vec3(2, 2, 0)}));    // beside the edge
+  EXPECT_TRUE(trianglesIntersect(t, {Vec3(0.1, 0.1, 0), Vec3(0.5, 0.1, 0), Vec3(0.1, 0.5, 0)}));  // coplanar, inside
+  EXPECT_FALSE(trianglesIntersect(t, {Vec3(2, 2, 0), Vec3(3, 2, 0), Vec3(2, 3, 0)}));             // coplanar, apart
+  // Two triangles of one rotated face, apart: coplanar up to rounding, which must not read as crossing.
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(0.35, Vec3(0.3, 1, 0.2).normalized()).toRotationMatrix();
+  const auto turned = [&](std::array<Vec3, 3> a) {
+    for (Vec3& p : a) p = r * p;
+    return a;
+  };
+  EXPECT_FALSE(trianglesIntersect(turned({Vec3(0, 2, 2), Vec3(0, 3, 1), Vec3(0, 3, 2)}),
+                                  turned({Vec3(0, 1, 2), Vec3(0, 1, 1), Vec3(0, 2, 1)})));
+}
+
+testing::ParticleTriangles surfaces(const MassSpringSystem& system) {
+  testing::ParticleTriangles s;
+  for (std::size_t b = 0; b < system.bodies().size(); ++b)
+    testing::addSurface(s, system.bodies()[b].body.surface, system.bodies()[b].first, int(b));
+  return s;
+}
+
+// A 3^3 jelly 0.4 m wide at 10 m/s straight down onto a 12 x 12 cloth one particle thick, pinned at its corners:
+// without contact it passes through in a few steps. With it, no triangle pair intersects at any step's end, the
+// jelly ends above the cloth, and the pass counted its work.
+void jellyMeetsCloth(const char* integrator, double dt) {
+  MassSpringSystem system;
+  ClothParams cloth;
+  cloth.nx = cloth.ny = 12;
+  cloth.size_x = cloth.size_y = 2;
+  cloth.center = Vec3(0, 0, 0);
+  cloth.ks = 5000;
+  cloth.kd = 10;
+  cloth.mass = 0.05;
+  cloth.pinned = clothPinSet("corners", 12, 12);
+  system.addBody(buildCloth("cloth", cloth));
+  JellyParams jelly;
+  jelly.n = 3;
+  jelly.size = 0.4;
+  jelly.center = Vec3(0.05, 0.35, 0.03);
+  jelly.ks = 2000;
+  jelly.kd = 5;
+  jelly.mass = 0.1;
+  jelly.velocity = Vec3(0, -10, 0);
+  system.addBody(buildJelly("jelly", jelly));
+  const auto tris = surfaces(system);
+  {  // The control: the integrator and the colliders alone let the jelly through the cloth, as the oracle sees.
+    VecX x = system.initialPositions(), v = system.initialVelocities();
+    auto alone = makeIntegrator(integrator);
+    int worst = 0;
+    for (int k = 0; k < int(0.1 / dt); ++k) {
+      alone->step(system, k * dt, dt, x, v);
+      worst = std::max(worst, testing::intersectingPairs(tris, x));
+    }
+    EXPECT_GT(worst, 0) << integrator;
+  }
+  Simulation sim(system, makeIntegrator(integrator), dt);
+  ASSERT_TRUE(sim.bodyContact());
+  const int jelly_first = system.bodies()[1].first;
+  for (int k = 1; k <= 40; ++k) {
+    ASSERT_FALSE(sim.advanceTo(k * 0.01)) << integrator;
+    ASSERT_EQ(testing::intersectingPairs(tris, sim.x()), 0) << integrator << " at t = " << sim.time();
+  }
+  double jelly_low = 1e9, cloth_low = 1e9;
+  for (int i = 0; i < system.particleCount(); ++i) {
+    double& low = i >= jelly_first ? jelly_low : cloth_low;
+    low = std::min(low, particle(sim.x(), i).y());
+  }
+  // The jelly's lowest particle above the cloth's lowest (the sag under it): it did not pass through.
+  EXPECT_GT(jelly_low, cloth_low) << integrator;
+  EXPECT_GT(sim.bodyContact()->ccd_hits + sim.bodyContact()->contacts, 0);
+  EXPECT_LT(sim.bodyContact()->min_distance, 0.02);
+}
+
+TEST(BodyContact, FastJellyDoesNotTunnelThroughClothRk4) { jellyMeetsCloth("rk4", 2e-4); }
+TEST(BodyContact, FastJellyDoesNotTunnelThroughClothBackwardEuler) { jellyMeetsCloth("backward-euler", 1.0 / 240); }
+
+// Two jellies far apart: the pass runs every step and finds nothing, and every byte equals the integrator's step
+// followed by the colliders' resolution alone.
+TEST(BodyContact, ContactFreeStepsAreTheSameBytes) {
+  MassSpringSystem system;
+  JellyParams a;
+  a.n = 3;
+  a.size = 1;
+  a.center = Vec3(-3, 0, 0);
+  a.velocity = Vec3(0.5, 1, 0);
+  a.rotation_deg = 20;
+  system.addBody(buildJelly("a", a));
+  a.center = Vec3(3, 0, 0);
+  system.addBody(buildJelly("b", a));
+  Simulation sim(system, makeIntegrator("rk4"), 1e-3);
+  ASSERT_TRUE(sim.bodyContact());
+  ASSERT_FALSE(sim.advanceTo(0.2));
+  VecX x = system.initialPositions(), v = system.initialVelocities();
+  auto rk4 = makeIntegrator("rk4");
+  for (int k = 1; k <= 200; ++k) {  // as Simulation steps: the last step lands on 0.2 exactly
+    const double t = (k - 1) * 1e-3;
+    rk4->step(system, t, k == 200 ? 0.2 - t : 1e-3, x, v);
+  }
+  EXPECT_EQ(sim.steps(), 200);
+  EXPECT_EQ(std::memcmp(x.data(), sim.x().data(), sizeof(double) * x.size()), 0);
+  EXPECT_EQ(std::memcmp(v.data(), sim.v().data(), sizeof(double) * v.size()), 0);
+  EXPECT_EQ(sim.bodyContact()->contacts + sim.bodyContact()->ccd_hits, 0);
+  EXPECT_EQ(sim.bodyContact()->passes, 200);
+}
+
+}  // namespace
+}  // namespace wobble
