@@ -67,6 +67,8 @@ std::string cellSymbol(const StabilityCell& c) {
       return "BLOW";
     case Outcome::Failed:
       return "FAIL";
+    case Outcome::GainedEnergy:
+      return "GAIN";
   }
   return "?";
 }
@@ -83,6 +85,8 @@ const char* toString(Outcome outcome) {
       return "blew-up";
     case Outcome::Failed:
       return "failed";
+    case Outcome::GainedEnergy:
+      return "gained-energy";
   }
   return "?";
 }
@@ -104,6 +108,7 @@ StabilityCell classifyCell(MassSpringSystem& system, const std::string& integrat
         c.note = m.str();
         break;
       }
+
       c.final_strain = maxStrain(system.springs(), sim.x());
       c.max_strain = std::max(c.max_strain, c.final_strain);
       if (t >= duration) break;
@@ -111,6 +116,13 @@ StabilityCell classifyCell(MassSpringSystem& system, const std::string& integrat
   } catch (const std::exception& e) {
     c.outcome = Outcome::Failed;
     c.note = e.what();
+  }
+  if (const auto& gain = sim.energyGain(); gain && c.outcome == Outcome::Stable) {  // a blow-up or failure says more
+    c.outcome = Outcome::GainedEnergy;
+    std::ostringstream m;
+    m << "gained energy at t = " << gain->time << " s, step " << gain->step << ": " << gain->energy << " J from "
+      << gain->start << " J";
+    c.note = m.str();
   }
   if (c.outcome == Outcome::Stable && c.max_strain > strain_bound) c.outcome = Outcome::LostShape;
   if (c.outcome == Outcome::BlewUp) c.final_strain = kNaN;
@@ -240,7 +252,9 @@ std::string stabilityMarkdown(const StabilityResult& r) {
      << "; **ok\\*** / **SHAPE\\***: not run, inferred from the largest dt at this ks that did not blow up (stability "
         "regions contain the segment from 0 to their boundary, and a smaller step solves the same physics more "
         "accurately; --no-infer runs them); **BLOW**: blew up (a NaN or |v|^2 > 1e6, sim/simulation.h), the cell "
-        "stopped there; **FAIL**: the integrator gave up (message in the CSV).\n"
+        "stopped there; **GAIN**: gained energy (the total passed the start's plus the moving colliders' work by the "
+        "margin of docs/energy.md) and did not blow up, whatever its strain; **FAIL**: the integrator gave up (message "
+        "in the CSV).\n"
      << "- Theory (numerics.md): omega_max by Gershgorin (omega_max^2 <= max_i 2 sum_j k_ij / m_i, a bound) and by "
         "power iteration on M^-1 K at the initial state (an estimate); a mode w has damping ratio zeta = (kd/ks) w / "
         "2; "
@@ -366,8 +380,8 @@ std::vector<PlotResult> writeStabilityOutputs(const StabilityResult& r, const fs
        << gnuplotQuote("wobble study stability: " + name + " on " + r.scene_name + ", " + io::formatNumber(r.duration) +
                        " s per cell")
        << "\n";
-    const char* kinds[] = {"ok", "ok*", "SHAPE", "BLOW", "FAIL", "SHAPE*"};
-    for (int k = 0; k < 6; ++k) {
+    const char* kinds[] = {"ok", "ok*", "SHAPE", "BLOW", "FAIL", "SHAPE*", "GAIN"};
+    for (int k = 0; k < 7; ++k) {
       gp << "$c" << k << " << EOD\n";
       for (const StabilityCell& c : r.cells)
         if (c.integrator == name && cellSymbol(c) == kinds[k])
@@ -386,6 +400,7 @@ std::vector<PlotResult> writeStabilityOutputs(const StabilityResult& r, const fs
        << "$c3 using 1:2 with points pt 5 ps 4 lc rgb '#d62728' title 'blew up', "
        << "$c4 using 1:2 with points pt 5 ps 4 lc rgb '#7f7f7f' title 'failed', "
        << "$c5 using 1:2 with points pt 4 ps 4 lc rgb '#ff7f0e' title 'lost shape (inferred)', "
+       << "$c6 using 1:2 with points pt 5 ps 4 lc rgb '#9467bd' title 'gained energy', "
        << "$theory using 1:2 with lines lw 3 lc rgb 'black' title 'theory dt_max (power iteration)', "
        << "$theory using 3:2 with lines lw 2 dt 2 lc rgb 'black' title 'theory dt_max (Gershgorin)'\n";
     const fs::path script = out / ("stability-" + name + ".gp");
