@@ -4,7 +4,7 @@
 
 namespace wobble {
 
-void findContactConstraints(Colliders colliders, double t, const VecX& x, const VecX& v, const VecX& f,
+void findContactConstraints(Colliders colliders, double t, double h, const VecX& x, const VecX& v, const VecX& f,
                             const VecX& mass, const VecX& inv_mass, std::vector<ContactConstraint>& out) {
   out.clear();
   thread_local std::vector<int> near;  // kept between calls: no allocation per step
@@ -17,10 +17,11 @@ void findContactConstraints(Colliders colliders, double t, const VecX& x, const 
       while (k < earlier && out[k].particle < i) ++k;
       if (k < earlier && out[k].particle == i) continue;  // the first collider holding a particle keeps it
       const auto s = activeSupport(*collider, t, particle(x, i), particle(f, i), mass[i]);
-      // Not on a particle moving away (one that has just bounced): the constraint would hold its normal velocity for
-      // the whole step against the springs' pull, positive work that launched a stiff jelly off the floor. A surface
-      // pushes only while it is pressed (Signorini's condition at the velocity level).
-      if (s && s->normal.dot(particle(v, i) - s->velocity) <= 0)
+      // Not on a particle moving away fast enough to leave the band within the step (one that has just bounced): the
+      // constraint would hold its normal velocity for the whole step against the springs' pull, positive work that
+      // launched a stiff jelly off the floor at 1/60 s. A surface pushes only while it is pressed (Signorini's
+      // condition at the velocity level); a resting particle's velocity noise stays far below the band's width.
+      if (s && s->distance + h * s->normal.dot(particle(v, i) - s->velocity) < collider->contact().epsilon)
         out.push_back({i, s->normal, s->normal.dot(s->acceleration)});
     }
     std::inplace_merge(out.begin(), out.begin() + earlier, out.end(),

@@ -7,9 +7,10 @@ namespace wobble {
 
 // Replaces out by the particles whose support force addContactForces makes active at (t, x, v): within epsilon of a
 // surface, with the smooth force f (everything but contact), relative to the surface's acceleration, pushing into it
-// (activeSupport, shared with addContactForces), and not moving away from it. The first such collider per particle;
+// (activeSupport, shared with addContactForces), and not moving away from it fast enough to leave the band within
+// the step h. The first such collider per particle;
 // pinned ones are skipped.
-void findContactConstraints(Colliders colliders, double t, const VecX& x, const VecX& v, const VecX& f,
+void findContactConstraints(Colliders colliders, double t, double h, const VecX& x, const VecX& v, const VecX& f,
                             const VecX& mass, const VecX& inv_mass, std::vector<ContactConstraint>& out);
 
 // Impacts inside an implicit step (Baraff & Witkin 1998, section 5: constraints enforced by the solve's filter). A

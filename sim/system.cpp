@@ -83,7 +83,7 @@ void MassSpringSystem::contactConstraints(double t, const VecX& x, const VecX& v
   if (colliders_.empty()) return;
   thread_local VecX f;  // kept between calls: no allocation per step
   smoothForce(t, x, v, f);
-  findContactConstraints(colliders_, t, x, v, f, mass_, inv_mass_, out);
+  findContactConstraints(colliders_, t, stick_time_ / 2, x, v, f, mass_, inv_mass_, out);  // h: setStepSize
 }
 
 bool MassSpringSystem::impactConstraints(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
