@@ -187,11 +187,13 @@ RunReport runScene(const RunOptions& options) {
     report.blow_up = sim.advanceTo(scene.frameTime(frame));
     report.seconds_simulate += secondsSince(start);
     if (report.blow_up) break;
-    if ((report.energy_gain = sim.energyGain())) {
+    if (!report.energy_gain && (report.energy_gain = sim.energyGain())) {
       report.energy_gain_message = report.energy_gain->message(scene.dt);
-      if (progress) progress->finish();
-      std::fprintf(stderr, "wobble: %s\n", report.energy_gain_message.c_str());  // at once, not after the video
-      break;
+      if (options.stop_on_energy_gain) {
+        if (progress) progress->finish();
+        std::fprintf(stderr, "wobble: %s\n", report.energy_gain_message.c_str());  // at once, not after the video
+        break;
+      }
     }
     if (options.on_frame) options.on_frame(frame, sim.x());
     if (estimator) estimator->compare(scene.frameTime(frame), sim.x());
