@@ -5,10 +5,26 @@
 
 namespace wobble {
 
-// Replaces out by the particles whose support force addContactForces makes active at (t, x): within epsilon of a
-// surface, with the smooth force f (everything but contact), relative to the surface's acceleration, pushing into
-// it (activeSupport, shared with addContactForces). The first such collider per particle; pinned ones are skipped.
-void findContactConstraints(Colliders colliders, double t, const VecX& x, const VecX& f, const VecX& mass,
-                            const VecX& inv_mass, std::vector<ContactConstraint>& out);
+// Replaces out by the particles whose support force addContactForces makes active at (t, x, v): within epsilon of a
+// surface, with the smooth force f (everything but contact), relative to the surface's acceleration, pushing into it
+// (activeSupport, shared with addContactForces), and not moving away from it fast enough to leave the band within
+// the step h. The first such collider per particle;
+// pinned ones are skipped.
+void findContactConstraints(Colliders colliders, double t, double h, const VecX& x, const VecX& v, const VecX& f,
+                            const VecX& mass, const VecX& inv_mass, std::vector<ContactConstraint>& out);
+
+// Impacts inside an implicit step (Baraff & Witkin 1998, section 5: constraints enforced by the solve's filter). A
+// candidate step from (x0, v0) at t to (x1, v1) at t + h that ends a particle below a surface constrains it along the
+// surface's normal n at x1 to leave the step with the normal velocity
+//   max(u1_n + e max(0, -(v0 - u0)_n),  v1_n - d1 / h):
+// restitution's bounce on the approach speed at the step's start (u0, u1: the surface's velocity at t and t + h), or
+// what lifts the end point onto the surface if that is more. Solved again with it, the springs carry the impulse to
+// the rest of the body within the same step, and nothing is moved after the solve: a position projection after the
+// step compresses the springs by the step's penetration without the solve's knowledge, and on a stiff jelly at a
+// large step stored more energy than the body ever had (docs/energy.md). A particle already in out (a resting
+// contact that the step still carries into the surface) takes the impact's constraint instead; the first collider
+// per particle wins; pinned particles are skipped. out stays in particle order. Returns whether out changed.
+bool addImpactConstraints(Colliders colliders, double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
+                          const VecX& v1, const VecX& inv_mass, std::vector<ContactConstraint>& out);
 
 }  // namespace wobble

@@ -19,8 +19,10 @@ using Triplets = std::vector<Eigen::Triplet<double>>;
 // cancel a stiff spring's push at the start, held for a whole long step while the spring relaxes, launches the body.
 struct ContactConstraint {
   int particle;
-  Vec3 normal;                 // unit, out of the surface
-  double normal_acceleration;  // of the surface along the normal: the particle's normal velocity changes by h times it
+  Vec3 normal;  // unit, out of the surface
+  // The particle's normal velocity changes by h times this over the step: the surface's normal acceleration for a
+  // resting contact; for an impact (addImpactConstraints), the change that gives it its bounce.
+  double normal_acceleration;
 };
 
 // Optional capability of a Dynamics, for implicit integrators: the lumped (diagonal) mass and the smooth forces with
@@ -49,6 +51,15 @@ class ForceJacobian {
   virtual void contactConstraints(double t, const VecX& x, const VecX& v, std::vector<ContactConstraint>& out) const {
     (void)t, (void)x, (void)v;
     out.clear();
+  }
+  // Impacts of a candidate step from (x0, v0) at t to (x1, v1) at t + h: adds to out (kept in particle order) a
+  // constraint for every particle the step ends inside a surface, with the normal velocity change that keeps it out
+  // and gives it its bounce (contact_constraints.h). Returns whether out changed; the solver then solves again. The
+  // default finds none.
+  virtual bool impactConstraints(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1, const VecX& v1,
+                                 std::vector<ContactConstraint>& out) const {
+    (void)t, (void)h, (void)x0, (void)v0, (void)x1, (void)v1, (void)out;
+    return false;
   }
 
  protected:

@@ -16,6 +16,10 @@ Simulation::Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> int
   system.setStepSize(dt);
   for (int i = 0; i < system.particleCount(); ++i)
     max_speed_squared_ = std::max(max_speed_squared_, particle(v_, i).squaredNorm());
+  energy_start_ = system.energy(x_, v_);
+  double free_mass = 0;
+  for (int i = 0; i < system.particleCount(); ++i) free_mass += system.inverseMass()[i] > 0 ? system.mass()[i] : 0;
+  lift_margin_ = free_mass * std::max(system.gravity().norm(), 1.0) * kEnergyGainLift;
 }
 
 double Simulation::maxSpeed() const { return std::sqrt(max_speed_squared_); }
@@ -26,22 +30,53 @@ std::optional<BlowUp> Simulation::advanceTo(double t_end) {
   constexpr double kSliver = 1e-9;
   const double remaining = (t_end - t_) / dt_;
   if (!(remaining > kSliver)) return std::nullopt;
+  const bool colliders = !system_.colliders().empty();
   const long count = std::max(1L, static_cast<long>(std::ceil(remaining - kSliver)));
   const double start = t_;
   for (long k = 1; k <= count; ++k) {
     const bool last = k == count;
     const double h = last ? t_end - t_ : dt_;
-    if (collisions_) x_start_ = x_;
+    if (collisions_ || colliders) x_before_ = x_;
+    if (colliders) v_before_ = v_;
+    const double t0 = t_;
     integrator_->step(system_, t_, h, x_, v_);
     t_ = last ? t_end : start + double(k) * dt_;
     ++steps_;
     system_.resolveCollisions(t_, x_, v_);
     if (collisions_)
-      if (auto failure = collisions_->resolve(x_start_, x_, v_, h))
+      if (auto failure = collisions_->resolve(x_before_, x_, v_, h))
         return BlowUp{std::string(integrator_->name()), steps_, t_, failure->particle, 0, failure->reason};
     if (auto blow_up = check()) return blow_up;
+    if (colliders) {
+      const double work = system_.colliderWork(t0, h, x_before_, v_before_, x_, v_);
+      collider_work_ += work;
+      collider_work_unsigned_ += std::abs(work);
+    }
   }
+  checkEnergy();
   return std::nullopt;
+}
+
+void Simulation::checkEnergy() {
+  if (energy_gain_) return;  // the first one is the news
+  const double energy = system_.energy(x_, v_);
+  const double margin =
+      std::max(kEnergyGainRelative * (std::abs(energy_start_) + collider_work_unsigned_), lift_margin_);
+  if (energy - energy_start_ - collider_work_ > margin)
+    energy_gain_ =
+        EnergyGain{std::string(integrator_->name()), steps_, t_, energy_start_, energy, collider_work_, margin};
+}
+
+std::string EnergyGain::message(double dt) const {
+  std::ostringstream out;
+  out.precision(4);
+  out << "the simulation gained energy: integrator " << integrator << ", step " << step << ", t = " << time
+      << " s: total energy " << energy << " J against " << start << " J at the start";
+  if (collider_work != 0) out << " plus " << collider_work << " J of work by moving colliders";
+  out << " (gained " << gained() << " J, " << gained() / std::max(std::abs(start), 1e-300)
+      << " times the start's; allowed " << margin << " J, docs/energy.md). Try a smaller time step (--dt " << dt / 4
+      << "), backward Euler (--integrator backward-euler), or a lower restitution.";
+  return out.str();
 }
 
 std::optional<BlowUp> Simulation::check() {

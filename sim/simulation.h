@@ -26,13 +26,41 @@ struct BlowUp {
   std::string message(double dt) const;
 };
 
+// The run's own energy check (docs/energy.md): the total energy (kinetic + gravitational + elastic) may not exceed the
+// start's plus the work moving colliders did on the bodies by more than kEnergyGainRelative of (|start| + the
+// colliders' work, counted unsigned) or, whichever is more, the energy of lifting every particle by kEnergyGainLift
+// (m |g|, with |g| at least 1 m/s^2). A stable integrator's drift and the contact band's slack stay far below either;
+// the gains of an unstable contact or step are multiples of the start.
+inline constexpr double kEnergyGainRelative = 0.1;
+inline constexpr double kEnergyGainLift = 0.01;  // m: the colliders' default contact band
+
+struct EnergyGain {
+  std::string integrator;
+  long step;             // 1-based index of the step at whose end the check failed
+  double time;           // simulated time there
+  double start;          // J, total energy at t = 0
+  double energy;         // J, total energy there
+  double collider_work;  // J, work done on the bodies by moving colliders up to there
+  double margin;         // J, the gain allowed
+  double gained() const { return energy - start - collider_work; }
+  // One paragraph for the user: what happened, where, and what to try.
+  std::string message(double dt) const;
+};
+
 class Simulation {
  public:
   // Sets the system's step size (for static friction) to dt.
   Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> integrator, double dt);
 
-  // Steps until time() == t_end. Stops at once and returns what happened if the state blows up.
+  // Steps until time() == t_end. Stops at once and returns what happened if the state blows up. At the end, checks the
+  // energy (EnergyGain above): energyGain() holds the first check that failed; the caller decides whether to go on
+  // (`wobble run` stops; the stability study runs on, so that a cell that then blows up counts as a blow-up).
   std::optional<BlowUp> advanceTo(double t_end);
+  const std::optional<EnergyGain>& energyGain() const { return energy_gain_; }
+  double energyStart() const { return energy_start_; }
+  // Work done on the bodies by moving colliders so far (J): each step's contact impulse on a particle touching a
+  // moving surface, times the surface's velocity (MassSpringSystem::colliderWork).
+  double colliderWork() const { return collider_work_; }
 
   const VecX& x() const { return x_; }
   const VecX& v() const { return v_; }
@@ -48,6 +76,7 @@ class Simulation {
 
  private:
   std::optional<BlowUp> check();
+  void checkEnergy();
 
   const MassSpringSystem& system_;
   std::unique_ptr<Integrator> integrator_;
@@ -57,7 +86,9 @@ class Simulation {
   long steps_ = 0;
   double max_speed_squared_ = 0;
   std::unique_ptr<collision::BodyCollisions> collisions_;
-  VecX x_start_;  // the step's start, for collisions_
+  double energy_start_ = 0, collider_work_ = 0, collider_work_unsigned_ = 0, lift_margin_ = 0;
+  VecX x_before_, v_before_;  // the state at the step's start, for collisions_ and the colliders' work
+  std::optional<EnergyGain> energy_gain_;
 };
 
 }  // namespace wobble

@@ -1,6 +1,8 @@
 #include "sim/system.h"
 
+#include <algorithm>
 #include <stdexcept>
+#include <tuple>
 
 #include "sim/contact.h"
 #include "sim/contact_constraints.h"
@@ -81,7 +83,12 @@ void MassSpringSystem::contactConstraints(double t, const VecX& x, const VecX& v
   if (colliders_.empty()) return;
   thread_local VecX f;  // kept between calls: no allocation per step
   smoothForce(t, x, v, f);
-  findContactConstraints(colliders_, t, x, f, mass_, inv_mass_, out);
+  findContactConstraints(colliders_, t, stick_time_ / 2, x, v, f, mass_, inv_mass_, out);  // h: setStepSize
+}
+
+bool MassSpringSystem::impactConstraints(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
+                                         const VecX& v1, std::vector<ContactConstraint>& out) const {
+  return addImpactConstraints(colliders_, t, h, x0, v0, x1, v1, inv_mass_, out);
 }
 
 void MassSpringSystem::acceleration(double t, const VecX& x, const VecX& v, VecX& a) const {
@@ -93,6 +100,42 @@ void MassSpringSystem::acceleration(double t, const VecX& x, const VecX& v, VecX
 
 void MassSpringSystem::resolveCollisions(double t, VecX& x, VecX& v) const {
   wobble::resolveCollisions(colliders_, t, x, v, inv_mass_);
+}
+
+double MassSpringSystem::colliderWork(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
+                                      const VecX& v1) const {
+  // The surfaces' velocity, weighted by mass, at every particle that may have touched a collider during the step: at
+  // either end within epsilon plus the distance it moves relative to the surface in a step (an implicit step's impact
+  // leaves it bouncing above the surface at both ends). A static collider counts with velocity 0.
+  thread_local std::vector<int> near;  // kept between calls: no allocation per step
+  double reach = 0;                    // the farthest a particle moves in the step
+  for (int i = 0; i < particleCount(); ++i)
+    reach = std::max(reach, h * std::max(particle(v0, i).norm(), particle(v1, i).norm()));
+  Vec3 weighted = Vec3::Zero();
+  double touching = 0;
+  for (const auto& collider : colliders_)
+    for (const auto& [time, x, v] : {std::tuple<double, const VecX*, const VecX*>{t, &x0, &v0}, {t + h, &x1, &v1}}) {
+      const double epsilon = collider->contact().epsilon;
+      collider->near(time, *x, epsilon + 2 * reach, near);  // the surface moves too: at most as far, for the margin
+      for (const int i : near) {
+        if (inv_mass_[i] == 0) continue;
+        const auto s = collider->query(time, particle(*x, i));
+        if (!s || std::abs(s->distance) >= epsilon + h * (particle(*v, i) - s->velocity).norm()) continue;
+        weighted += mass_[i] * s->velocity;
+        touching += mass_[i];
+      }
+    }
+  if (touching == 0 || weighted == Vec3::Zero()) return 0;
+  // The contact impulse on all bodies: their momentum change less gravity's and drag's impulse (the springs between
+  // free particles cancel).
+  Vec3 impulse = Vec3::Zero();
+  for (int i = 0; i < particleCount(); ++i) {
+    if (inv_mass_[i] == 0) continue;
+    const Vec3 dv = particle(v1, i) - particle(v0, i);
+    const Vec3 mean_v = 0.5 * (particle(v0, i) + particle(v1, i));
+    impulse += mass_[i] * dv - h * (mass_[i] * gravity_ - drag_[i] * mean_v);
+  }
+  return impulse.dot(weighted / touching);
 }
 
 double MassSpringSystem::energy(const VecX& x, const VecX& v) const {

@@ -45,8 +45,19 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   void addForceJacobians(double t, const VecX& x, const VecX& v, Triplets& dfdx, Triplets& dfdv) const;
   // The particles whose contact support is active (contact_constraints.h).
   void contactConstraints(double t, const VecX& x, const VecX& v, std::vector<ContactConstraint>& out) const override;
+  // The particles a candidate implicit step ends inside a collider (contact_constraints.h, addImpactConstraints).
+  bool impactConstraints(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1, const VecX& v1,
+                         std::vector<ContactConstraint>& out) const override;
   // Restitution and penetration correction, applied to the stored state at the end of each step.
   void resolveCollisions(double t, VecX& x, VecX& v) const;
+
+  // Work done on the bodies by moving colliders over a step from (x0, v0) at t to (x1, v1) at t + h (after contact
+  // resolution): the step's contact impulse on all bodies (their momentum change less gravity's and drag's impulse)
+  // times the surfaces' velocity, averaged over the particles within epsilon of a collider at either end (a static
+  // one counts as 0). Exact for one translating collider (the elevator, a moving sphere); an estimate when a moving
+  // and a static collider touch in the same step, or when pinned particles' springs pull. 0 when no moving surface
+  // is touched.
+  double colliderWork(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1, const VecX& v1) const;
 
   // Kinetic + gravitational + elastic energy.
   double energy(const VecX& x, const VecX& v) const;

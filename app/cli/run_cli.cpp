@@ -70,6 +70,7 @@ void addRunCommand(CLI::App& app, int& status) {
       std::fprintf(stderr, "wobble: %s\n", report.blow_up_message.c_str());
       status = kExitBlowUp;
     }
+    if (report.energy_gain) status = kExitBlowUp;  // its message went to stderr when it stopped the run
     if (report.interrupted)
       std::fprintf(stderr, "wobble: interrupted: stopped after frame %d; %s says so\n",
                    report.first_frame + report.frames_written - 1, (report.out / "run.json").c_str());

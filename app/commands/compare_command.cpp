@@ -152,6 +152,7 @@ std::vector<Planned> planVariants(const CompareOptions& o, const std::vector<Var
     run = o.run;
     run.render = RenderFlags{.render = "none"};  // the variant's pictures are its tiles
     run.progress = false;                        // several run at once: the comparison shows one line
+    run.stop_on_energy_gain = false;  // a variant runs on to show what becomes of it; its run.json records the gain
     std::string folder = std::to_string(index + 1);
     folder.insert(0, std::size_t(digits) - folder.size(), '0');
     std::size_t rest = index;

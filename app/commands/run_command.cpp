@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 
 #include <nlohmann/json.hpp>
@@ -40,7 +41,7 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
                             {"render", r.seconds_render}};
   j["frames_rendered"] = r.frames_rendered;
   j["frames_skipped"] = r.frames_skipped;  // --skip-existing: already rendered with the same settings
-  j["energy"] = {{"start", r.energy_start}, {"end", r.energy_end}};
+  j["energy"] = {{"start", r.energy_start}, {"end", r.energy_end}, {"collider_work", r.collider_work}};
   j["max_speed"] = r.max_speed;
   j["particles"] = sim.system().particleCount();
   j["springs"] = sim.system().springs().size();
@@ -59,6 +60,7 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
          {"cg_error_fraction", scene.integrator_options.cg_error_fraction},
          {"cg_max_iterations", scene.integrator_options.cg_max_iterations},
          {"error_rule_stops", s.error_rule_stops},
+         {"impact_solves", s.impact_solves},  // solves again with impact constraints (docs/energy.md)
          {"cg_iterations", s.cg_iterations},
          {"cg_iterations_per_step", s.steps ? double(s.cg_iterations) / double(s.steps) : 0.0},
          {"max_relative_residual", s.max_cg_residual}};
@@ -78,6 +80,16 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
                     {"time", r.blow_up->time},
                     {"particle", r.blow_up->particle},
                     {"message", r.blow_up_message}};
+  j["gained_energy"] = r.energy_gain.has_value();
+  if (const auto& g = r.energy_gain)
+    j["energy_gain"] = {{"step", g->step},
+                        {"time", g->time},
+                        {"start", g->start},
+                        {"energy", g->energy},
+                        {"collider_work", g->collider_work},
+                        {"gained", g->gained()},
+                        {"margin", g->margin},
+                        {"message", r.energy_gain_message}};
   if (const auto& e = r.error_estimate) {
     j["error_estimate"] = {{"method",
                             "step halving: the same run at dt/2 (rk45: rtol, atol / 32), position "
@@ -142,6 +154,14 @@ RunReport runScene(const RunOptions& options) {
     report.blow_up = sim.advanceTo(scene.frameTime(frame));
     report.seconds_simulate += secondsSince(start);
     if (report.blow_up) break;
+    if (!report.energy_gain && (report.energy_gain = sim.energyGain())) {
+      report.energy_gain_message = report.energy_gain->message(scene.dt);
+      if (options.stop_on_energy_gain) {
+        if (progress) progress->finish();
+        std::fprintf(stderr, "wobble: %s\n", report.energy_gain_message.c_str());  // at once, not after the video
+        break;
+      }
+    }
     if (options.on_frame) options.on_frame(frame, sim.x());
     if (estimator) estimator->compare(scene.frameTime(frame), sim.x());
     start = Clock::now();
@@ -179,6 +199,7 @@ RunReport runScene(const RunOptions& options) {
   report.steps = sim.steps();
   report.simulated_time = sim.time();
   report.energy_end = system.energy(sim.x(), sim.v());
+  report.collider_work = sim.colliderWork();
   report.max_speed = sim.maxSpeed();
   if (report.blow_up) report.blow_up_message = report.blow_up->message(scene.dt);
   if (estimator) report.error_estimate = estimator->result();

@@ -21,14 +21,17 @@ struct RunReport {
   std::optional<std::filesystem::path> video;  // OUT/<scene>.mp4 when encoded
   std::optional<BlowUp> blow_up;
   std::string blow_up_message;
+  double collider_work = 0;               // J, work done on the bodies by moving colliders (Simulation::colliderWork)
+  std::optional<EnergyGain> energy_gain;  // the run's energy check failed: it stopped there (docs/energy.md)
+  std::string energy_gain_message;
   std::optional<ErrorEstimate> error_estimate;  // with RunOptions::estimate_error
   bool interrupted = false;  // SIGINT/SIGTERM: stopped after the last complete frame, no video (interrupt.h)
   int files_cleared = 0;     // of an earlier run in the folder (output_folder.h)
 };
 
 // Throws InputError for bad input before anything is written, and when another run holds OUT. Clears an earlier
-// run's files from OUT first. A blow-up or an interrupt stops the run at once: the frames written so far stay, and
-// the report (and run.json) says so.
+// run's files from OUT first. A blow-up, an energy gain (Simulation::energyGain) or an interrupt stops the run at
+// once: the frames written so far stay, and the report (and run.json) says so.
 RunReport runScene(const RunOptions& options);
 
 }  // namespace wobble

@@ -26,6 +26,8 @@ struct RunOptions {
   // particle's position; not for the frame a blow-up stopped. `wobble compare` follows strain and camera with it.
   std::function<void(int frame, const VecX& x)> on_frame;
   bool skip_existing = false;  // keep frames already rendered with the same settings (frame_output.h)
+  // Stop at the first frame whose energy check fails (docs/energy.md), as for a blow-up; false: record it and run on.
+  bool stop_on_energy_gain = true;
 };
 
 // The scene a run of `options` simulates: the file with --set, then the settings of the flags that set keys

@@ -67,6 +67,8 @@ const char* toString(Outcome outcome) {
       return "blew-up";
     case Outcome::Failed:
       return "failed";
+    case Outcome::GainedEnergy:
+      return "gained-energy";
   }
   return "?";
 }
@@ -88,6 +90,7 @@ StabilityCell classifyCell(MassSpringSystem& system, const std::string& integrat
         c.note = m.str();
         break;
       }
+
       c.final_strain = maxStrain(system.springs(), sim.x());
       c.max_strain = std::max(c.max_strain, c.final_strain);
       if (t >= duration) break;
@@ -95,6 +98,13 @@ StabilityCell classifyCell(MassSpringSystem& system, const std::string& integrat
   } catch (const std::exception& e) {
     c.outcome = Outcome::Failed;
     c.note = e.what();
+  }
+  if (const auto& gain = sim.energyGain(); gain && c.outcome == Outcome::Stable) {  // a blow-up or failure says more
+    c.outcome = Outcome::GainedEnergy;
+    std::ostringstream m;
+    m << "gained energy at t = " << gain->time << " s, step " << gain->step << ": " << gain->energy << " J from "
+      << gain->start << " J";
+    c.note = m.str();
   }
   if (c.outcome == Outcome::Stable && c.max_strain > strain_bound) c.outcome = Outcome::LostShape;
   if (c.outcome == Outcome::BlewUp) c.final_strain = kNaN;

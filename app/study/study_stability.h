@@ -39,7 +39,9 @@ struct StabilityOptions {
   bool progress = true;
 };
 
-enum class Outcome { Stable, LostShape, BlewUp, Failed };
+// GainedEnergy: ran to the end without blowing up, but the run's energy check failed (sim/simulation.h,
+// docs/energy.md); it takes precedence over lost shape.
+enum class Outcome { Stable, LostShape, BlewUp, Failed, GainedEnergy };
 const char* toString(Outcome outcome);
 
 struct StabilityCell {

@@ -24,6 +24,8 @@ std::string cellSymbol(const StabilityCell& c) {
       return "BLOW";
     case Outcome::Failed:
       return "FAIL";
+    case Outcome::GainedEnergy:
+      return "GAIN";
   }
   return "?";
 }
@@ -51,7 +53,9 @@ std::string stabilityMarkdown(const StabilityResult& r) {
      << "; **ok\\*** / **SHAPE\\***: not run, inferred from the largest dt at this ks that did not blow up (stability "
         "regions contain the segment from 0 to their boundary, and a smaller step solves the same physics more "
         "accurately; --no-infer runs them); **BLOW**: blew up (a NaN or |v|^2 > 1e6, sim/simulation.h), the cell "
-        "stopped there; **FAIL**: the integrator gave up (message in the CSV).\n"
+        "stopped there; **GAIN**: gained energy (the total passed the start's plus the moving colliders' work by the "
+        "margin of docs/energy.md) and did not blow up, whatever its strain; **FAIL**: the integrator gave up (message "
+        "in the CSV).\n"
      << "- Theory (numerics.md): omega_max by Gershgorin (omega_max^2 <= max_i 2 sum_j k_ij / m_i, a bound) and by "
         "power iteration on M^-1 K at the initial state (an estimate); a mode w has damping ratio zeta = (kd/ks) w / "
         "2; "
@@ -177,8 +181,8 @@ std::vector<PlotResult> writeStabilityOutputs(const StabilityResult& r, const fs
        << gnuplotQuote("wobble study stability: " + name + " on " + r.scene_name + ", " + io::formatNumber(r.duration) +
                        " s per cell")
        << "\n";
-    const char* kinds[] = {"ok", "ok*", "SHAPE", "BLOW", "FAIL", "SHAPE*"};
-    for (int k = 0; k < 6; ++k) {
+    const char* kinds[] = {"ok", "ok*", "SHAPE", "BLOW", "FAIL", "SHAPE*", "GAIN"};
+    for (int k = 0; k < 7; ++k) {
       gp << "$c" << k << " << EOD\n";
       for (const StabilityCell& c : r.cells)
         if (c.integrator == name && cellSymbol(c) == kinds[k])
@@ -197,6 +201,7 @@ std::vector<PlotResult> writeStabilityOutputs(const StabilityResult& r, const fs
        << "$c3 using 1:2 with points pt 5 ps 4 lc rgb '#d62728' title 'blew up', "
        << "$c4 using 1:2 with points pt 5 ps 4 lc rgb '#7f7f7f' title 'failed', "
        << "$c5 using 1:2 with points pt 4 ps 4 lc rgb '#ff7f0e' title 'lost shape (inferred)', "
+       << "$c6 using 1:2 with points pt 5 ps 4 lc rgb '#9467bd' title 'gained energy', "
        << "$theory using 1:2 with lines lw 3 lc rgb 'black' title 'theory dt_max (power iteration)', "
        << "$theory using 3:2 with lines lw 2 dt 2 lc rgb 'black' title 'theory dt_max (Gershgorin)'\n";
     const fs::path script = out / ("stability-" + name + ".gp");

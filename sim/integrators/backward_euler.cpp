@@ -15,7 +15,11 @@
 // has S_i = 0, dv_i = 0; a particle whose contact support is active at the start (ForceJacobian::contactConstraints)
 // has S_i = I - n n^T and its normal dv prescribed (the surface's normal acceleration times h), which is what the
 // explicit support force does instantaneously; friction stays explicit. Without that, the support sized to cancel a
-// stiff spring's push at the start would act for the whole step while the spring relaxes and launch the body. Options:
+// stiff spring's push at the start would act for the whole step while the spring relaxes and launch the body. Impacts
+// likewise (B&W's constraints, here for collisions within the step): when the solved step would end a particle inside
+// a surface, that particle is constrained along the normal to its restitution bounce (or what keeps it out) and the
+// step is solved again, so the stiff springs pass the impulse to the body inside the implicit solve and no position
+// is moved behind the solve's back (ForceJacobian::impactConstraints, docs/energy.md). Options:
 // cg_tolerance (relative residual |S (b - A dv)| / |S (b - A z)|, default in integrator.h), cg_error_fraction (below),
 // cg_preconditioner (integrator.h) and cg_max_iterations of each linear solve (a solve that hits the limit is used as
 // it stands, as Blender's cloth solver does; the achieved residual is in the stats); newton: after that first step,
@@ -39,8 +43,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "sim/solver/filtered_pcg.h"
 #include "sim/integrators/methods.h"
+#include "sim/solver/filtered_pcg.h"
 #include "sim/solver/parallel.h"
 
 namespace wobble {
@@ -105,6 +109,7 @@ class BackwardEuler final : public Integrator {
     });
     for (const ContactConstraint& c : contacts_) particle(dv_, c.particle) += h * c.normal_acceleration * c.normal;
     solve(rhs_, dv_, absolute);
+    solveImpacts(*jacobian, t, h, x, v, absolute);
 
     if (options_.newton) newton(*jacobian, t, h, x, v, mass);
 
@@ -126,6 +131,31 @@ class BackwardEuler final : public Integrator {
     forEachChunk(n_, parallel_, [&](int begin, int end) {
       for (int p = begin; p < end; ++p) matrix_.self()[p] += mass[p];
     });
+  }
+
+  // Impacts (contact_constraints.h): while the solved step ends a particle inside a surface, constrain it along the
+  // normal to its bounce and solve again (warm-started), so the springs share its impulse with the body within the
+  // step; at most kImpactPasses more solves (what still ends inside is lifted by the step end's projection).
+  void solveImpacts(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v, double absolute) {
+    for (int pass = 0; pass < kImpactPasses; ++pass) {
+      end_x_.resize(x.size());
+      end_v_.resize(x.size());
+      forEachChunk(n_, parallel_, [&](int begin, int end) {
+        for (int p = begin; p < end; ++p) {
+          particle(end_v_, p) = particle(v, p) + particle(dv_, p);
+          particle(end_x_, p) = particle(x, p) + h * particle(end_v_, p);
+        }
+      });
+      if (!jacobian.impactConstraints(t, h, x, v, end_x_, end_v_, contacts_)) return;
+      ++stats_.impact_solves;
+      history_ = 0;  // this step's dv carries impulses: not the smooth error's measure
+      for (const ContactConstraint& c : contacts_) {
+        filter_.constrain(c.particle, c.normal);
+        particle(dv_, c.particle) =
+            filter_.apply(c.particle, particle(dv_, c.particle)) + h * c.normal_acceleration * c.normal;
+      }
+      solve(rhs_, dv_, absolute);
+    }
   }
 
   // The error rule's bound on |S r| for this step (0: none), from the last two steps' dv (dv_ and previous_dv_), which
@@ -227,9 +257,11 @@ class BackwardEuler final : public Integrator {
   int n_ = 0;
   bool parallel_ = false;
   bool two_level_ = false;  // cg_preconditioner auto: the next solve's choice
+  static constexpr int kImpactPasses = 4;
   VecX f0_, kv_, rhs_, dv_;
-  VecX previous_dv_;  // the step before's dv, for the error rule
-  int history_ = 0;   // steps (at most 2) whose dv is in dv_ and previous_dv_, all with step history_h_
+  VecX end_x_, end_v_;  // the candidate step's end state, for impacts
+  VecX previous_dv_;    // the step before's dv, for the error rule
+  int history_ = 0;     // steps (at most 2) whose dv is in dv_ and previous_dv_, all with step history_h_
   double history_h_ = 0;
   double lightest_ = 0;  // the lightest free particle's mass (m_min)
   std::vector<double> sums_;

@@ -50,6 +50,7 @@ struct IntegratorStats {
   double max_cg_residual = 0;       // backward-euler: the same, worst over all steps
   long error_rule_stops = 0;        // backward-euler: solves that stopped by cg_error_fraction before cg_tolerance
   long pattern_setups = 0;          // backward-euler: matrices sized for a new Jacobian pattern (once per topology)
+  long impact_solves = 0;           // backward-euler: extra solves with impact constraints (contact_constraints.h)
 };
 
 class Integrator {

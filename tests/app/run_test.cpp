@@ -125,6 +125,9 @@ TEST_F(Run, RunJsonReportsTheRun) {
   EXPECT_EQ(j["steps"], 75);  // 3 frames of 0.05 s at 0.002
   EXPECT_NEAR(j["simulated_time"].get<double>(), 0.15, 1e-12);
   EXPECT_EQ(j["blew_up"], false);
+  EXPECT_EQ(j["gained_energy"], false);  // the energy check (docs/energy.md) passes an ordinary run
+  EXPECT_FALSE(j.contains("energy_gain"));
+  EXPECT_EQ(j["energy"]["collider_work"], 0.0);  // a static floor does no work
   EXPECT_TRUE(j["wall_time_seconds"].contains("simulate") && j["wall_time_seconds"].contains("export"));
   // Start energy: 27 particles at rest, E = -sum m g.x = 27 * 9.8 * 0.6 (springs at rest).
   EXPECT_NEAR(j["energy"]["start"].get<double>(), 27 * 9.8 * 0.6, 1e-9);
@@ -187,6 +190,28 @@ TEST_F(Run, BlowUpStopsAtOnceAndKeepsEarlierFrames) {
   EXPECT_NE(j["blow_up"]["message"].get<std::string>().find("explicit-euler"), std::string::npos);
 }
 
+TEST_F(Run, EnergyGainStopsTheRunAndSaysSo) {
+  // The blow-up case above with a frame per step, so the energy is checked at every step: explicit Euler far past its
+  // limit passes the energy margin (10% of 159 J) long before a particle reaches |v| = 1000.
+  RunOptions o = options(scene());
+  o.integrator = "explicit-euler";
+  o.sets = {"jelly.ks=1e6", "simulation.fps=500"};
+  const RunReport r = runScene(o);
+  ASSERT_TRUE(r.energy_gain);
+  EXPECT_FALSE(r.blow_up);
+  EXPECT_GT(r.frames_written, 0);
+  EXPECT_EQ(r.steps, r.energy_gain->step);  // stopped there
+  const auto j = nlohmann::json::parse(slurp(dir() / "out/run.json"));
+  EXPECT_EQ(j["gained_energy"], true);
+  EXPECT_EQ(j["blew_up"], false);
+  EXPECT_EQ(j["energy_gain"]["step"], r.steps);
+  EXPECT_GT(j["energy_gain"]["gained"].get<double>(), j["energy_gain"]["margin"].get<double>());
+  EXPECT_NEAR(j["energy_gain"]["margin"].get<double>(), 0.1 * 27 * 9.8 * 0.6, 1e-9);
+  const std::string message = j["energy_gain"]["message"];
+  for (const char* part : {"gained energy", "explicit-euler", "--dt", "backward-euler", "restitution"})
+    EXPECT_NE(message.find(part), std::string::npos) << part << " missing from: " << message;
+}
+
 // The binary itself: exit statuses, nothing written on bad input, --help.
 int runBinary(const std::string& arguments, const fs::path& log) {
   const std::string command = std::string(WOBBLE_BINARY) + " " + arguments + " > " + log.string() + " 2>&1";
@@ -218,6 +243,14 @@ png = false
             3);
   EXPECT_NE(slurp(log).find("blew up"), std::string::npos);
   EXPECT_TRUE(fs::exists(dir() / "boom/mesh/jelly_0001.obj"));
+
+  EXPECT_EQ(runBinary("run " + file.string() +
+                          " --integrator explicit-euler --set jelly.ks=1e6 --set simulation.fps=500 --out " +
+                          (dir() / "gain").string(),
+                      log),
+            3);
+  EXPECT_NE(slurp(log).find("gained energy: integrator explicit-euler, step "), std::string::npos) << slurp(log);
+  EXPECT_TRUE(fs::exists(dir() / "gain/mesh/jelly_0001.obj"));
 
   EXPECT_EQ(runBinary("run --help", log), 0);
   for (const char* option : {"--integrator", "--dt", "--frames", "--out", "--set", "Example"})

@@ -250,6 +250,20 @@ TEST(StabilityStudy, OneSpringFlipsWhereTheoryPutsTheLimit) {
   }
 }
 
+TEST(StabilityStudy, GainedEnergyIsAnOutcomeOfItsOwn) {
+  // Explicit Euler on an undamped spring multiplies the energy by 1 + (omega h)^2 every step: at omega h = 0.2, 50
+  // steps make it 7 times the start, with the strain at 3% and the speed far from a blow-up. RK4 at that step loses
+  // a little.
+  MassSpringSystem gaining = spring(10, 0);
+  const StabilityCell cell = classifyCell(gaining, "explicit-euler", 0.02, 1.0, 0.5);
+  EXPECT_EQ(cell.outcome, Outcome::GainedEnergy) << cell.note;
+  EXPECT_STREQ(toString(cell.outcome), "gained-energy");
+  EXPECT_NE(cell.note.find("gained energy at t = "), std::string::npos) << cell.note;
+  EXPECT_LT(cell.max_strain, 0.05);
+  MassSpringSystem steady = spring(10, 0);
+  EXPECT_EQ(classifyCell(steady, "rk4", 0.02, 1.0, 0.5).outcome, Outcome::Stable);
+}
+
 TEST_F(Study, StabilityFilesAndInference) {
   StabilityOptions o;
   o.scene = write("jelly.toml",

@@ -140,12 +140,15 @@ TEST(BackwardEuler, StiffJellyRestsOnAPlaneInShape) {
   EXPECT_LT(run.final_speed, 1e-2);
 }
 
-// Dropped half a metre (3.1 m/s at impact): the end-of-step penetration correction alone compresses the bottom layer
-// by up to v h = 5 cm (strain ~0.12); the solve must absorb that without exploding and the jelly must come to rest.
+// Dropped half a metre (3.1 m/s at impact): the bottom layer would sink up to v h = 5 cm into the plane in a step;
+// the impact constraints stop it inside the solve (contact_constraints.h), so no end-of-step correction compresses it
+// (that correction gave strains ~0.12). It must keep its shape and come to rest on the plane, within the contact
+// band (epsilon 0.01), where a resting particle may sit anywhere.
 TEST(BackwardEuler, StiffJellyDroppedOnAPlaneKeepsItsShapeAndSettles) {
   const JellyRun run = runStiffJelly(0.5, 0, 45);
-  EXPECT_LT(run.worst_strain, 0.2);
-  EXPECT_NEAR(run.lowest, 0, 1e-3);
+  EXPECT_LT(run.worst_strain, 0.01);
+  EXPECT_GT(run.lowest, -1e-3);
+  EXPECT_LT(run.lowest, 0.01);
   EXPECT_NEAR(run.highest, 4, 1e-2);
   EXPECT_LT(run.final_speed, 0.1);
 }
