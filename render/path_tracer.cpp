@@ -181,8 +181,13 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
     const Eigen::Vector3f wo = -ray.direction;
     const Material& material = scene.material(hit->material);
     // Gelatine: its print layer (a diffuse surface, shaded below) with probability `print`, else the clear interface.
-    if (material.dielectric &&
-        !(material.print > 0 && sampler.get1D(sample, SampleLayout::print(vertex)) < material.print)) {
+    using Branch = CameraSample::Branch;
+    const Branch branch = vertex == 0 && material.dielectric ? camera.branch : Branch::Drawn;
+    if (vertex == 0 && material.dielectric) result.gelatine_first = true, result.print = material.print;
+    const bool printed = branch == Branch::Drawn
+                             ? material.print > 0 && sampler.get1D(sample, SampleLayout::print(vertex)) < material.print
+                             : branch == Branch::Print;
+    if (material.dielectric && !printed) {
       const Eigen::Vector3f& outward = hit->ng;
       const Eigen::Vector3f n = hit->ns.dot(outward) >= 0 ? hit->ns : Eigen::Vector3f(-hit->ns);
       const bool entering = outward.dot(wo) > 0;
@@ -210,7 +215,11 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
         sampleLights(vertex, origin, outward, sampleLight);
       }
       if (!continues) break;
-      const float u_lobe = sampler.get1D(sample, layout.bsdfLobe(vertex));
+      float u_lobe = sampler.get1D(sample, layout.bsdfLobe(vertex));
+      if (bsdf.smooth() && branch != Branch::Drawn) {  // the branch asked for: below or above the reflectance
+        result.reflectance = fresnelDielectric(std::abs(n.dot(wo)), entering ? material.ior : 1 / material.ior);
+        u_lobe = branch == Branch::Reflect ? 0.0f : std::nextafter(1.0f, 0.0f);
+      }
       const Eigen::Vector2f u = sampler.get2D(sample, layout.bsdfDirection(vertex));
       const auto s = bsdf.sample(u_lobe, u.x(), u.y());
       if (!s) break;
@@ -318,6 +327,39 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
   result.diffuse_demodulated = luminance(diffuse);
   result.radiance = result.diffuse + other;
   return result;
+}
+
+PathResult tracePathSplit(const PathContext& context, const Ray& ray, CameraSample camera, const PixelSampler& sampler,
+                          std::uint32_t sample) {
+  using Branch = CameraSample::Branch;
+  camera.branch = Branch::Interface;
+  PathResult first = tracePath(context, ray, camera, sampler, sample);
+  if (!first.gelatine_first) return first;
+  const float c = first.print, f = first.reflectance;
+  struct Part {
+    Branch branch;
+    float weight;
+  };
+  const Part others[] = {{Branch::Reflect, (1 - c) * f}, {Branch::Print, c}};
+  const float interface_weight = (1 - c) * (1 - f);
+  PathResult sum;
+  float guide_weight = -1;
+  const auto add = [&](const PathResult& r, float w) {
+    sum.radiance += w * r.radiance;
+    sum.diffuse += w * r.diffuse;
+    sum.diffuse_demodulated += w * r.diffuse_demodulated;
+    sum.albedo += w * r.albedo;
+    sum.normal += w * r.normal;
+    if (r.hit && w > guide_weight) guide_weight = w, sum.position = r.position, sum.hit = true;
+    sum.rays += r.rays;
+  };
+  add(first, interface_weight);
+  for (const Part& part : others)
+    if (part.weight > 0) {
+      camera.branch = part.branch;
+      add(tracePath(context, ray, camera, sampler, sample), part.weight);
+    }
+  return sum;
 }
 
 bool unoccluded(const Scene& scene, const Ray& shadow, int leaving) { return !scene.occluded(shadow, leaving); }

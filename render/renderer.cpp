@@ -134,7 +134,7 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
               CameraSample cs;
               cs.camera = &camera;
               cs.offset = jitter.array() - 0.5f;
-              const PathResult r = tracePath(context, ray, cs, sampler, s);
+              const PathResult r = tracePathSplit(context, ray, cs, sampler, s);
               if (r.radiance.allFinite()) {  // one bad sample must not blacken the pixel
                 film.color[i] += r.radiance;
                 film.diffuse[i] += r.diffuse;

@@ -9,7 +9,9 @@
 #include <gtest/gtest.h>
 
 #include "render/dielectric.h"
+#include "render/path_tracer.h"
 #include "render/renderer.h"
+#include "render/sampler.h"
 #include "render/scene.h"
 
 namespace wobble::render {
@@ -209,6 +211,32 @@ TEST(Dielectric, FullPrintCoverageLooksLikeTheDiffuseSurface) {
   printed.color = Color(0.6f, 0.3f, 0.2f);
   const double diffuse = mean(Material::diffuse("matte", Color(0.6f, 0.3f, 0.2f)));
   EXPECT_NEAR(mean(printed), diffuse, 0.01 * diffuse);
+}
+
+// tracePathSplit follows every branch at the first gelatine surface, weighted by its probability: the same mean as
+// tracePath drawing one branch per sample, with less spread.
+TEST(Dielectric, SplittingTheFirstBranchKeepsTheMeanAndCutsTheNoise) {
+  Scene scene;
+  scene.addSphere("ball", Sphere{Vector3f::Zero(), 1},
+                  scene.addMaterial(Material::gelatine("gel", 1.4f, 0, Color(0.5f, 1, 2), nullptr, 0.4f)));
+  scene.addQuad("floor", Quad{{0, -1, 0}, {0, 1, 0}, 20, 1},
+                scene.addMaterial(Material::diffuse("floor", Color::Constant(0.5f))));
+  scene.lights.suns = {SunLight{}};
+  scene.commit();
+  const PathContext context(scene, PathSettings{});
+  const Ray ray{Vector3f(0.3f, 0.5f, 4), Vector3f(-0.05f, -0.1f, -1).normalized()};
+  double drawn = 0, drawn_sq = 0, split = 0, split_sq = 0;
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    const PixelSampler sampler(SamplerKind::Independent, std::uint64_t(i), 0);
+    const double a = tracePath(context, ray, CameraSample{}, sampler, 0).radiance.mean();
+    const double b = tracePathSplit(context, ray, CameraSample{}, sampler, 0).radiance.mean();
+    drawn += a, drawn_sq += a * a, split += b, split_sq += b * b;
+  }
+  const double mean_a = drawn / n, mean_b = split / n;
+  const double var_a = drawn_sq / n - mean_a * mean_a, var_b = split_sq / n - mean_b * mean_b;
+  EXPECT_NEAR(mean_b, mean_a, 4 * std::sqrt(var_a / n + var_b / n));
+  EXPECT_LT(var_b, 0.8 * var_a);
 }
 
 }  // namespace
