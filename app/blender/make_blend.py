@@ -79,7 +79,7 @@ def gelatine_material(b):
     glass.inputs["Base Color"].default_value = (1.0, 1.0, 1.0, 1.0)
     glass.inputs["Transmission"].default_value = 1.0
     glass.inputs["IOR"].default_value = g["ior"]
-    glass.inputs["Roughness"].default_value = g["roughness"]
+    glass.inputs["Roughness"].default_value = math.sqrt(g["roughness"])  # Cycles' GGX alpha is roughness^2
     glass.inputs["Specular"].default_value = ((g["ior"] - 1) / (g["ior"] + 1)) ** 2 / 0.08
     surface = glass.outputs["BSDF"]
     if b["texture"] and g["print"] > 0:

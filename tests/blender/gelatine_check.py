@@ -30,7 +30,8 @@ nodes = mat.node_tree.nodes
 glass = nodes["Principled BSDF"]
 assert glass.inputs["Transmission"].default_value == 1.0, "no transmission"
 assert close(glass.inputs["IOR"].default_value, e["ior"]), glass.inputs["IOR"].default_value
-assert close(glass.inputs["Roughness"].default_value, e["roughness"]), glass.inputs["Roughness"].default_value
+# Cycles' GGX alpha is its roughness squared; wobble's roughness is alpha.
+assert close(glass.inputs["Roughness"].default_value ** 2, e["roughness"]), glass.inputs["Roughness"].default_value
 mixes = [n for n in nodes if n.type == "MIX_SHADER"]
 assert len(mixes) == 1 and close(mixes[0].inputs["Fac"].default_value, e["print"]), "print coverage"
 assert any(n.type == "BSDF_DIFFUSE" for n in nodes), "no diffuse print"
