@@ -20,6 +20,9 @@ the known mismatches:
     (1 - coat F) plus Glossy BSDF (GGX, not multiscatter) weighted by coat F, with F Schlick's Fresnel from the ior,
     evaluated at n.wo (Layer Weight "Facing" = 1 - |n.wo|), and Glossy roughness sqrt(alpha) (Cycles squares it).
     wobble's coat takes F at n.wo too (render/bsdf.h), so the two coats are the same model.
+    Gelatine (dielectric) -> Glass BSDF at the ior, mixed with the Diffuse print by its coverage, over Volume
+    Absorption and Scatter with wobble's coefficients (make_gelatine). Not matched: wobble's interfaces and
+    scattering events do not count against its bounces (docs/materials.md), Cycles' count against max bounces.
   - Sun: a Sun light, strength = irradiance (max channel) times colour, angle = 2 x angular radius, invisible to
     camera rays (wobble's camera rays see only the sky).
   - Sky: world shader from the ray direction D: e = D.up; horizon + sqrt(max(e, 0)) (zenith - horizon)
@@ -96,6 +99,52 @@ def load_json(frame_dir):
 # ---------------------------------------------------------------------------------------------- materials
 
 
+def make_gelatine(m, nodes, links, out, diffuse, base_socket, color):
+    """wobble's gelatine (render/dielectric.h): a Glass BSDF (GGX, exact dielectric Fresnel; roughness sqrt(alpha))
+    mixed with the diffuse print (colour x texture) by its coverage, over a volume with wobble's coefficients:
+    Volume Absorption (Cycles: sigma_a = (1 - colour) density) and Volume Scatter (isotropic, sigma_s = colour
+    density); wobble's scattering events keep scatter_albedo, so the rest of sigma_s counts as absorption."""
+    glass = nodes.new("ShaderNodeBsdfGlass")
+    glass.distribution = "GGX" if float(m["roughness"]) > 0 else "SHARP"
+    glass.inputs["Roughness"].default_value = math.sqrt(float(m["roughness"]))
+    glass.inputs["IOR"].default_value = float(m["ior"])
+    glass.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    surface = glass.outputs["BSDF"]
+    if float(m["print"]) > 0:
+        if base_socket:
+            links.new(base_socket, diffuse.inputs["Color"])
+        else:
+            diffuse.inputs["Color"].default_value = color
+        mix = nodes.new("ShaderNodeMixShader")
+        mix.inputs["Fac"].default_value = float(m["print"])
+        links.new(glass.outputs["BSDF"], mix.inputs[1])
+        links.new(diffuse.outputs["BSDF"], mix.inputs[2])
+        surface = mix.outputs["Shader"]
+    links.new(surface, out.inputs["Surface"])
+    sigma_s = float(m["scatter"])
+    sigma_a = [a + (1 - albedo) * sigma_s for a, albedo in zip(m["absorption"], m["scatter_albedo"])]
+    volume = None
+    density = max(sigma_a)
+    if density > 0:
+        absorb = nodes.new("ShaderNodeVolumeAbsorption")
+        absorb.inputs["Density"].default_value = density
+        absorb.inputs["Color"].default_value = tuple(1 - a / density for a in sigma_a) + (1.0,)
+        volume = absorb.outputs["Volume"]
+    if sigma_s > 0:
+        scatter = nodes.new("ShaderNodeVolumeScatter")
+        scatter.inputs["Density"].default_value = sigma_s
+        scatter.inputs["Color"].default_value = tuple(m["scatter_albedo"]) + (1.0,)
+        if volume is not None:
+            add = nodes.new("ShaderNodeAddShader")
+            links.new(volume, add.inputs[0])
+            links.new(scatter.outputs["Volume"], add.inputs[1])
+            volume = add.outputs["Shader"]
+        else:
+            volume = scatter.outputs["Volume"]
+    if volume is not None:
+        links.new(volume, out.inputs["Volume"])
+
+
 def make_material(m, frame_dir):
     mat = bpy.data.materials.new(m["name"])
     mat.use_nodes = True
@@ -130,6 +179,9 @@ def make_material(m, frame_dir):
 
     diffuse = nodes.new("ShaderNodeBsdfDiffuse")
     diffuse.inputs["Roughness"].default_value = 0.0  # Lambert
+    if m.get("dielectric"):
+        make_gelatine(m, nodes, links, out, diffuse, base_socket, color)
+        return mat
     coat = float(m.get("coat", 0.0))
     if coat <= 0:
         if base_socket:
@@ -370,8 +422,12 @@ def setup_render(scene, a):
     c.transmission_bounces = 0
     c.volume_bounces = 0
     c.transparent_max_bounces = 0
+    if a.dielectric:  # gelatine: wobble's 64 interfaces and 128 scattering events on top of its bounces
+        c.max_bounces = a.bounces + 64
+        c.transmission_bounces = 64
+        c.volume_bounces = 128
     c.caustics_reflective = True  # wobble has no caustics filter: diffuse-then-glossy paths are kept
-    c.caustics_refractive = False
+    c.caustics_refractive = bool(a.dielectric)  # through gelatine, both renderers follow the refracted paths
     c.blur_glossy = 0.0
     c.sample_clamp_direct = 0.0
     c.sample_clamp_indirect = 0.0  # Cycles' default clamps indirect light at 10: biased; wobble does not clamp
@@ -454,6 +510,7 @@ def main():
     a = parse_args()
     frame_dir = os.path.abspath(a.frame_dir)
     j = load_json(frame_dir)
+    a.dielectric = any(m.get("dielectric") for m in j["materials"])
     scene = reset_scene()
     setup_render(scene, a)
     try:

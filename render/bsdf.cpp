@@ -5,18 +5,13 @@
 #include <cmath>
 #include <numbers>
 
+#include "render/microfacet.h"
+
 namespace wobble::render {
 
 namespace {
 
 constexpr float kPi = std::numbers::pi_v<float>;
-
-float ggxD(float cos_h, float a2) {
-  const float d = cos_h * cos_h * (a2 - 1.0f) + 1.0f;
-  return a2 / (kPi * d * d);
-}
-
-float smithG1(float cos_v, float a2) { return 2.0f * cos_v / (cos_v + std::sqrt(a2 + (1.0f - a2) * cos_v * cos_v)); }
 
 }  // namespace
 

@@ -26,11 +26,33 @@ Camera::Camera(const CameraParams& p) : params_(p) {
     throw std::invalid_argument("camera: up must not be parallel to the view direction");
   right_ = side.normalized();
   up_ = right_.cross(forward_);
+  if (!(p.aperture >= 0 && std::isfinite(p.aperture)) || !(p.focus >= 0 && std::isfinite(p.focus)))
+    throw std::invalid_argument("camera: aperture and focus must be finite and >= 0");
+  focus_ = p.focus > 0 ? p.focus : view.norm();
   tan_half_y_ = std::tan(0.5f * p.vfov_deg * std::numbers::pi_v<float> / 180.0f);
   tan_half_x_ = tan_half_y_ * static_cast<float>(p.width) / static_cast<float>(p.height);
   corner_ = forward_ - tan_half_x_ * right_ + tan_half_y_ * up_;
   step_x_ = (2.0f * tan_half_x_ / static_cast<float>(p.width)) * right_;
   step_y_ = (-2.0f * tan_half_y_ / static_cast<float>(p.height)) * up_;
+}
+
+Ray Camera::ray(float x, float y, const Eigen::Vector2f& lens) const {
+  Ray r = ray(x, y);
+  if (params_.aperture <= 0) return r;
+  // Shirley and Chiu's concentric map of the square to the disc (area-preserving, low distortion).
+  const Eigen::Vector2f o = 2.0f * lens.array() - 1.0f;
+  Eigen::Vector2f d = Eigen::Vector2f::Zero();
+  if (o.x() != 0 || o.y() != 0) {
+    const float quarter = std::numbers::pi_v<float> / 4;
+    const bool wide = std::abs(o.x()) > std::abs(o.y());
+    const float radius = wide ? o.x() : o.y();
+    const float theta = wide ? quarter * (o.y() / o.x()) : 2 * quarter - quarter * (o.x() / o.y());
+    d = radius * Eigen::Vector2f(std::cos(theta), std::sin(theta));
+  }
+  const Eigen::Vector3f focal_point = r.origin + (focus_ / r.direction.dot(forward_)) * r.direction;
+  r.origin += params_.aperture * (d.x() * right_ + d.y() * up_);
+  r.direction = (focal_point - r.origin).normalized();
+  return r;
 }
 
 void Camera::differentials(const Eigen::Vector3f& d, Eigen::Vector3f& ddx, Eigen::Vector3f& ddy) const {

@@ -7,6 +7,10 @@
 //              orthogonal to the view direction
 //   vfov_deg   vertical field of view in degrees, in (0, 180); the horizontal one follows from the aspect ratio
 //   width, height   resolution in pixels (> 0)
+//   aperture   lens radius (scene units, >= 0): 0 is a pinhole, everything sharp; larger blurs what is off the focus
+//              plane (a thin lens, as pbrt's PerspectiveCamera: a point at depth z is spread over a disc of radius
+//              aperture |1/focus - 1/z| on the film plane at distance 1)
+//   focus      distance along the optical axis of the plane in focus (> 0); 0 = the look_at point's
 // Film coordinates: x to the right in [0, width], y downwards in [0, height]; pixel (i, j) covers
 // [i, i+1] x [j, j+1], so its centre is (i + 0.5, j + 0.5).
 #pragma once
@@ -22,6 +26,7 @@ struct CameraParams {
   Eigen::Vector3f up{0, 1, 0};
   float vfov_deg = 40;
   int width = 640, height = 360;
+  float aperture = 0, focus = 0;
 };
 
 class Camera {
@@ -36,6 +41,12 @@ class Camera {
     r.direction = (corner_ + x * step_x_ + y * step_y_).normalized();
     return r;
   }
+
+  // The same through the thin lens, at lens point u in [0, 1)^2 (concentric disc mapping); the pinhole's ray when
+  // aperture is 0.
+  Ray ray(float x, float y, const Eigen::Vector2f& lens) const;
+  bool hasLens() const { return params_.aperture > 0; }
+  float focusDistance() const { return focus_; }
 
   // How the unit direction of the primary ray with unit direction d turns per pixel to the right (ddx) and down (ddy):
   // its ray differentials (the origin does not move: a pinhole), for texture filtering.
@@ -55,6 +66,7 @@ class Camera {
   CameraParams params_;
   Eigen::Vector3f forward_, right_, up_;  // orthonormal, right-handed: right = forward x up
   float tan_half_y_, tan_half_x_;
+  float focus_ = 1;
   // The film plane at distance 1: its top-left corner and one pixel's step to the right and down.
   Eigen::Vector3f corner_, step_x_, step_y_;
 };

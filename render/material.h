@@ -10,6 +10,15 @@
 //   coat        coat weight in [0, 1]; 0 = plain diffuse (colliders), 1 = full coat (jelly)
 //   ior         coat index of refraction (> 1); 1.33 water, 1.4 gelatine, 1.5 glass
 //   roughness   coat GGX alpha (> 0); 0.02 is a near mirror, 0.3 a satin sheen
+// Gelatine (dielectric = true; render/dielectric.h): a clear body light enters, is tinted in and leaves.
+//   ior             index of refraction inside / outside, in (1, 4]; 1.33 water, 1.4 gelatine
+//   roughness       GGX alpha of the interface in [0, 1]; 0 = smooth (a perfect mirror and refraction)
+//   absorption      sigma_a per channel (1/m, >= 0): Beer-Lambert transmittance exp(-sigma_a d) inside
+//   scatter         scattering coefficient sigma_s (1/m, >= 0; 0 = clear): a random walk through the body
+//   scatter_albedo  the throughput kept at each scattering event, per channel, in [0, 1]
+//   print           coverage in [0, 1] of a thin diffuse printed layer on the surface, coloured color x texture
+//                   (the cat skin): a hit shows the print with this probability, else the clear interface (a mix)
+// A gelatine material needs a closed surface (the inside is where a ray has entered and not yet left).
 // Every surface is shaded two-sided (the normal is turned towards the viewer), so a cloth shows the same material on
 // both sides and a closed jelly's inside is never seen anyway.
 #pragma once
@@ -30,6 +39,11 @@ struct Material {
   float coat = 0;
   float ior = 1.5f;
   float roughness = 0.1f;
+  bool dielectric = false;
+  Color absorption = Color::Zero();
+  float scatter = 0;
+  Color scatter_albedo = Color::Ones();
+  float print = 0;
 
   Color baseColor(const Eigen::Vector2f& uv) const {
     return texture ? Color(color.cwiseProduct(texture->eval(uv))) : color;
@@ -46,6 +60,15 @@ struct Material {
   // Glossy gelatine: the texture (or tint) shows through a clear coat with sharp highlights.
   static Material jelly(std::string name, const Color& tint, std::shared_ptr<const Texture> texture = nullptr) {
     return {std::move(name), tint, std::move(texture), 1.0f, 1.4f, 0.06f};
+  }
+  // Clear gelatine with a printed skin: color and texture colour the print only; absorption tints the inside.
+  static Material gelatine(std::string name, float ior, float roughness, const Color& absorption,
+                           std::shared_ptr<const Texture> texture = nullptr, float print = 0) {
+    Material m{std::move(name), Color::Ones(), std::move(texture), 0.0f, ior, roughness};
+    m.dielectric = true;
+    m.absorption = absorption;
+    m.print = print;
+    return m;
   }
 };
 

@@ -54,6 +54,8 @@ struct PathSettings {
 struct CameraSample {
   const Camera* camera = nullptr;  // its ray differentials (camera.h); none: the texture is point-sampled
   Eigen::Vector2f offset = Eigen::Vector2f::Zero();  // the sample's position in its pixel minus the centre (pixels)
+  // At a gelatine surface met by the camera ray: which branch to follow instead of drawing one (tracePath below).
+  enum class Branch { Drawn, Interface, Reflect, Print } branch = Branch::Drawn;
 };
 
 // What a path needs besides its ray, built once per frame (render()).
@@ -78,10 +80,21 @@ struct PathResult {
   Eigen::Vector3f position = Eigen::Vector3f::Zero();
   bool hit = false;
   std::uint32_t rays = 0;  // rays traced (intersection and shadow), for statistics
+  // The camera ray met gelatine first: its print coverage and (smooth interface) Fresnel reflectance there.
+  bool gelatine_first = false;
+  float print = 0, reflectance = 0;
 };
 
 PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& camera, const PixelSampler& sampler,
                      std::uint32_t sample);
+
+// tracePath, but where the camera ray meets gelatine first every branch there is followed, weighted by its
+// probability: the print (coverage c), the reflection (1 - c) F and the refraction (1 - c)(1 - F) of a smooth surface
+// (a rough one: the interface, (1 - c), its lobe drawn). The expectation is tracePath's, without the noise of that
+// first choice, which at one sample per pixel would speckle the jelly beyond what the denoiser can smooth (its guides
+// would jump between the print, the mirror image and what is seen through). Elsewhere it is tracePath.
+PathResult tracePathSplit(const PathContext& context, const Ray& ray, CameraSample camera, const PixelSampler& sampler,
+                          std::uint32_t sample);
 
 // Origin for rays leaving a surface at p on the side of the unit normal n: far enough to not hit the same surface
 // again through rounding (relative to the coordinates' magnitude), close enough to keep contact shadows.

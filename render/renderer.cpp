@@ -128,11 +128,13 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
             for (auto s = film.samples[i]; s < std::uint32_t(target); ++s) {
               if (p && s == std::uint32_t(target / 2)) p->half = film.color[i];
               const Eigen::Vector2f jitter = sampler.get2D(s, SampleLayout::kPixel);
-              const Ray ray = camera.ray(static_cast<float>(x) + jitter.x(), static_cast<float>(y) + jitter.y());
+              const float fx = static_cast<float>(x) + jitter.x(), fy = static_cast<float>(y) + jitter.y();
+              const Ray ray =
+                  camera.hasLens() ? camera.ray(fx, fy, sampler.get2D(s, SampleLayout::kLens)) : camera.ray(fx, fy);
               CameraSample cs;
               cs.camera = &camera;
               cs.offset = jitter.array() - 0.5f;
-              const PathResult r = tracePath(context, ray, cs, sampler, s);
+              const PathResult r = tracePathSplit(context, ray, cs, sampler, s);
               if (r.radiance.allFinite()) {  // one bad sample must not blacken the pixel
                 film.color[i] += r.radiance;
                 film.diffuse[i] += r.diffuse;

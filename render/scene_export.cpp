@@ -58,6 +58,12 @@ void exportScene(const Scene& scene, const Camera& camera, const std::filesystem
     const Material& mat = scene.material(MaterialId(m));
     nlohmann::ordered_json entry = {{"name", mat.name}, {"color", vec(mat.color)},    {"coat", mat.coat},
                                     {"ior", mat.ior},   {"roughness", mat.roughness}, {"texture", nullptr}};
+    if (mat.dielectric)  // gelatine (dielectric.h): sigma_a and sigma_s per metre
+      entry.update({{"dielectric", true},
+                    {"absorption", vec(mat.absorption)},
+                    {"scatter", mat.scatter},
+                    {"scatter_albedo", vec(mat.scatter_albedo)},
+                    {"print", mat.print}});
     if (mat.texture) {
       const std::string file = "texture_" + std::to_string(m) + ".png";
       bakeTexture(*mat.texture, dir / file);

@@ -54,7 +54,7 @@ def principled(name, color, roughness, glossy=False):
     return mat, bsdf
 
 
-def tint(mat, bsdf, color, texture):
+def tint(mat, bsdf, color, texture, socket="Base Color"):
     """Base colour = colour x texture, as wobble's renderer (and the MTL's Kd with map_Kd)."""
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
     mul = nodes.new("ShaderNodeMixRGB")
@@ -62,10 +62,69 @@ def tint(mat, bsdf, color, texture):
     mul.inputs["Fac"].default_value = 1.0
     mul.inputs["Color1"].default_value = tuple(color) + (1.0,)
     links.new(texture, mul.inputs["Color2"])
-    links.new(mul.outputs["Color"], bsdf.inputs["Base Color"])
+    links.new(mul.outputs["Color"], bsdf.inputs[socket])
+
+
+def gelatine_material(b):
+    """wobble's gelatine (docs/materials.md) in Cycles: a Principled BSDF with full transmission at the body's IOR
+    and roughness, mixed with a diffuse print (colour x texture) by the print's coverage, and a volume inside:
+    Volume Absorption (Cycles' sigma_a = (1 - colour) density) and, with scatter, Volume Scatter (sigma_s = colour
+    density, isotropic), so that the absorption and scattering coefficients are wobble's."""
+    g = b["gelatine"]
+    mat = bpy.data.materials.new(b["name"])
+    mat.use_nodes = True
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    out = nodes["Material Output"]
+    glass = nodes["Principled BSDF"]
+    glass.inputs["Base Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    glass.inputs["Transmission"].default_value = 1.0
+    glass.inputs["IOR"].default_value = g["ior"]
+    glass.inputs["Roughness"].default_value = math.sqrt(g["roughness"])  # Cycles' GGX alpha is roughness^2
+    glass.inputs["Specular"].default_value = ((g["ior"] - 1) / (g["ior"] + 1)) ** 2 / 0.08
+    surface = glass.outputs["BSDF"]
+    if b["texture"] and g["print"] > 0:
+        diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+        tex = nodes.new("ShaderNodeTexImage")
+        tex.image = bpy.data.images.load("//" + b["texture"], check_existing=True)
+        tint(mat, diffuse, b["color"], tex.outputs["Color"], "Color")
+        mix = nodes.new("ShaderNodeMixShader")
+        mix.inputs["Fac"].default_value = g["print"]
+        links.new(glass.outputs["BSDF"], mix.inputs[1])
+        links.new(diffuse.outputs["BSDF"], mix.inputs[2])
+        surface = mix.outputs["Shader"]
+    links.new(surface, out.inputs["Surface"])
+    # sigma_a per channel from the colour seen through a depth; scattering events that keep scatter_albedo of the
+    # light are Cycles' scattering of that colour plus the rest as more absorption.
+    sigma_a = [-math.log(max(c, 1e-6)) / g["absorption_depth"] for c in g["absorption_color"]]
+    sigma_s = 1.0 / g["scatter"] if g["scatter"] > 0 else 0.0
+    sigma_a = [a + (1 - albedo) * sigma_s for a, albedo in zip(sigma_a, g["scatter_albedo"])]
+    volume = None
+    density = max(sigma_a)
+    if density > 0:
+        absorb = nodes.new("ShaderNodeVolumeAbsorption")
+        absorb.inputs["Density"].default_value = density
+        absorb.inputs["Color"].default_value = tuple(1 - a / density for a in sigma_a) + (1.0,)
+        volume = absorb.outputs["Volume"]
+    if sigma_s > 0:
+        scatter = nodes.new("ShaderNodeVolumeScatter")
+        scatter.inputs["Density"].default_value = sigma_s
+        scatter.inputs["Color"].default_value = tuple(g["scatter_albedo"]) + (1.0,)
+        scatter.inputs["Anisotropy"].default_value = 0.0
+        if volume is not None:
+            add = nodes.new("ShaderNodeAddShader")
+            links.new(volume, add.inputs[0])
+            links.new(scatter.outputs["Volume"], add.inputs[1])
+            volume = add.outputs["Shader"]
+        else:
+            volume = scatter.outputs["Volume"]
+    if volume is not None:
+        links.new(volume, out.inputs["Volume"])
+    return mat
 
 
 def body_material(b):
+    if b["material"] == "gelatine":
+        return gelatine_material(b)
     jelly = b["material"] == "jelly"
     mat, bsdf = principled(b["name"], b["color"], 0.4 if jelly else 0.9, glossy=jelly)
     if b["texture"]:
@@ -206,6 +265,19 @@ def add_camera(cam, first_frame):
     obj.location, obj.rotation_quaternion = locations[0], rotations[0]
     if len(cam["views"]) > 1:
         bake(obj, {"location": locations, "rotation_quaternion": rotations}, first_frame)
+    # A thin lens of radius `aperture` (m): Cycles' aperture radius is lens / (2 f-stop), lens in mm.
+    aperture = cam["views"][0].get("aperture", 0.0)
+    if aperture > 0:
+        data.dof.use_dof = True
+        data.dof.aperture_fstop = data.lens * 1e-3 / (2 * aperture)
+        data.dof.focus_distance = cam["views"][0]["focus"]
+        if len(cam["views"]) > 1:  # focused on the followed body: its distance at every frame
+            for k, view in enumerate(cam["views"]):
+                data.dof.focus_distance = view["focus"]
+                data.dof.keyframe_insert("focus_distance", frame=first_frame + k)
+            for fc in data.animation_data.action.fcurves:
+                for key in fc.keyframe_points:
+                    key.interpolation = "LINEAR"
     bpy.context.scene.camera = obj
     return obj
 

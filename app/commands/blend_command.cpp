@@ -44,7 +44,14 @@ json cameraViews(const SceneFile& scene, const RunRecord& run, const std::vector
   CameraRig rig(scene);
   const auto view = [&] {
     const render::CameraParams p = rig.params();
-    return json{{"position", vec(p.position)}, {"look_at", vec(p.look_at)}, {"up", vec(p.up)}};
+    // The lens (render/camera.h): a thin lens's radius and the plane in focus (with focus = the followed body, per
+    // view); make_blend.py turns them into Blender's f-stop and focus distance.
+    const float focus = p.focus > 0 ? p.focus : (p.look_at - p.position).norm();
+    return json{{"position", vec(p.position)},
+                {"look_at", vec(p.look_at)},
+                {"up", vec(p.up)},
+                {"aperture", p.aperture},
+                {"focus", focus}};
   };
   json views = json::array();
   const int followed = rig.followedBody();
@@ -151,6 +158,14 @@ BlendReport makeBlend(const BlendOptions& options) {
          {"pc2", fs::relative(pc2, out).string()},
          {"color", vec(look.color)},
          {"material", look.material},
+         {"gelatine",
+          {{"ior", look.gelatine.ior},
+           {"roughness", look.gelatine.roughness},
+           {"absorption_color", vec(look.gelatine.absorption_color)},
+           {"absorption_depth", look.gelatine.absorption_depth},
+           {"scatter", look.gelatine.scatter},
+           {"scatter_albedo", vec(look.gelatine.scatter_albedo)},
+           {"print", look.gelatine.print}}},
          {"texture",
           texture == scene.textures.end() ? "" : fs::relative(mesh / texture->second.filename(), out).string()}});
   }

@@ -91,8 +91,8 @@ Body readCloth(TableReader& r, const std::string& name, SceneFile& scene) {
 
 // Untextured: a jelly red (deeper than the OBJ material's: the glossy coat whitens it) or the OBJ's cloth blue.
 const std::array kKinds{
-    BodyKind{"jelly", Vec3(0.8, 0.12, 0.15), "jelly", false, readJelly},
-    BodyKind{"cloth", Vec3(0.25, 0.4, 0.8), "diffuse", true, readCloth},
+    BodyKind{"jelly", Vec3(0.8, 0.12, 0.15), "jelly", false, true, readJelly},
+    BodyKind{"cloth", Vec3(0.25, 0.4, 0.8), "diffuse", true, false, readCloth},
 };
 
 }  // namespace

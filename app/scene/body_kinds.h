@@ -17,8 +17,9 @@ struct SceneFile;
 struct BodyKind {
   std::string_view type;      // the scene's `type` value
   Vec3 color;                 // default `color` when untextured (a textured body defaults to white)
-  std::string_view material;  // default `material`: "jelly" (glossy coat) or "diffuse"
+  std::string_view material;  // default `material` (material_kinds.h)
   bool self_contact;          // default `self_contact`: whether its surface collides with itself
+  bool closed;                // its surface is closed (has an inside), as gelatine needs
   // Reads the kind's own keys and builds the body, charging its size to the scene's budget first (scene_budget.h).
   Body (*read)(TableReader& r, const std::string& name, SceneFile& scene);
 };

@@ -8,6 +8,7 @@
 
 #include "app/scene/body_kinds.h"
 #include "app/scene/collider_kinds.h"
+#include "app/scene/material_kinds.h"
 #include "app/scene/scene_file.h"
 #include "app/scene/table_reader.h"
 
@@ -67,7 +68,13 @@ void readBodyLook(TableReader& r, const BodyKind& kind, const std::string& name,
   const bool textured = scene.textures.count(name) > 0;
   // Textured: white, so the texture shows its own colours.
   look.color = readColor(r, textured ? Vec3(1, 1, 1) : kind.color);
-  look.material = r.string("material", std::string(kind.material), {"jelly", "diffuse"});
+  look.textured = textured;
+  look.material = r.string("material", std::string(kind.material), materialTypes());
+  const MaterialKind& material = materialKind(look.material);
+  if (material.closed_only && !kind.closed)
+    r.fail("material", "\"" + look.material + "\" needs a closed surface with an inside (a jelly), not a " +
+                           std::string(kind.type));
+  if (material.read) material.read(r, look);
   scene.render.bodies[name] = look;
 }
 
@@ -100,6 +107,17 @@ void readRenderTables(TableReader& root, SceneFile& scene) {
     std::string list;
     for (const auto& [body, look] : scene.render.bodies) list += (list.empty() ? "" : ", ") + body;
     c.fail("follow", "must name a body of the scene: " + list);
+  }
+  cam.aperture = c.number("aperture", cam.aperture, Range::nonNegative());
+  if (const toml::node* focus = c.node("focus")) {
+    if (focus->is_string()) {
+      if (cam.follow.empty() || focus->as_string()->get() != cam.follow)
+        c.fail("focus", "must be a distance > 0 (m) or the name of the followed body (camera.follow" +
+                            (cam.follow.empty() ? std::string(" is not set)") : " = \"" + cam.follow + "\")"));
+      cam.focus_follow = true;
+    } else {
+      cam.focus = c.number("focus", 0, Range::positive());
+    }
   }
   c.finish();
 

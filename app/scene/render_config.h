@@ -26,6 +26,9 @@ struct CameraConfig {
   std::array<int, 2> resolution{1280, 720};
   std::string follow;             // body name, or empty: a fixed camera
   double follow_smoothing = 0.5;  // s: time constant of the exponential smoothing of the followed centroid
+  double aperture = 0;            // thin-lens radius (m); 0: a pinhole
+  double focus = 0;               // distance of the plane in focus (m); 0: the look_at point's
+  bool focus_follow = false;      // focus on the followed body (its smoothed centroid) instead
 };
 
 // A quality preset: the sampling and denoising settings a `render.quality` name stands for. Each can still be set
@@ -58,9 +61,21 @@ struct RenderOptionsConfig {
   double sun_radius_deg = 2.0;           // apparent radius: the softness of shadows
 };
 
+// A gelatine body's own keys (material_kinds.cpp; render/dielectric.h).
+struct GelatineLook {
+  double ior = 1.4, roughness = 0;
+  Vec3 absorption_color{0.85, 0.35, 0.4};  // white light's colour after absorption_depth metres inside
+  double absorption_depth = 1;
+  double scatter = 0;  // mean free path between scattering events (m); 0: clear
+  Vec3 scatter_albedo{1, 1, 1};
+  double print = 0.5;  // coverage of the printed skin (texture x color); 0 without a texture
+};
+
 struct BodyLook {
   Vec3 color{1, 1, 1};
-  std::string material = "jelly";  // "jelly" (glossy coat) or "diffuse"
+  std::string material = "jelly";  // a material kind (material_kinds.h): "jelly", "diffuse", "gelatine"
+  bool textured = false;
+  GelatineLook gelatine;
 };
 
 struct ColliderLook {

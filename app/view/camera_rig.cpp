@@ -30,6 +30,9 @@ CameraRig::CameraRig(const SceneFile& scene) {
   const CameraConfig& c = scene.render.camera;
   up_ = c.up;
   fov_deg_ = c.fov_deg;
+  aperture_ = c.aperture;
+  focus_ = c.focus;
+  focus_follow_ = c.focus_follow;
   width_ = c.resolution[0];
   height_ = c.resolution[1];
   const Eigen::AlignedBox3d box = actionBox(scene);
@@ -83,6 +86,13 @@ render::CameraParams CameraRig::params() const {
   p.vfov_deg = static_cast<float>(fov_deg_);
   p.width = width_;
   p.height = height_;
+  p.aperture = static_cast<float>(aperture_);
+  p.focus = static_cast<float>(focus_);
+  if (focus_follow_ && followed_ >= 0) {
+    const Vec3 body = last_frame_ > 0 ? Vec3(2 * s1_ - s2_) : first_;
+    const double along = (body - position_ - shift).dot((look_at_ - position_).normalized());
+    p.focus = static_cast<float>(std::max(along, 1e-3));
+  }
   return p;
 }
 

@@ -5,6 +5,8 @@
 //   follow = BODY: position and look_at are frame 1's view; later frames move both by how far the body's surface
 //   centroid has moved since frame 1, smoothed (double exponential smoothing with time constant follow_smoothing:
 //   no lag at constant velocity, and the bounces' sudden turns come out smooth).
+// Depth of field: camera.aperture is the thin lens's radius; camera.focus a distance, or the followed body, whose
+// smoothed centroid's distance along the view is then the focus of every frame.
 // The smoothing needs the frames in order (observe()); it is a function of those centroids only, so a run and a
 // later `wobble render` of its OBJ sequence move the camera the same way. Frame 1's centroid is the body's initial
 // state (from the scene); a sequence that starts later starts the smoothing at its first frame.
@@ -33,6 +35,8 @@ class CameraRig {
  private:
   Vec3 position_, look_at_, up_;
   double fov_deg_;
+  double aperture_, focus_;
+  bool focus_follow_;
   int width_, height_;
   int followed_ = -1;
   double alpha_ = 1;  // smoothing weight per frame

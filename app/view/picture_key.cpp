@@ -42,6 +42,10 @@ std::string PictureKey::frame(int frame, const render::CameraParams& camera,
   h.add(camera.vfov_deg);
   h.add(camera.width);
   h.add(camera.height);
+  if (camera.aperture > 0) {  // the focus of a followed body moves with it (a pinhole's keys stay as they were)
+    h.add(camera.aperture);
+    h.add(camera.focus);
+  }
   h.add(std::uint64_t(surfaces.size()));
   for (const SurfaceFrame& s : surfaces) {
     addVectors(h, s.positions);

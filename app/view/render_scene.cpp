@@ -6,6 +6,7 @@
 #include <variant>
 
 #include "app/scene/collider_kinds.h"
+#include "app/scene/material_kinds.h"
 #include "render/image_texture.h"
 #include "render/texture.h"
 
@@ -13,12 +14,6 @@ namespace wobble {
 namespace {
 
 render::Color toColor(const Vec3& c) { return c.cast<float>(); }
-
-render::Material bodyMaterial(const std::string& name, const BodyLook& look,
-                              std::shared_ptr<const render::Texture> texture) {
-  if (look.material == "jelly") return render::Material::jelly(name, toColor(look.color), std::move(texture));
-  return render::Material{name, toColor(look.color), std::move(texture)};
-}
 
 std::shared_ptr<const render::Texture> colliderTexture(const std::string& kind) {
   if (kind == "wood") return std::make_shared<render::WoodTexture>();
@@ -52,10 +47,11 @@ render::TriangleMesh bodyMesh(const Body& body) {
 RenderScene::RenderScene(const SceneFile& scene) {
   for (const BodySlot& slot : scene.system->bodies()) {
     const Body& body = slot.body;
+    const BodyLook& look = scene.render.bodies.at(body.name);
     std::shared_ptr<const render::Texture> texture;
     if (const auto file = scene.textures.find(body.name); file != scene.textures.end())
       texture = std::make_shared<render::ImageTexture>(render::ImageTexture::load(file->second));
-    const auto material = scene_.addMaterial(bodyMaterial(body.name, scene.render.bodies.at(body.name), texture));
+    const auto material = scene_.addMaterial(materialKind(look.material).make(body.name, look, texture));
     body_shapes_.push_back(scene_.addMesh(bodyMesh(body), material));
   }
   for (const auto& c : scene.system->colliders()) {

@@ -142,6 +142,64 @@ TEST_F(Blender, BlendFileReopensAndPlays) {
       << slurpFile(log);
 }
 
+// Gelatine and the thin lens in Cycles (issue 29): tests/blender/gelatine_check.py reads the .blend's nodes and
+// camera against the scene's keys.
+TEST_F(Blender, GelatineAndLensMapOntoCycles) {
+  if (!blender_)
+    GTEST_SKIP() << "blender is not on PATH (./setup.sh tests installs it; plain setup.sh leaves it out: it is large)";
+  copyCatTexture();
+  const fs::path scene = write("gel.toml", R"([simulation]
+dt = 0.002
+duration = 0.3
+fps = 20
+
+[bodies.jelly]
+type = "jelly"
+n = 3
+size = 1.0
+center = [0, 1.6, 0]
+texture = "textures/cat.png"
+material = "gelatine"
+ior = 1.35
+roughness = 0.1
+absorption_color = [0.9, 0.5, 0.6]
+absorption_depth = 0.5
+scatter = 2.0
+scatter_albedo = [0.9, 0.8, 0.7]
+print = 0.4
+
+[colliders.floor]
+type = "plane"
+
+[camera]
+follow = "jelly"
+position = [2, 3, 6]
+look_at = [0, 1.5, 0]
+aperture = 0.1
+focus = "jelly"
+)");
+  const fs::path out = dir() / "out", log = dir() / "log.txt";
+  ASSERT_EQ(runWobble("run " + scene.string() + " --render none --pc2 --out " + out.string(), log), 0)
+      << slurpFile(log);
+  ASSERT_EQ(runWobble("blend " + out.string(), log), 0) << slurpFile(log);
+  const nlohmann::json expected = {{"name", "jelly"},
+                                   {"ior", 1.35},
+                                   {"roughness", 0.1},
+                                   {"absorption_color", {0.9, 0.5, 0.6}},
+                                   {"absorption_depth", 0.5},
+                                   {"scatter", 2.0},
+                                   {"scatter_albedo", {0.9, 0.8, 0.7}},
+                                   {"print", 0.4},
+                                   {"aperture", 0.1},
+                                   {"frames", 6}};
+  std::ofstream(dir() / "expected.json") << expected.dump();
+  EXPECT_EQ(blender((out / "gel.blend").string() + " --python-exit-code 1 --python " + script("gelatine_check.py") +
+                        " -- " + (dir() / "expected.json").string(),
+                    log),
+            0)
+      << slurpFile(log);
+}
+
 TEST_F(Blender, BlendNeedsBlenderAndThePointCaches) {
   const fs::path out = dir() / "out", log = dir() / "log.txt";
   ASSERT_EQ(runWobble("run " + scene().string() + " --frames 1:2 --render none --out " + out.string(), log), 0)

@@ -10,6 +10,7 @@
 #include "app/scene/body_kinds.h"
 #include "app/scene/collider_kinds.h"
 #include "app/scene/input_error.h"
+#include "app/scene/material_kinds.h"
 #include "app/scene/scene_file.h"
 #include "tests/app/scratch_dir.h"
 
@@ -83,6 +84,18 @@ TEST_F(SceneDocs, Bodies) {  // every kind the reader knows (body_kinds.h), each
     EXPECT_FALSE(documented.empty()) << type << " has no section";
     EXPECT_EQ(acceptedKeys("[bodies.c]\ntype = \"" + type + "\"\nzzz = 1\n"), documented) << type;
   }
+}
+
+// A material's own keys (material_kinds.h) have a section of their own, read on top of the jelly's.
+TEST_F(SceneDocs, Materials) {
+  const Keys jelly = documentedKeys("### `[bodies.NAME]` with `type = \"jelly\"`");
+  for (const std::string& material : materialTypes()) {
+    Keys documented = jelly;
+    documented += documentedKeys("### `[bodies.NAME]` with `material = \"" + material + "\"`");
+    EXPECT_EQ(acceptedKeys("[bodies.c]\ntype = \"jelly\"\nmaterial = \"" + material + "\"\nzzz = 1\n"), documented)
+        << material;
+  }
+  EXPECT_FALSE(documentedKeys("### `[bodies.NAME]` with `material = \"gelatine\"`").empty());
 }
 
 TEST_F(SceneDocs, Colliders) {

@@ -1,6 +1,9 @@
 // Camera: primary rays through the image centre and edges match the view direction and field of view.
 #include "render/camera.h"
 
+#include "render/renderer.h"
+#include "render/scene.h"
+
 #include <cmath>
 #include <numbers>
 
@@ -82,6 +85,53 @@ TEST(Camera, RejectsDegenerateViews) {
   p = params();
   p.width = 0;
   EXPECT_THROW(Camera{p}, std::invalid_argument);
+}
+
+// Depth of field: a small lit sphere off the focus plane, seen through a thin lens of radius R, is blurred by a
+// uniform disc whose radius on the film plane at distance 1 is R |1/focus - 1/z| (the circle of confusion). A
+// disc of radius c adds c^2 / 4 to the picture's variance along each axis, so the blurred picture's horizontal
+// variance minus the pinhole's gives c: checked against the formula, in pixels. In focus, nothing changes.
+double horizontalVariance(float aperture, float focus) {
+  Scene scene;
+  scene.addSphere("dot", Sphere{Eigen::Vector3f(0, 0, -10), 0.1f},
+                  scene.addMaterial(Material::diffuse("white", Color::Ones())));
+  scene.lights.sky = Sky::black();
+  SunLight sun;
+  sun.direction = {0, 0, 1};  // from behind the camera: the whole visible face is lit
+  sun.angular_radius_deg = 0;
+  scene.lights.suns = {sun};
+  scene.commit();
+  CameraParams p;
+  p.position = {0, 0, 0};
+  p.look_at = {0, 0, -1};
+  p.vfov_deg = 20;
+  p.width = p.height = 64;
+  p.aperture = aperture;
+  p.focus = focus;
+  RenderSettings settings;
+  settings.samples_per_pixel = 1024;
+  settings.max_bounces = 0;
+  const Film film = render(scene, Camera(p), settings);
+  double sum = 0, sx = 0, sxx = 0;
+  for (int y = 0; y < p.height; ++y)
+    for (int x = 0; x < p.width; ++x) {
+      const double v = film.color[film.index(x, y)].mean(), cx = x + 0.5;
+      sum += v, sx += v * cx, sxx += v * cx * cx;
+    }
+  const double mean = sx / sum;
+  return sxx / sum - mean * mean;
+}
+
+TEST(Camera, ThinLensBlursByTheCircleOfConfusion) {
+  const double pinhole = horizontalVariance(0, 0);
+  const double pixel = 2 * std::tan(10 * std::numbers::pi / 180) / 64;  // film-plane size of a pixel
+  for (const float focus : {5.0f, 20.0f}) {
+    const float radius = 0.3f;
+    const double coc = radius * std::abs(1.0 / focus - 1.0 / 10) / pixel;  // pixels
+    const double measured = 2 * std::sqrt(horizontalVariance(radius, focus) - pinhole);
+    EXPECT_NEAR(measured, coc, 0.03 * coc) << "focus " << focus;
+  }
+  EXPECT_NEAR(horizontalVariance(0.3f, 10), pinhole, 0.02 * pinhole);  // in focus: as sharp as the pinhole
 }
 
 }  // namespace
