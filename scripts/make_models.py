@@ -86,7 +86,7 @@ def plate():
     for k in range(1, len(profile) - 1):
         for i in range(n):
             a, b, c, d = ring(k, i), ring(k, i + 1), ring(k + 1, i + 1), ring(k + 1, i)
-            faces += [((a, 0), (b, 0), (c, 0)), ((a, 0), (c, 0), (d, 0))]
+            faces += [((a, 0), (c, 0), (b, 0)), ((a, 0), (d, 0), (c, 0))]  # front (counter-clockwise) up
     return v, [], faces
 
 
