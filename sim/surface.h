@@ -10,8 +10,17 @@
 
 namespace wobble {
 
+// A surface point riding on 8 particles (a mesh jelly's model vertex in its lattice cell, bodies/mesh_jelly.h): the
+// trilinear weights sum to 1 and are fixed at build time.
+struct EmbeddedPoint {
+  std::array<int, 8> particle;  // within its body
+  std::array<double, 8> weight;
+};
+
 struct SurfaceMesh {
-  std::vector<int> particle;                  // vertex -> particle index within its body
+  // vertex -> particle index within its body; when `embedded` is not empty, vertex -> embedded point instead
+  std::vector<int> particle;
+  std::vector<EmbeddedPoint> embedded;        // empty: the surface is over particles themselves
   std::vector<Eigen::Vector2f> uv;            // per vertex, v up (OBJ convention)
   std::vector<std::array<int, 3>> triangles;  // counter-clockwise seen from outside
 

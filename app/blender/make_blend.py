@@ -4,7 +4,7 @@
 
 MANIFEST.json (written by app/blend_command.cpp; wobble's Y-up coordinates, metres; paths relative to the run's
 folder, where the .blend is saved) lists the frame range and rate, the bodies (base OBJ, PC2 point cache, colour,
-texture, material), the colliders (plane, sphere, box; moving ones with a centre per frame), the camera (one view, or
+texture, material), the colliders (plane, sphere, box, mesh; moving ones with a centre per frame), the camera (one view, or
 one per frame for a follow camera) and the sun. Each body becomes one object: its base OBJ, imported with Blender's
 default OBJ axes (forward -Z, up Y, which map wobble's (x, y, z) to Blender's (x, -z, y) by the object's rotation),
 with a Mesh Cache modifier playing its PC2 (whose points are the OBJ's vertices in order) and one material. Moving
@@ -216,6 +216,15 @@ def add_moving(c):
         bpy.ops.mesh.primitive_uv_sphere_add(segments=64, ring_count=32, radius=c["radius"])
         obj = bpy.context.active_object
         bpy.ops.object.shade_smooth()
+    elif c["type"] == "mesh":  # points where they start; `centers` are the offsets from there
+        mesh = bpy.data.meshes.new(c["name"])
+        mesh.from_pydata([to_blender(p) for p in c["points"]], [], [tuple(t) for t in c["triangles"]])
+        uv = mesh.uv_layers.new()  # the x-z floor plan in metres, as wobble's renderer
+        for poly in mesh.polygons:
+            for li in poly.loop_indices:
+                co = mesh.vertices[mesh.loops[li].vertex_index].co
+                uv.data[li].uv = (co.x, -co.y)
+        obj = link(c["name"], mesh)
     else:
         bpy.ops.mesh.primitive_cube_add(size=1.0)
         obj = bpy.context.active_object

@@ -84,6 +84,11 @@ json colliders(const SceneFile& scene, const RunRecord& run) {
             entry.update({{"type", "sphere"}, {"radius", drawn.radius}});
           if constexpr (std::is_same_v<Drawn, DrawnBox>)
             entry.update({{"type", "box"}, {"size", {drawn.size.x(), drawn.size.y(), drawn.size.z()}}});
+          if constexpr (std::is_same_v<Drawn, DrawnMesh>) {  // points at t = 0; `centers` are the offsets
+            json points = json::array();
+            for (const Vec3& p : *drawn.points) points.push_back(vec(p));
+            entry.update({{"type", "mesh"}, {"points", points}, {"triangles", *drawn.triangles}});
+          }
         },
         kind.drawn(*c, look, 0));
     if (kind.moves) {

@@ -7,12 +7,14 @@
 #include <stdexcept>
 
 #include "app/scene/kind_table.h"
+#include "app/scene/model_file.h"
 #include "app/scene/scene_budget.h"
 #include "app/scene/scene_file.h"
 #include "app/scene/table_reader.h"
 #include "io/text_table.h"
 #include "sim/bodies/cloth.h"
 #include "sim/bodies/jelly.h"
+#include "sim/bodies/mesh_jelly.h"
 #include "sim/simulation.h"
 
 namespace wobble {
@@ -25,7 +27,26 @@ void checkSpeed(TableReader& r, const Vec3& velocity) {
                            " m/s is above the blow-up threshold of 1000 m/s (|v|^2 > 1e6, sim/simulation.h)");
 }
 
+// A jelly of the user's model (`mesh`): the model is read and checked before the lattice is charged to the budget.
+Body readMeshJelly(TableReader& r, const std::string& name, SceneFile& scene) {
+  const ModelMesh model = readModelKey(r, true);
+  MeshJellyParams p;
+  // (cells + 1)^3 particles at most: bounded like the cube jelly's n.
+  p.cells = r.integer("cells", p.cells, Range{1, std::floor(std::cbrt(double(kMaxBodyParticles))) - 1});
+  reserveBody(r, scene, "cells", p.cells, [&model](int cells) {
+    return meshJellySize(cells, std::int64_t(model.points.size()), std::int64_t(model.triangles.size()));
+  });
+  p.placement = readPlacement(r, JellyParams{}.center);
+  p.mass = r.number("mass", p.mass, Range::positive());
+  p.ks = r.number("ks", p.ks, Range::nonNegative());
+  p.kd = r.number("kd", p.kd, Range::nonNegative());
+  p.velocity = r.vec3("velocity", p.velocity);
+  checkSpeed(r, p.velocity);
+  return buildMeshJelly(name, model, p);
+}
+
 Body readJelly(TableReader& r, const std::string& name, SceneFile& scene) {
+  if (r.node("mesh")) return readMeshJelly(r, name, scene);
   JellyParams p;
   // n^3 particles: the cube root of the most one body may have bounds n before anything is multiplied.
   p.n = r.integer("n", p.n, Range{2, std::floor(std::cbrt(double(kMaxBodyParticles)))});

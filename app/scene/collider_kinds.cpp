@@ -4,9 +4,11 @@
 #include <stdexcept>
 
 #include "app/scene/kind_table.h"
+#include "app/scene/model_file.h"
 #include "app/scene/table_reader.h"
 #include "sim/colliders/box.h"
 #include "sim/colliders/elevator.h"
+#include "sim/colliders/mesh.h"
 #include "sim/colliders/plane.h"
 #include "sim/colliders/sphere.h"
 
@@ -79,11 +81,29 @@ DrawnShape drawBox(const Collider& c, const ColliderLook&, double) {
   return DrawnBox{box.center(), box.size()};
 }
 
+// mesh: the user's triangle mesh, placed like a mesh jelly; open meshes (a plate) allowed; moving at `velocity`.
+std::unique_ptr<Collider> readMesh(TableReader& r, const std::string& name, const ContactParams& contact,
+                                   ColliderLook&) {
+  const ModelMesh model = readModelKey(r, false);
+  const Placement place = readPlacement(r, Vec3::Zero());
+  const Eigen::Matrix3d rotation = place.rotation();
+  std::vector<Vec3> points;
+  for (const Vec3& p : localPoints(model, place.scale)) points.push_back(place.center + rotation * p);
+  return std::make_unique<MeshCollider>(name, contact, std::move(points), model.triangles,
+                                        r.vec3("velocity", Vec3::Zero()));
+}
+
+DrawnShape drawMesh(const Collider& c, const ColliderLook&, double t) {
+  const auto& mesh = static_cast<const MeshCollider&>(c);
+  return DrawnMesh{mesh.offset(t), &mesh.points(), &mesh.triangles()};
+}
+
 const std::array kKinds{
     ColliderKind{"plane", Vec3(1, 1, 1), "checker", false, readPlane, readPlaneLook, drawPlane},
     ColliderKind{"sphere", Vec3(0.75, 0.72, 0.68), "none", true, readSphere, nullptr, drawSphere},
     ColliderKind{"elevator", Vec3(0.55, 0.6, 0.7), "none", true, readElevator, nullptr, drawElevator},
     ColliderKind{"box", Vec3(0.6, 0.45, 0.3), "wood", false, readBox, nullptr, drawBox},
+    ColliderKind{"mesh", Vec3(0.85, 0.85, 0.82), "none", true, readMesh, nullptr, drawMesh},
 };
 
 }  // namespace

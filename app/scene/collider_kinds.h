@@ -4,6 +4,7 @@
 // frames colliders by Collider::bounds. Adding a kind: a collider in sim/colliders/, an entry in collider_kinds.cpp,
 // its keys in scenes/README.md.
 #pragma once
+#include <array>
 #include <memory>
 #include <span>
 #include <string>
@@ -30,7 +31,12 @@ struct DrawnSphere {
 struct DrawnBox {  // axis-aligned
   Vec3 center, size;
 };
-using DrawnShape = std::variant<DrawnQuad, DrawnSphere, DrawnBox>;
+struct DrawnMesh {  // a mesh collider's triangles (flat-shaded), moved by `center` from where they were read
+  Vec3 center;
+  const std::vector<Vec3>* points;  // owned by the collider
+  const std::vector<std::array<int, 3>>* triangles;
+};
+using DrawnShape = std::variant<DrawnQuad, DrawnSphere, DrawnBox, DrawnMesh>;
 
 struct ColliderKind {
   std::string_view type;  // the scene's `type` value

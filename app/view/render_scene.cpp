@@ -31,6 +31,26 @@ render::Quad toRender(const DrawnQuad& q) {
 render::Sphere toRender(const DrawnSphere& s) { return {s.center.cast<float>(), static_cast<float>(s.radius)}; }
 render::Box toRender(const DrawnBox& b) { return {b.center.cast<float>(), b.size.cast<float>()}; }
 
+// A mesh collider flat-shaded: each triangle its own three vertices and face normal (stairs keep sharp steps); UVs are
+// the x-z position in metres, so a texture tiles across the floor plan.
+render::TriangleMesh toRender(const DrawnMesh& m, const std::string& name) {
+  render::TriangleMesh mesh;
+  mesh.name = name;
+  for (const auto& t : *m.triangles) {
+    const Vec3 a = (*m.points)[t[0]] + m.center, b = (*m.points)[t[1]] + m.center, c = (*m.points)[t[2]] + m.center;
+    const Vec3 n = (b - a).cross(c - a);
+    const Eigen::Vector3f normal = (n.norm() > 0 ? Vec3(n.normalized()) : Vec3::UnitY()).cast<float>();
+    const int base = static_cast<int>(mesh.positions.size());
+    for (const Vec3& p : {a, b, c}) {
+      mesh.positions.push_back(p.cast<float>());
+      mesh.normals.push_back(normal);
+      mesh.uv.emplace_back(float(p.x()), float(p.z()));
+    }
+    mesh.triangles.push_back({base, base + 1, base + 2});
+  }
+  return mesh;
+}
+
 render::TriangleMesh bodyMesh(const Body& body) {
   const SurfaceFrame frame = evaluateSurface(body.surface, body.x, 0);
   render::TriangleMesh mesh;
@@ -66,6 +86,7 @@ RenderScene::RenderScene(const SceneFile& scene) {
           if constexpr (std::is_same_v<Drawn, DrawnSphere>)
             return scene_.addSphere(c->name(), toRender(drawn), material);
           if constexpr (std::is_same_v<Drawn, DrawnBox>) return scene_.addBox(c->name(), toRender(drawn), material);
+          if constexpr (std::is_same_v<Drawn, DrawnMesh>) return scene_.addMesh(toRender(drawn, c->name()), material);
         },
         kind.drawn(*c, look, 0));
     if (kind.moves) moving_.push_back({shape, c.get(), &kind, look});
@@ -90,6 +111,10 @@ void RenderScene::update(double t, std::span<const SurfaceFrame> surfaces) {
           if constexpr (std::is_same_v<Drawn, DrawnQuad>) scene_.updateQuad(m.shape, toRender(drawn));
           if constexpr (std::is_same_v<Drawn, DrawnSphere>) scene_.updateSphere(m.shape, toRender(drawn));
           if constexpr (std::is_same_v<Drawn, DrawnBox>) scene_.updateBox(m.shape, toRender(drawn));
+          if constexpr (std::is_same_v<Drawn, DrawnMesh>) {
+            const render::TriangleMesh mesh = toRender(drawn, m.collider->name());
+            scene_.updateMesh(m.shape, mesh.positions, mesh.normals);
+          }
         },
         m.kind->drawn(*m.collider, m.look, t));
   scene_.commit();

@@ -56,6 +56,8 @@ SurfaceMesh jellySurface(int n) {
 
 }  // namespace
 
+std::span<const LatticeOffset> jellyOffsets() { return kJellyOffsets; }
+
 BodySize jellySize(std::int64_t n) {
   return {n * n * n, latticeSpringCount({n, n, n}, kJellyOffsets), kFaceCount * n * n,
           kFaceCount * 2 * (n - 1) * (n - 1)};

@@ -12,8 +12,10 @@
 // Surface: the six outer faces, each with its own n x n vertices and UVs spanning [0,1]^2, so a texture shows once
 // per face, upright on the four side faces.
 #pragma once
+#include <span>
 #include <string>
 
+#include "sim/bodies/lattice.h"
 #include "sim/body.h"
 
 namespace wobble {
@@ -28,6 +30,9 @@ struct JellyParams {
   double rotation_deg = 0;
   Vec3 velocity = Vec3::Zero();
 };
+
+// The lattice offsets the jelly links (structural, shear, bending), shared with the mesh jelly.
+std::span<const LatticeOffset> jellyOffsets();
 
 // n^3 particles: for n up to 2^19 (no overflow).
 BodySize jellySize(std::int64_t n);

@@ -110,6 +110,25 @@ TEST_F(Blender, PointCacheByHandPlaysTheObjFrames) {
         << slurpFile(log);
 }
 
+// A mesh jelly's point cache holds the model's own vertices (scenes/models/jelly_mould.obj, in the file's order), and
+// the Mesh Cache modifier plays it at the OBJ frames' positions.
+TEST_F(Blender, MeshJellyPointCachePlaysTheObjFrames) {
+  if (!blender_)
+    GTEST_SKIP() << "blender is not on PATH (./setup.sh tests installs it; plain setup.sh leaves it out: it is large)";
+  const fs::path out = dir() / "out", log = dir() / "log.txt";
+  ASSERT_EQ(runWobble("run " + (testing::sourceDir() / "scenes/jelly_mould.toml").string() +
+                          " --frames 1:9 --set simulation.duration=0.3 --set jelly.cells=4 --render none --pc2 --out " +
+                          out.string(),
+                      log),
+            0)
+      << slurpFile(log);
+  EXPECT_EQ(blender("--factory-startup --python-exit-code 1 --python " + script("mesh_cache_check.py") +
+                        " -- by-hand " + out.string() + " jelly",
+                    log),
+            0)
+      << slurpFile(log);
+}
+
 TEST_F(Blender, BlendFileReopensAndPlays) {
   if (!blender_)
     GTEST_SKIP() << "blender is not on PATH (./setup.sh tests installs it; plain setup.sh leaves it out: it is large)";

@@ -107,7 +107,11 @@ TEST_F(SceneDocs, Colliders) {
     const Keys own = documentedKeys("### `[colliders.NAME]` with `type = \"" + type + "\"`");
     EXPECT_FALSE(own.empty()) << type << " has no section";
     documented += own;
-    EXPECT_EQ(acceptedKeys(kBody + "[colliders.c]\ntype = \"" + type + "\"\nzzz = 1\n"), documented) << type;
+    // A mesh collider needs its model before the reader gets to the unknown key.
+    const std::string required =
+        type == "mesh" ? (write("plate.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 3 2\n"), "mesh = \"plate.obj\"\n") : "";
+    EXPECT_EQ(acceptedKeys(kBody + "[colliders.c]\ntype = \"" + type + "\"\n" + required + "zzz = 1\n"), documented)
+        << type;
   }
 }
 
