@@ -87,6 +87,9 @@ struct BodyCollisions::Impl {
       const Surface& surface = surfaces[b];
       params.push_back(surface.params);
       stiffness.push_back(surface.stiffness);
+      // A surface embedded in a lattice (a mesh jelly) rides on its cells' particles, not on particles of its own:
+      // it is not a collision surface yet; its lattice meets the colliders (docs/mesh-bodies.md).
+      if (!surface.mesh->embedded.empty()) continue;
       max_thickness = std::max(max_thickness, surface.params.thickness);
       std::vector<std::array<int, 2>> body_edges;
       std::vector<int> body_vertices;
