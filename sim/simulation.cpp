@@ -75,7 +75,9 @@ std::string EnergyGain::message(double dt) const {
   if (collider_work != 0) out << " plus " << collider_work << " J of work by moving colliders";
   out << " (gained " << gained() << " J, " << gained() / std::max(std::abs(start), 1e-300)
       << " times the start's; allowed " << margin << " J, docs/energy.md). Try a smaller time step (--dt " << dt / 4
-      << "), backward Euler (--integrator backward-euler), or a lower restitution.";
+      << ")";
+  if (integrator != "backward-euler") out << ", backward Euler (--integrator backward-euler)";  // not what gained it
+  out << ", or a lower restitution.";
   return out.str();
 }
 
