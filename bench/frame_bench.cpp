@@ -48,8 +48,9 @@ Prepared& prepared(int frame) {
     SceneFile scene = loadScene(file ? file : "scenes/jelly_slope.toml");
     FrameView view = simulateTo(scene, frame);
     p = std::make_unique<Prepared>(Prepared{std::move(scene), std::move(view), {}, {}});
-    p->film = render::render(p->view.scene.scene(), render::Camera(p->view.camera),
-                             renderSettings(p->scene.render.options, frame));
+    render::RenderSettings settings = renderSettings(p->scene.render.options, frame);
+    settings.motion_blur = p->view.motion_blur;
+    p->film = render::render(p->view.scene.scene(), render::Camera(p->view.camera), settings);
     p->denoised = render::denoise(p->film);
   }
   return *p;
@@ -58,7 +59,8 @@ Prepared& prepared(int frame) {
 void BM_Render(benchmark::State& state) {
   Prepared& p = prepared(int(state.range(0)));
   const render::Camera camera(p.view.camera);
-  const render::RenderSettings settings = renderSettings(p.scene.render.options, int(state.range(0)));
+  render::RenderSettings settings = renderSettings(p.scene.render.options, int(state.range(0)));
+  settings.motion_blur = p.view.motion_blur;
   render::RenderStats stats;
   for (auto _ : state) benchmark::DoNotOptimize(render::render(p.view.scene.scene(), camera, settings, &stats));
   state.counters["rays_per_pixel"] = double(stats.rays) / double(p.film.color.size());

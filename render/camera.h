@@ -11,6 +11,9 @@
 //              plane (a thin lens, as pbrt's PerspectiveCamera: a point at depth z is spread over a disc of radius
 //              aperture |1/focus - 1/z| on the film plane at distance 1)
 //   focus      distance along the optical axis of the plane in focus (> 0); 0 = the look_at point's
+//   shutter_motion  how far the eye moves while the shutter is open (motion blur, scene.h): `position` is where it is
+//              at the shutter's closing (ray time 1), position - shutter_motion at its opening (time 0), in a straight
+//              line between; the view turns no way (a follow camera only translates, camera_rig.h)
 // Film coordinates: x to the right in [0, width], y downwards in [0, height]; pixel (i, j) covers
 // [i, i+1] x [j, j+1], so its centre is (i + 0.5, j + 0.5).
 #pragma once
@@ -27,6 +30,7 @@ struct CameraParams {
   float vfov_deg = 40;
   int width = 640, height = 360;
   float aperture = 0, focus = 0;
+  Eigen::Vector3f shutter_motion = Eigen::Vector3f::Zero();
 };
 
 class Camera {
@@ -46,6 +50,12 @@ class Camera {
   // aperture is 0.
   Ray ray(float x, float y, const Eigen::Vector2f& lens) const;
   bool hasLens() const { return params_.aperture > 0; }
+  // The ray traced at instant `time` in [0, 1] of the shutter: the eye moved back by (1 - time) shutter_motion.
+  Ray atTime(Ray r, float time) const {
+    r.origin -= (1 - time) * params_.shutter_motion;
+    r.time = time;
+    return r;
+  }
   float focusDistance() const { return focus_; }
 
   // How the unit direction of the primary ray with unit direction d turns per pixel to the right (ddx) and down (ddy):

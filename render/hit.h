@@ -9,6 +9,7 @@
 //              texture filtering: zero until Scene::uvDerivatives fills them
 //   shape, primitive   the Scene's shape id and the triangle index within it (0 for a sphere)
 //   material   the shape's material id
+//   time       the ray's time (motion blur, scene.h): which pose of a moving shape was hit
 #pragma once
 #include <Eigen/Core>
 
@@ -20,6 +21,7 @@ struct SurfaceHit {
   Eigen::Vector2f uv;
   Eigen::Vector3f dpdu = Eigen::Vector3f::Zero(), dpdv = Eigen::Vector3f::Zero();
   int shape = -1, primitive = -1, material = -1;
+  float time = 0;
 };
 
 }  // namespace wobble::render

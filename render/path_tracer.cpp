@@ -97,6 +97,11 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
   // The guides' position of a vertex met through smooth interfaces: its virtual image, as far along the camera ray
   // as the path has come (a reflection's image lies behind the mirror, never behind the camera).
   const Ray camera_ray = ray;
+  const float time = ray.time;  // every ray of the path is traced at the camera ray's instant (motion blur)
+  const auto atTime = [time](Ray r) {
+    r.time = time;
+    return r;
+  };
   float travelled = 0;
   const auto guidePosition = [&](const Eigen::Vector3f& p, float t) {
     return travelled == 0 ? p : Eigen::Vector3f(camera_ray.at(travelled + t));
@@ -148,7 +153,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
           const float z = 1.0f - 2.0f * u.x(), r = std::sqrt(std::max(0.0f, 1.0f - z * z));
           const Eigen::Vector2f phi = cosSin2Pi(u.y());
           travelled += t;
-          ray = Ray{p, Eigen::Vector3f(r * phi.x(), r * phi.y(), z)};
+          ray = atTime(Ray{p, Eigen::Vector3f(r * phi.x(), r * phi.y(), z)});
           previous_pdf = 1.0f / (4.0f * std::numbers::pi_v<float>);
           previous_sampled_lights = previous_sampled_sky = false;  // lights are outside: a shadow ray from here is
           leaving = -1;                                            // always blocked by the body's own surface
@@ -207,7 +212,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
           const float f = bsdf.eval(s.wi);
           if (!(f > 0)) return;
           ++result.rays;
-          if (!unoccluded(scene, s.shadow, hit->shape)) return;
+          if (!unoccluded(scene, atTime(s.shadow), hit->shape)) return;
           const bool combined = continues && s.pdf > 0 && context.settings.mis;
           const float weight = combined ? powerHeuristic(s.pdf, bsdf.pdf(s.wi)) : 1.0f;
           arrive(s.value * (f * std::abs(n.dot(s.wi)) * weight));
@@ -232,7 +237,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
       previous_sampled_lights = !bsdf.smooth();
       previous_sampled_sky = false;
       travelled += hit->t;
-      ray = Ray{offsetFromSurface(hit->p, outside ? outward : Eigen::Vector3f(-outward)), s->wi};
+      ray = atTime(Ray{offsetFromSurface(hit->p, outside ? outward : Eigen::Vector3f(-outward)), s->wi});
       leaving = hit->shape;
       continue;
     }
@@ -284,7 +289,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
     const auto sampleLight = [&](const LightSample& s) {
       if (!context.settings.light_samples || s.value.isZero() || ns.dot(s.wi) <= 0) return;
       ++result.rays;
-      if (!unoccluded(scene, s.shadow, hit->shape)) return;
+      if (!unoccluded(scene, atTime(s.shadow), hit->shape)) return;
       // With no continuation from here, light samples are the only strategy: full weight.
       const bool combined = continues && s.pdf > 0 && context.settings.mis;
       const float weight = combined ? powerHeuristic(s.pdf, q * bsdf.pdf(s.wi)) : 1.0f;
@@ -298,7 +303,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
       const Eigen::Vector3f wi = context.sky_distribution.sample(u.x(), u.y(), pdf);
       if (pdf > 0 && wi.dot(ng) > 0 && ns.dot(wi) > 0) {
         ++result.rays;
-        if (unoccluded(scene, Ray{origin, wi}, hit->shape))
+        if (unoccluded(scene, atTime(Ray{origin, wi}), hit->shape))
           reflect(wi, context.sky.eval(wi) * (powerHeuristic(pdf, q * bsdf.pdf(wi)) / pdf));
       }
     }
@@ -319,7 +324,7 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
     previous_pdf = q * s->pdf;
     previous_sampled_lights = context.settings.light_samples;
     previous_sampled_sky = context.settings.sample_sky;
-    ray = Ray{origin, s->wi};
+    ray = atTime(Ray{origin, s->wi});
     leaving = hit->shape;
     ++bounce;
   }

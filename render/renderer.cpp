@@ -129,8 +129,9 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
               if (p && s == std::uint32_t(target / 2)) p->half = film.color[i];
               const Eigen::Vector2f jitter = sampler.get2D(s, SampleLayout::kPixel);
               const float fx = static_cast<float>(x) + jitter.x(), fy = static_cast<float>(y) + jitter.y();
-              const Ray ray =
+              Ray ray =
                   camera.hasLens() ? camera.ray(fx, fy, sampler.get2D(s, SampleLayout::kLens)) : camera.ray(fx, fy);
+              if (settings.motion_blur) ray = camera.atTime(ray, sampler.get1D(s, SampleLayout::kTime));
               CameraSample cs;
               cs.camera = &camera;
               cs.offset = jitter.array() - 0.5f;

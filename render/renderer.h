@@ -19,6 +19,9 @@
 //   light_samples      false: suns and area lights by BSDF sampling alone (path_tracer.h); for tests of MIS only
 //   roulette           Russian roulette from the second path continuation on, by throughput (path_tracer.h)
 //   tile_size          tiles of tile_size^2 pixels are the units of parallel work (tbb::parallel_for)
+//   motion_blur        trace each sample at its own instant of the shutter (Ray::time, drawn from the sampler's kTime
+//                      slot, sampler.h), so shapes with several poses and a moving camera blur (scene.h, camera.h);
+//                      false: every ray at time 0, and the same bytes as a renderer without motion blur
 //   frame              animation frame index: seeds the per-pixel sample streams, so consecutive frames get
 //                      different noise and the same frame is always the same
 // Determinism: every pixel's samples are a function of (pixel, frame, sample index) only, each pixel is computed by
@@ -48,6 +51,7 @@ struct RenderSettings {
   bool light_samples = true;
   bool roulette = false;
   int tile_size = 16;
+  bool motion_blur = false;
   std::uint32_t frame = 0;
 };
 

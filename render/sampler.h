@@ -14,8 +14,9 @@
 // slot per light (suns, rectangles, the sky when sampled), one 1D slot for the BSDF lobe, one 2D slot for the BSDF
 // direction and one 1D slot for Russian roulette. A slot's numbers never depend on what earlier slots were used for.
 // Draws that only some scenes make sit in slots of their own far above those (kExtra on), so a scene without them
-// keeps its numbers: the thin lens (kLens), and per path vertex the free path in a medium and the choice of a
-// gelatine's print layer (render/dielectric.h).
+// keeps its numbers: the thin lens (kLens), the instant in the shutter (kTime, a 1D slot: motion blur, so within a
+// pixel the times are stratified like any slot's draws), and per path vertex the free path in a medium and the choice
+// of a gelatine's print layer (render/dielectric.h).
 #pragma once
 #include <cstdint>
 #include <string_view>
@@ -40,7 +41,7 @@ struct SampleLayout {
   int bsdfLobe(int bounce) const { return kFirstBounce + bounce * perBounce() + lights; }
   int bsdfDirection(int bounce) const { return kFirstBounce + bounce * perBounce() + lights + 1; }
   int roulette(int bounce) const { return kFirstBounce + bounce * perBounce() + lights + 2; }
-  static constexpr int kExtra = 1 << 20, kLens = kExtra - 1;
+  static constexpr int kExtra = 1 << 20, kLens = kExtra - 1, kTime = kExtra - 2;
   static int medium(int vertex) { return kExtra + 2 * vertex; }
   static int print(int vertex) { return kExtra + 2 * vertex + 1; }
 };

@@ -5,6 +5,11 @@
 //   1. once:       add materials, then shapes (each returns an id), set `lights`
 //   2. per frame:  updateMesh / updateBox / updateQuad / updateSphere for whatever moved, then commit()
 //   3. render (renderer.h); intersect/occluded are safe to call from many threads between commits.
+// Motion blur: the update...Motion calls give a shape several poses, at evenly spaced instants over the shutter, from
+// its opening (ray time 0) to its closing (ray time 1, where the frame's own pose is: the last pose is the shape as
+// shapeView and the exporters see it). A ray meets the shape as it is at the ray's time (Ray::time), linearly between
+// the two poses around it: Embree's multi-segment motion blur (rtcSetGeometryTimeStepCount), and the hit's point,
+// normals and texture derivatives interpolated alike here. One pose is a still shape, as the plain updates make.
 // Every add/update validates its input and throws std::invalid_argument naming the shape (e.g. a NaN vertex),
 // so a broken simulation frame is reported instead of rendered with triangles silently missing.
 // Embree objects are owned here; the Scene is movable but not copyable.
@@ -58,6 +63,18 @@ class Scene {
   ShapeId addSphere(const std::string& name, const Sphere& sphere, MaterialId material);
   void updateSphere(ShapeId id, const Sphere& sphere);
 
+  // Several poses over the shutter (at least one; the header's "Motion blur"). A mesh pose's normals may be empty
+  // (flat or previous normals, as updateMesh) only if every pose's are.
+  struct MeshPose {
+    std::span<const Eigen::Vector3f> positions, normals;
+  };
+  void updateMeshMotion(ShapeId id, std::span<const MeshPose> poses);
+  void updateQuadMotion(ShapeId id, std::span<const Quad> poses);
+  void updateBoxMotion(ShapeId id, std::span<const Box> poses);
+  void updateSphereMotion(ShapeId id, std::span<const Sphere> poses);
+  // Whether the shape has more than one pose (moves while the shutter is open).
+  bool moving(ShapeId id) const;
+
   // Builds the acceleration structure (rtcCommitScene). Needed after any add or update, before tracing.
   void commit();
   bool committed() const { return committed_; }
@@ -99,7 +116,7 @@ class Scene {
   template <typename Shaped>
   ShapeId addShaped(const std::string& name, const Shaped& params, MaterialId material);
   template <typename Shaped>
-  void updateShaped(ShapeId id, const Shaped& params);
+  void updateShaped(ShapeId id, std::span<const Shaped> poses);
 
   std::unique_ptr<EmbreeDevice> device_;
   std::unique_ptr<EmbreeScene> rtc_;

@@ -52,6 +52,7 @@ std::optional<BlowUp> Simulation::advanceTo(double t_end) {
       collider_work_ += work;
       collider_work_unsigned_ += std::abs(work);
     }
+    if (step_observer_) step_observer_(t_, x_);
   }
   checkEnergy();
   return std::nullopt;

@@ -2,6 +2,7 @@
 // to land on it exactly (never an extra sliver step for round-off: a 3 s run at dt 1e-4 is 30000 steps); contact
 // resolution at every step end; blow-up detection after every step.
 #pragma once
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -57,6 +58,10 @@ class Simulation {
   // (`wobble run` stops; the stability study runs on, so that a cell that then blows up counts as a blow-up).
   std::optional<BlowUp> advanceTo(double t_end);
   const std::optional<EnergyGain>& energyGain() const { return energy_gain_; }
+  // Called after every step that did not blow up, with its end time and state (e.g. the renderer's motion blur keeps
+  // the states inside a frame's shutter). Observing changes nothing in the stepping.
+  using StepObserver = std::function<void(double t, const VecX& x)>;
+  void observeSteps(StepObserver observer) { step_observer_ = std::move(observer); }
   double energyStart() const { return energy_start_; }
   // Work done on the bodies by moving colliders so far (J): each step's contact impulse on a particle touching a
   // moving surface, times the surface's velocity (MassSpringSystem::colliderWork).
@@ -89,6 +94,7 @@ class Simulation {
   double energy_start_ = 0, collider_work_ = 0, collider_work_unsigned_ = 0, lift_margin_ = 0;
   VecX x_before_, v_before_;  // the state at the step's start, for collisions_ and the colliders' work
   std::optional<EnergyGain> energy_gain_;
+  StepObserver step_observer_;
 };
 
 }  // namespace wobble

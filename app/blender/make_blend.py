@@ -5,7 +5,7 @@
 MANIFEST.json (written by app/blend_command.cpp; wobble's Y-up coordinates, metres; paths relative to the run's
 folder, where the .blend is saved) lists the frame range and rate, the bodies (base OBJ, PC2 point cache, colour,
 texture, material), the colliders (plane, sphere, box, mesh; moving ones with a centre per frame), the camera (one view, or
-one per frame for a follow camera) and the sun. Each body becomes one object: its base OBJ, imported with Blender's
+one per frame for a follow camera; the shutter) and the sun. Each body becomes one object: its base OBJ, imported with Blender's
 default OBJ axes (forward -Z, up Y, which map wobble's (x, y, z) to Blender's (x, -z, y) by the object's rotation),
 with a Mesh Cache modifier playing its PC2 (whose points are the OBJ's vertices in order) and one material. Moving
 colliders and the follow camera are baked as keyframes, one per frame, linear. Paths in the .blend are relative to
@@ -333,6 +333,13 @@ def main():
     scene.cycles.samples = 64
     # Debian's Blender is built without Open Image Denoise: Cycles' default denoising would make every render fail.
     scene.cycles.use_denoising = False
+    # Motion blur (camera.shutter): open for that fraction of a frame, closing at the frame (wobble's shutter ends at
+    # the frame's time). The Mesh Cache modifiers, baked colliders and follow camera blur with it.
+    shutter = m["camera"].get("shutter", 0.0)
+    if shutter > 0:
+        scene.render.use_motion_blur = True
+        scene.render.motion_blur_shutter = shutter
+        scene.cycles.motion_blur_position = "END"
 
     for b in m["bodies"]:
         add_body(b, out_dir, m["frame_start"])

@@ -182,7 +182,9 @@ BlendReport makeBlend(const BlendOptions& options) {
                              mesh.string() + " also load by hand: docs/blender.md)");
 
   const OutputFolder folder(out);  // not while a run writes there
-  const json camera = {{"fov_deg", scene.render.camera.fov_deg}, {"views", cameraViews(scene, run, caches, orders)}};
+  const json camera = {{"fov_deg", scene.render.camera.fov_deg},
+                       {"shutter", scene.render.camera.shutter},
+                       {"views", cameraViews(scene, run, caches, orders)}};
   const RenderOptionsConfig& o = scene.render.options;
   const json manifest = {{"scene", scene.name},
                          {"out_dir", fs::absolute(out).lexically_normal().string()},

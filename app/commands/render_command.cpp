@@ -1,5 +1,7 @@
 #include "app/commands/render_command.h"
 
+#include <algorithm>
+
 #include "app/commands/frame_range.h"
 #include "app/commands/wall_clock.h"
 #include "app/output/frame_name.h"
@@ -69,12 +71,26 @@ RenderCommandReport renderSequence(const RenderCommandOptions& options) {
   const auto start = Clock::now();
   FrameOutput pictures(scene, report.out, options.skip_existing);
 
-  // The follow camera's smoothing runs over the frames before the range too, as in the run (camera_rig.h).
+  // The follow camera's smoothing runs over the frames before the range too, as in the run (camera_rig.h). Motion
+  // blur blends the first frame's poses from the one before it, when the sequence has it (shutter.h).
+  const int before = report.first_frame - 1;
+  const bool blur_from_before = scene.render.camera.shutter > 0 && before >= 1 &&
+                                std::all_of(bodies.begin(), bodies.end(), [&](const BodySlot& slot) {
+                                  return fs::exists(objPath(options.mesh_dir, slot.body, before));
+                                });
+  const auto previous = [&](int k, int only) {
+    try {
+      return readObjFrame(options.mesh_dir, scene, k, k == before && blur_from_before ? -1 : only);
+    } catch (const std::runtime_error& e) {
+      throw InputError(e.what());
+    }
+  };
   int history = report.first_frame;
   if (const int followed = pictures.followedBody(); followed >= 0) {
     while (history > 1 && fs::exists(objPath(options.mesh_dir, bodies[followed].body, history - 1))) --history;
-    for (int k = history; k < report.first_frame; ++k)
-      pictures.frame(k, readObjFrame(options.mesh_dir, scene, k, followed), false);
+    for (int k = history; k < report.first_frame; ++k) pictures.frame(k, previous(k, followed), false);
+  } else if (blur_from_before) {
+    pictures.frame(before, previous(before, -1), false);
   }
 
   Progress progress(scene.name + " (render)", report.last_frame - report.first_frame + 1);

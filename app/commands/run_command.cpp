@@ -18,6 +18,7 @@
 #include "app/scene/scene_file.h"
 #include "app/view/disk_budget.h"
 #include "app/view/frame_output.h"
+#include "app/view/shutter.h"
 #include "io/text_file.h"
 
 namespace fs = std::filesystem;
@@ -142,6 +143,11 @@ RunReport runScene(const RunOptions& options) {
 
   std::optional<FrameOutput> pictures;  // renders while simulating: no second simulation
   if (FrameOutput::wanted(scene)) pictures.emplace(scene, report.out, options.skip_existing);
+  std::optional<ShutterRecorder> shutter;  // motion blur: the poses inside each frame's shutter, from the steps
+  if (pictures && scene.render.camera.shutter > 0) {
+    shutter.emplace(scene, sim.x());
+    sim.observeSteps([&shutter](double t, const VecX& x) { shutter->step(t, x); });
+  }
 
   std::optional<ErrorEstimator> estimator;
   if (options.estimate_error)
@@ -151,6 +157,7 @@ RunReport runScene(const RunOptions& options) {
   if (options.progress) progress.emplace(scene.name, report.last_frame);
   for (int frame = 1; frame <= report.last_frame && !interrupted(); ++frame) {
     auto start = Clock::now();
+    if (shutter) shutter->begin(frame);
     report.blow_up = sim.advanceTo(scene.frameTime(frame));
     report.seconds_simulate += secondsSince(start);
     if (report.blow_up) break;
@@ -181,7 +188,8 @@ RunReport runScene(const RunOptions& options) {
     if (pictures) {
       start = Clock::now();
       if (surfaces.empty()) pictures->observe(frame, sim.x());
-      else pictures->frame(frame, surfaces, true);
+      else if (!shutter) pictures->frame(frame, surfaces, true);
+      else pictures->frame(frame, surfaces, true, surfacesOf(scene, shutter->states(sim.x())));
       report.seconds_render += secondsSince(start);
     }
     if (progress) progress->update(frame);

@@ -109,6 +109,7 @@ void readRenderTables(TableReader& root, SceneFile& scene) {
     c.fail("follow", "must name a body of the scene: " + list);
   }
   cam.aperture = c.number("aperture", cam.aperture, Range::nonNegative());
+  cam.shutter = c.number("shutter", cam.shutter, Range::unit());
   if (const toml::node* focus = c.node("focus")) {
     if (focus->is_string()) {
       if (cam.follow.empty() || focus->as_string()->get() != cam.follow)

@@ -29,6 +29,7 @@ struct CameraConfig {
   double aperture = 0;            // thin-lens radius (m); 0: a pinhole
   double focus = 0;               // distance of the plane in focus (m); 0: the look_at point's
   bool focus_follow = false;      // focus on the followed body (its smoothed centroid) instead
+  double shutter = 0;             // fraction of the frame interval the shutter is open (motion blur); 0: off
 };
 
 // A quality preset: the sampling and denoising settings a `render.quality` name stands for. Each can still be set

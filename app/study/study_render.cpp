@@ -9,8 +9,8 @@
 
 #include "app/output/progress.h"
 #include "app/scene/input_error.h"
-#include "app/scene/scene_flags.h"
 #include "app/scene/scene_file.h"
+#include "app/scene/scene_flags.h"
 #include "app/study/order_fit.h"
 #include "app/view/frame_view.h"
 #include "app/view/render_scene.h"
@@ -35,8 +35,10 @@ constexpr int kRendererVersion = 5;
 // The second half of the reference uses this seed offset: far from any frame number.
 constexpr std::uint32_t kSecondHalfSeed = 0x80000000u;
 
-render::RenderSettings settingsFor(const RenderVariant& v, int spp, double threshold, int bounces, int frame) {
+render::RenderSettings settingsFor(const RenderVariant& v, int spp, double threshold, int bounces, int frame,
+                                   bool motion_blur) {
   render::RenderSettings s;
+  s.motion_blur = motion_blur;
   s.samples_per_pixel = spp;
   s.max_bounces = v.bounces >= 0 ? v.bounces : bounces;
   render::parseSamplerKind(v.sampler, s.sampler);
@@ -164,11 +166,12 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
     const RenderVariant sobol{"reference", "", "sobol"};
     const auto start = Clock::now();
     render::Film a =
-        render::render(view.scene.scene(), camera, settingsFor(sobol, o.reference_spp / 2, 0, result.bounces, frame));
-    tick();
-    render::Film b =
         render::render(view.scene.scene(), camera,
-                       settingsFor(sobol, o.reference_spp / 2, 0, result.bounces, frame ^ kSecondHalfSeed));
+                       settingsFor(sobol, o.reference_spp / 2, 0, result.bounces, frame, view.motion_blur));
+    tick();
+    render::Film b = render::render(view.scene.scene(), camera,
+                                    settingsFor(sobol, o.reference_spp / 2, 0, result.bounces, frame ^ kSecondHalfSeed,
+                                                view.motion_blur));
     tick();
     result.reference_seconds = std::chrono::duration<double>(Clock::now() - start).count();
     reference = std::move(a.color);
@@ -199,7 +202,8 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
       for (int r = 0; r < o.repeats; ++r) {
         const auto start = Clock::now();
         render::Film film =
-            render::render(view.scene.scene(), camera, settingsFor(v, spp, threshold, result.bounces, frame), &stats);
+            render::render(view.scene.scene(), camera,
+                           settingsFor(v, spp, threshold, result.bounces, frame, view.motion_blur), &stats);
         const auto rendered = Clock::now();
         image = v.denoise ? render::denoise(film) : std::move(film.color);
         const auto end = Clock::now();

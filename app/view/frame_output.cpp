@@ -1,5 +1,6 @@
 #include "app/view/frame_output.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "app/output/frame_name.h"
@@ -7,6 +8,7 @@
 #include "app/output/obj_sequence.h"
 #include "app/output/video.h"
 #include "app/view/frame_picture.h"
+#include "app/view/shutter.h"
 #include "render/image/exr_writer.h"
 #include "render/image/png_io.h"
 
@@ -37,13 +39,36 @@ FrameOutput::FrameOutput(const SceneFile& scene, fs::path out, bool skip_existin
 
 void FrameOutput::observe(int frame, const VecX& x) { rig_.observe(frame, *scene_.system, x); }
 
-void FrameOutput::frame(int frame, std::span<const SurfaceFrame> surfaces, bool write) {
+void FrameOutput::frame(int frame, std::span<const SurfaceFrame> surfaces, bool write,
+                        std::span<const std::vector<SurfaceFrame>> shutter) {
+  const render::CameraParams before = rig_.params();
   if (rig_.followedBody() >= 0) rig_.observe(frame, surfaces[rig_.followedBody()]);
+  std::vector<double> times = shutterTimes(scene_, frame);
+  std::vector<std::vector<SurfaceFrame>> poses;
+  if (times.size() > 1 && write) {
+    if (!shutter.empty()) poses.assign(shutter.begin(), shutter.end());
+    else if (previous_frame_ == frame - 1) poses = blendSurfaces(scene_, frame, previous_, surfaces);
+  }
+  if (times.size() > 1 && shutter.empty()) {
+    const bool complete =
+        std::none_of(surfaces.begin(), surfaces.end(), [](const SurfaceFrame& s) { return s.positions.empty(); });
+    previous_.assign(surfaces.begin(), surfaces.end());
+    previous_frame_ = complete ? frame : -1;
+  }
   if (!write) return;
-  const std::string key = key_.frame(frame, rig_.params(), surfaces);
+  render::CameraParams camera = rig_.params();
+  if (poses.empty()) {
+    times = {scene_.frameTime(frame)};
+    poses.emplace_back(surfaces.begin(), surfaces.end());
+  } else {
+    camera.shutter_motion = float(scene_.render.camera.shutter) * (camera.position - before.position);
+  }
+  std::vector<SurfaceFrame> keyed;  // every pose's surfaces
+  for (const auto& pose : poses) keyed.insert(keyed.end(), pose.begin(), pose.end());
+  const std::string key = key_.frame(frame, camera, keyed);
   if (skip_existing_ && existing(frame, key)) return keep(frame);
-  render_scene_.update(scene_.frameTime(frame), surfaces);
-  render(frame, key);
+  render_scene_.update(times, poses);
+  render(frame, camera, key, times.size() > 1);
 }
 
 bool FrameOutput::existing(int frame, const std::string& key) const {
@@ -70,8 +95,8 @@ void FrameOutput::toVideo(const render::Image8& image) {
   if (video_) video_->write(image);
 }
 
-void FrameOutput::render(int frame, const std::string& key) {
-  const FramePicture picture = renderPicture(render_scene_.scene(), rig_.params(), scene_.render.options, frame);
+void FrameOutput::render(int frame, const render::CameraParams& camera, const std::string& key, bool motion_blur) {
+  const FramePicture picture = renderPicture(render_scene_.scene(), camera, scene_.render.options, frame, motion_blur);
   if (writing_.valid()) writing_.get();  // the previous frame's files, and any error writing them
   writing_ = std::async(std::launch::async, [this, frame, picture, text = key_.text(key)] {
     const RenderOptionsConfig& options = scene_.render.options;

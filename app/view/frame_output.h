@@ -31,7 +31,12 @@ class FrameOutput {
 
   // Call for every frame from 1 in order (the follow camera needs each one), with every body's surface (scene body
   // order); renders and writes only when `write` (a frame not written needs only the followed body's surface).
-  void frame(int frame, std::span<const SurfaceFrame> surfaces, bool write);
+  // Motion blur (camera.shutter > 0, shutter.h): `shutter` holds the scene's poses at the frame's shutter instants
+  // (a run's, from its steps; the last is `surfaces`); left empty, they are blended from the frame before, when it
+  // was given with every body's surface (an OBJ sequence), else the frame is drawn still. A follow camera moves over
+  // the shutter from its place at the frame before to this frame's, in a straight line.
+  void frame(int frame, std::span<const SurfaceFrame> surfaces, bool write,
+             std::span<const std::vector<SurfaceFrame>> shutter = {});
   // A frame that is not drawn, from the simulation's flat state: only the follow camera sees it.
   void observe(int frame, const VecX& x);
 
@@ -48,7 +53,7 @@ class FrameOutput {
   static std::filesystem::path exrPath(const std::filesystem::path& out, const std::string& scene, int frame);
 
  private:
-  void render(int frame, const std::string& key);
+  void render(int frame, const render::CameraParams& camera, const std::string& key, bool motion_blur);
   bool existing(int frame, const std::string& key) const;  // every file the scene asks for, with this key
   void keep(int frame);                                    // an existing frame: only the video needs it
   void toVideo(const render::Image8& image);               // on the writer thread, frames in order
@@ -65,6 +70,9 @@ class FrameOutput {
   std::future<void> writing_;
   std::unique_ptr<VideoStream> video_;  // opened with the first PNG written (its size), fed by the writer
   bool video_opened_ = false;
+  // The last frame given with every body's surface, for the motion blur of the next (an OBJ sequence's).
+  std::vector<SurfaceFrame> previous_;
+  int previous_frame_ = -1;
 };
 
 }  // namespace wobble

@@ -6,9 +6,10 @@
 namespace wobble {
 
 FramePicture renderPicture(const render::Scene& scene, const render::CameraParams& camera,
-                           const RenderOptionsConfig& options, int frame) {
-  auto film =
-      std::make_shared<render::Film>(render::render(scene, render::Camera(camera), renderSettings(options, frame)));
+                           const RenderOptionsConfig& options, int frame, bool motion_blur) {
+  render::RenderSettings settings = renderSettings(options, frame);
+  settings.motion_blur = motion_blur;
+  auto film = std::make_shared<render::Film>(render::render(scene, render::Camera(camera), settings));
   auto denoised = std::make_shared<std::vector<render::Color>>();
   if (options.denoise) *denoised = render::denoise(*film);
   return {std::move(film), std::move(denoised)};

@@ -20,9 +20,10 @@ struct FramePicture {
   std::shared_ptr<const std::vector<render::Color>> denoised;  // empty unless render.denoise
 };
 
-// The frame number seeds the noise (render_config.h: renderSettings).
+// The frame number seeds the noise (render_config.h: renderSettings); motion_blur: trace each sample at its own
+// instant of the shutter (render::RenderSettings::motion_blur).
 FramePicture renderPicture(const render::Scene& scene, const render::CameraParams& camera,
-                           const RenderOptionsConfig& options, int frame);
+                           const RenderOptionsConfig& options, int frame, bool motion_blur = false);
 // The picture's colour (denoised when it was) as 8-bit sRGB.
 render::Image8 developPicture(const FramePicture& picture, const RenderOptionsConfig& options);
 

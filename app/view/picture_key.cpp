@@ -46,6 +46,8 @@ std::string PictureKey::frame(int frame, const render::CameraParams& camera,
     h.add(camera.aperture);
     h.add(camera.focus);
   }
+  if (!camera.shutter_motion.isZero())  // a follow camera's motion blur (a still one's keys stay as they were)
+    for (int k = 0; k < 3; ++k) h.add(camera.shutter_motion[k]);
   h.add(std::uint64_t(surfaces.size()));
   for (const SurfaceFrame& s : surfaces) {
     addVectors(h, s.positions);

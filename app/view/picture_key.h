@@ -5,7 +5,8 @@
 //     the scene text after overrides without the keys that only choose outputs (SceneFile::picture_text: camera,
 //     resolution, render settings, looks, colliders, frame rate, the bodies), and the bytes of every texture file;
 //   frame (kFrameName): the settings, the frame number (it seeds the noise), that frame's camera (a follow camera
-//     depends on the earlier frames) and every body's surface as the renderer gets it: from the simulation in
+//     depends on the earlier frames) and every body's surface as the renderer gets it (at every instant of a
+//     motion-blurred shutter): from the simulation in
 //     `wobble run`, from the OBJ files in `wobble render` (so an edited or re-simulated mesh renders again).
 // Left out because they do not change a picture: the thread count, the output folder, --frames, --video, EXR or not.
 #pragma once

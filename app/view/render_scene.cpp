@@ -101,22 +101,45 @@ RenderScene::RenderScene(const SceneFile& scene) {
 }
 
 void RenderScene::update(double t, std::span<const SurfaceFrame> surfaces) {
-  if (surfaces.size() != body_shapes_.size()) throw std::logic_error("RenderScene::update: wrong body count");
-  for (std::size_t b = 0; b < surfaces.size(); ++b)
-    scene_.updateMesh(body_shapes_[b], surfaces[b].positions, surfaces[b].normals);
-  for (const MovingCollider& m : moving_)
+  const std::vector<SurfaceFrame> pose(surfaces.begin(), surfaces.end());
+  update({&t, 1}, {&pose, 1});
+}
+
+void RenderScene::update(std::span<const double> times, std::span<const std::vector<SurfaceFrame>> poses) {
+  if (times.empty() || poses.size() != times.size()) throw std::logic_error("RenderScene::update: a pose per time");
+  for (const auto& surfaces : poses)
+    if (surfaces.size() != body_shapes_.size()) throw std::logic_error("RenderScene::update: wrong body count");
+  for (std::size_t b = 0; b < body_shapes_.size(); ++b) {
+    std::vector<render::Scene::MeshPose> mesh_poses;
+    for (const auto& surfaces : poses) mesh_poses.push_back({surfaces[b].positions, surfaces[b].normals});
+    scene_.updateMeshMotion(body_shapes_[b], mesh_poses);
+  }
+  for (const MovingCollider& m : moving_) {
+    std::vector<DrawnShape> drawn;
+    for (const double t : times) drawn.push_back(m.kind->drawn(*m.collider, m.look, t));
     std::visit(
-        [&](const auto& drawn) {
-          using Drawn = std::decay_t<decltype(drawn)>;
-          if constexpr (std::is_same_v<Drawn, DrawnQuad>) scene_.updateQuad(m.shape, toRender(drawn));
-          if constexpr (std::is_same_v<Drawn, DrawnSphere>) scene_.updateSphere(m.shape, toRender(drawn));
-          if constexpr (std::is_same_v<Drawn, DrawnBox>) scene_.updateBox(m.shape, toRender(drawn));
+        [&](const auto& first) {
+          using Drawn = std::decay_t<decltype(first)>;
+          const auto all = [&](const auto& convert) {
+            std::vector<std::decay_t<decltype(convert(first))>> out;
+            for (const DrawnShape& d : drawn) out.push_back(convert(std::get<Drawn>(d)));
+            return out;
+          };
+          if constexpr (std::is_same_v<Drawn, DrawnQuad>)
+            scene_.updateQuadMotion(m.shape, all([](const DrawnQuad& q) { return toRender(q); }));
+          if constexpr (std::is_same_v<Drawn, DrawnSphere>)
+            scene_.updateSphereMotion(m.shape, all([](const DrawnSphere& q) { return toRender(q); }));
+          if constexpr (std::is_same_v<Drawn, DrawnBox>)
+            scene_.updateBoxMotion(m.shape, all([](const DrawnBox& q) { return toRender(q); }));
           if constexpr (std::is_same_v<Drawn, DrawnMesh>) {
-            const render::TriangleMesh mesh = toRender(drawn, m.collider->name());
-            scene_.updateMesh(m.shape, mesh.positions, mesh.normals);
+            const auto meshes = all([&](const DrawnMesh& q) { return toRender(q, m.collider->name()); });
+            std::vector<render::Scene::MeshPose> mesh_poses;
+            for (const render::TriangleMesh& mesh : meshes) mesh_poses.push_back({mesh.positions, mesh.normals});
+            scene_.updateMeshMotion(m.shape, mesh_poses);
           }
         },
-        m.kind->drawn(*m.collider, m.look, t));
+        drawn.front());
+  }
   scene_.commit();
 }
 

@@ -16,7 +16,7 @@ void fillRay(const Ray& r, RTCRay& ray) {
   ray.dir_z = r.direction.z();
   ray.tnear = r.tnear;
   ray.tfar = r.tfar;
-  ray.time = 0;
+  ray.time = r.time;
   ray.mask = 0xFFFFFFFFu;
   ray.id = 0;
   ray.flags = 0;

@@ -171,6 +171,8 @@ const BadScene kCorpus[] = {
     {"IorWithoutGelatine", kJelly + "ior = 1.3\n", {"bad.toml:4:", "ior", "unknown"}},
     {"ApertureNegative", kJelly + "[camera]\naperture = -0.1\n", {"bad.toml:5:", "camera.aperture = -0.1", ">= 0"}},
     {"FocusZero", kJelly + "[camera]\nfocus = 0\n", {"bad.toml:5:", "camera.focus = 0", "> 0"}},
+    {"ShutterAboveOne", kJelly + "[camera]\nshutter = 1.5\n", {"bad.toml:5:", "camera.shutter = 1.5", "[0, 1]"}},
+    {"ShutterNegative", kJelly + "[camera]\nshutter = -0.5\n", {"bad.toml:5:", "camera.shutter = -0.5", "[0, 1]"}},
     {"FocusOnABodyNotFollowed",
      kJelly + "[camera]\nfocus = \"jelly\"\n",
      {"bad.toml:5:", "camera.focus", "camera.follow is not set"}},

@@ -163,7 +163,7 @@ TEST_F(Blender, BlendFileReopensAndPlays) {
 
 // Gelatine and the thin lens in Cycles (issue 29): tests/blender/gelatine_check.py reads the .blend's nodes and
 // camera against the scene's keys.
-TEST_F(Blender, GelatineAndLensMapOntoCycles) {
+TEST_F(Blender, GelatineLensAndShutterMapOntoCycles) {
   if (!blender_)
     GTEST_SKIP() << "blender is not on PATH (./setup.sh tests installs it; plain setup.sh leaves it out: it is large)";
   copyCatTexture();
@@ -196,6 +196,7 @@ position = [2, 3, 6]
 look_at = [0, 1.5, 0]
 aperture = 0.1
 focus = "jelly"
+shutter = 0.4
 )");
   const fs::path out = dir() / "out", log = dir() / "log.txt";
   ASSERT_EQ(runWobble("run " + scene.string() + " --render none --pc2 --out " + out.string(), log), 0)
@@ -210,6 +211,7 @@ focus = "jelly"
                                    {"scatter_albedo", {0.9, 0.8, 0.7}},
                                    {"print", 0.4},
                                    {"aperture", 0.1},
+                                   {"shutter", 0.4},
                                    {"frames", 6}};
   std::ofstream(dir() / "expected.json") << expected.dump();
   EXPECT_EQ(blender((out / "gel.blend").string() + " --python-exit-code 1 --python " + script("gelatine_check.py") +

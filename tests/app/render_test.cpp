@@ -110,6 +110,20 @@ TEST_F(Render, FrameRangeOfARunGivesTheFullRunsImages) {
   EXPECT_EQ(whole.pixels, part.pixels);
 }
 
+TEST_F(Render, BlurredFrameRangeOfARunGivesTheFullRunsImages) {
+  // Motion blur from the run's own steps: frame 3's shutter (inside frame 2 to 3) is posed the same in both runs.
+  const fs::path s = scene();
+  const std::string blur = " --resolution 48x27 --set camera.shutter=0.5";
+  ASSERT_EQ(wobble("run " + s.string() + " --out " + out().string() + blur), 0) << log();
+  ASSERT_EQ(wobble("run " + s.string() + " --frames 3:4 --out " + (dir() / "part").string() + blur), 0) << log();
+  ASSERT_EQ(wobble("run " + s.string() + " --frames 3:3 --out " + (dir() / "still").string() + " --resolution 48x27"),
+            0)
+      << log();
+  const render::Image8 whole = render::readImage(out() / "frames/small_0003.png");
+  EXPECT_EQ(whole.pixels, render::readImage(dir() / "part/frames/small_0003.png").pixels);
+  EXPECT_NE(whole.pixels, render::readImage(dir() / "still/frames/small_0003.png").pixels);
+}
+
 TEST_F(Render, RenderingTheObjSequenceGivesTheRunsImages) {
   const fs::path s = scene();
   ASSERT_EQ(wobble("run " + s.string() + " --out " + out().string() + " --resolution 96x54"), 0) << log();

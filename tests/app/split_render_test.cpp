@@ -60,6 +60,8 @@ samples = 1
   fs::path out() const { return dir() / "out"; }
   fs::path log() const { return dir() / "log.txt"; }
   int wobble(const std::string& arguments, const std::string& env = "") { return runWobble(arguments, log(), env); }
+  // Renders the run of scene s whole and in three pieces at once (extra: more flags for both); the same bytes.
+  void piecesAreOneRender(const fs::path& s, const std::string& extra);
   std::string said() const { return slurpFile(log()); }
   static fs::path frame(const fs::path& out, int k) {
     return out / "frames" / ("split_000" + std::to_string(k) + ".png");
@@ -168,18 +170,20 @@ TEST_F(SplitRender, FramesPrintsThePiecesOfASceneOrARun) {
 // The pieces of a split render, rendered at the same time into one folder, are the bytes of one render. Needs neither
 // GNU parallel nor ffmpeg: `wobble frames` cuts the range, the pieces are three wobble processes started at once,
 // each asked for a video it must leave to `wobble video` (a piece makes none).
-TEST_F(SplitRender, PiecesRenderedAtOnceAreOneRendersBytes) {
-  const fs::path s = scene();
+// With motion blur (a follow camera too), a piece blends its first frame's poses from the OBJ of the frame before it,
+// as one render does: the same bytes again, and not the still pictures.
+void SplitRender::piecesAreOneRender(const fs::path& s, const std::string& extra) {
   simulate(s);
   const fs::path whole = dir() / "whole";
-  ASSERT_EQ(wobble(render(s, "--out " + whole.string())), 0) << said();
+  ASSERT_EQ(wobble(render(s, "--out " + whole.string() + extra)), 0) << said();
   ASSERT_EQ(wobble("frames " + out().string() + " --chunks 3"), 0) << said();
   std::istringstream ranges(said());
   std::vector<pid_t> pieces;
   std::vector<fs::path> logs;
   for (std::string range; std::getline(ranges, range);) {
     logs.push_back(dir() / ("piece" + std::to_string(pieces.size()) + ".txt"));
-    pieces.push_back(testing::startWobble(render(s, "--frames " + range + " --set render.video=true"), logs.back()));
+    pieces.push_back(
+        testing::startWobble(render(s, "--frames " + range + " --set render.video=true" + extra), logs.back()));
   }
   ASSERT_EQ(pieces.size(), 3u);
   for (std::size_t i = 0; i < pieces.size(); ++i) EXPECT_EQ(testing::waitExit(pieces[i]), 0) << slurpFile(logs[i]);
@@ -188,6 +192,16 @@ TEST_F(SplitRender, PiecesRenderedAtOnceAreOneRendersBytes) {
     ASSERT_TRUE(fs::exists(frame(out(), k))) << "frame " << k;
     EXPECT_TRUE(slurpFile(frame(out(), k)) == slurpFile(frame(whole, k))) << "frame " << k << " differs";
   }
+}
+
+TEST_F(SplitRender, PiecesRenderedAtOnceAreOneRendersBytes) { piecesAreOneRender(scene(), ""); }
+
+TEST_F(SplitRender, BlurredPiecesAreOneRendersBytes) {
+  const fs::path s = scene(true);
+  piecesAreOneRender(s, " --set camera.shutter=0.5");
+  const fs::path still = dir() / "still";
+  ASSERT_EQ(wobble(render(s, "--frames 4 --out " + still.string())), 0) << said();
+  EXPECT_FALSE(slurpFile(frame(still, 4)) == slurpFile(frame(out(), 4))) << "motion blur changed nothing";
 }
 
 // The recipe of docs/farm-rendering.md: simulate once, render the pieces with GNU parallel (all at once, into one

@@ -20,7 +20,8 @@ namespace {
 
 // A small version of a real scene: textured jelly-like mesh (a folded sheet with vertex normals), wooden slope,
 // a box platform, a sphere, a sun, an area light and the sky.
-Scene demoScene() {
+// blur: the sheet, slope, platform and ball move over the shutter (several poses each, as a run gives them).
+Scene demoScene(bool blur = false) {
   Scene scene;
   std::vector<Color> texels;
   for (int i = 0; i < 64; ++i) texels.emplace_back((i % 8) / 8.0f, (i / 8) / 8.0f, 0.3f);
@@ -45,10 +46,30 @@ Scene demoScene() {
       sheet.triangles.push_back({a, a + n, a + 1});
       sheet.triangles.push_back({a + 1, a + n, a + n + 1});
     }
-  scene.addMesh(sheet, jelly);
-  scene.addQuad("slope", Quad{{0, 0, 0}, {0.2f, 1, 0}, 8, 1}, wood);
-  scene.addBox("platform", Box{{2, 0.3f, 1}, {1, 0.3f, 1}}, grey);
-  scene.addSphere("ball", Sphere{{-1.5f, 0.7f, 1}, 0.5f}, grey);
+  const ShapeId sheet_id = scene.addMesh(sheet, jelly);
+  const ShapeId slope = scene.addQuad("slope", Quad{{0, 0, 0}, {0.2f, 1, 0}, 8, 1}, wood);
+  const ShapeId platform = scene.addBox("platform", Box{{2, 0.3f, 1}, {1, 0.3f, 1}}, grey);
+  const ShapeId ball = scene.addSphere("ball", Sphere{{-1.5f, 0.7f, 1}, 0.5f}, grey);
+  if (blur) {
+    std::vector<std::vector<Eigen::Vector3f>> sheet_poses;
+    std::vector<Scene::MeshPose> poses;
+    std::vector<Quad> quads;
+    std::vector<Box> boxes;
+    std::vector<Sphere> spheres;
+    for (int j = 0; j < 4; ++j) {
+      const Eigen::Vector3f shift(0.15f * j, 0.05f * j * j, 0);
+      sheet_poses.push_back(sheet.positions);
+      for (auto& p : sheet_poses.back()) p += shift;
+      quads.push_back(Quad{{0, -0.05f * j, 0}, {0.2f, 1, 0.02f * j}, 8, 1});
+      boxes.push_back(Box{{2 - 0.2f * j, 0.3f, 1}, {1, 0.3f, 1}});
+      spheres.push_back(Sphere{{-1.5f, 0.7f + 0.2f * j, 1}, 0.5f});
+    }
+    for (const auto& p : sheet_poses) poses.push_back({p, sheet.normals});
+    scene.updateMeshMotion(sheet_id, poses);
+    scene.updateQuadMotion(slope, quads);
+    scene.updateBoxMotion(platform, boxes);
+    scene.updateSphereMotion(ball, spheres);
+  }
   scene.lights.suns = {SunLight{}};
   scene.lights.rects = {RectLight{}};
   scene.commit();
@@ -61,9 +82,9 @@ struct Frame {
   int other_threads = 0;  // threads besides the caller's that joined TBB's parallel work
 };
 
-Frame renderWithThreads(int threads, int tile_size = 16, std::uint32_t frame = 0, int spp = 4) {
+Frame renderWithThreads(int threads, int tile_size = 16, std::uint32_t frame = 0, int spp = 4, bool blur = false) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-  const Scene scene = demoScene();  // built under the same limit: the BVH build is part of the result
+  const Scene scene = demoScene(blur);  // built under the same limit: the BVH build is part of the result
   CameraParams cp;
   cp.position = {0, 3, 6};
   cp.look_at = {0, 0.8f, 0};
@@ -73,6 +94,8 @@ Frame renderWithThreads(int threads, int tile_size = 16, std::uint32_t frame = 0
   settings.samples_per_pixel = spp;
   settings.tile_size = tile_size;
   settings.frame = frame;
+  settings.motion_blur = blur;
+  if (blur) cp.shutter_motion = {0.3f, 0, -0.2f};
   auto seen = std::make_unique<wobble::testing::ThreadsSeen>();  // render()'s threads only (not the BVH build's)
   Film film = render(scene, Camera(cp), settings);
   const int other_threads = seen->others();
@@ -83,10 +106,10 @@ Frame renderWithThreads(int threads, int tile_size = 16, std::uint32_t frame = 0
 
 // On two threads, until a second thread took part in the render (a small frame may be done before a worker wakes
 // on a busy machine; 20 tries at most): every try must give the same bytes, returned with its thread count.
-Frame renderOnTwoThreads(int tile_size = 16, std::uint32_t frame = 0, int spp = 4) {
-  Frame first = renderWithThreads(2, tile_size, frame, spp);
+Frame renderOnTwoThreads(int tile_size = 16, std::uint32_t frame = 0, int spp = 4, bool blur = false) {
+  Frame first = renderWithThreads(2, tile_size, frame, spp, blur);
   for (int attempt = 1; attempt < 20 && first.other_threads == 0; ++attempt) {
-    const Frame again = renderWithThreads(2, tile_size, frame, spp);
+    const Frame again = renderWithThreads(2, tile_size, frame, spp, blur);
     EXPECT_EQ(again.image.pixels, first.image.pixels) << "try " << attempt;
     first.other_threads = again.other_threads;
   }
@@ -120,6 +143,18 @@ TEST(Determinism, OneSamplePathGivesIdenticalBytesOnOneAndTwoThreads) {
   const Frame one = renderWithThreads(1, 16, 0, 1);
   expectSameBytes(one, renderOnTwoThreads(16, 0, 1));
   EXPECT_FALSE(sameFloats(one.film.color, renderWithThreads(2).film.color));  // not the four-sample picture
+}
+
+// Motion blur (every shape and the camera moving over the shutter, a time per sample): the same bytes on one and two
+// threads and with other tiles, at four samples and at one; and not the still picture.
+TEST(Determinism, MotionBlurGivesIdenticalBytesOnOneAndTwoThreadsAndAnyTiling) {
+  for (const int spp : {4, 1}) {
+    SCOPED_TRACE(std::to_string(spp) + " spp");
+    const Frame one = renderWithThreads(1, 16, 0, spp, true);
+    expectSameBytes(one, renderOnTwoThreads(16, 0, spp, true));
+    EXPECT_TRUE(sameFloats(one.film.color, renderWithThreads(2, 7, 0, spp, true).film.color));
+    EXPECT_FALSE(sameFloats(one.film.color, renderWithThreads(1, 16, 0, spp).film.color));
+  }
 }
 
 TEST(Determinism, TilingDoesNotMatterButTheFrameIndexDoes) {
