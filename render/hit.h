@@ -10,6 +10,8 @@
 //   shape, primitive   the Scene's shape id and the triangle index within it (0 for a sphere)
 //   material   the shape's material id
 //   time       the ray's time (motion blur, scene.h): which pose of a moving shape was hit
+//   dpdt       how the surface point moves over the whole shutter (per unit of ray time; zero for a still shape), for
+//              the texture filter of a motion-blurred pixel
 #pragma once
 #include <Eigen/Core>
 
@@ -22,6 +24,7 @@ struct SurfaceHit {
   Eigen::Vector3f dpdu = Eigen::Vector3f::Zero(), dpdv = Eigen::Vector3f::Zero();
   int shape = -1, primitive = -1, material = -1;
   float time = 0;
+  Eigen::Vector3f dpdt = Eigen::Vector3f::Zero();
 };
 
 }  // namespace wobble::render

@@ -360,6 +360,10 @@ std::optional<SurfaceHit> Scene::intersect(const Ray& ray, ShapeId leaving) cons
   h.time = ray.time;
   if (s.kind == Shape::Kind::Sphere) {
     const Sphere sphere = sphereAt(s, ray.time);
+    if (!s.sphere_poses.empty()) {
+      const PoseBlend b = poseBlend(s.sphere_poses.size(), ray.time);
+      h.dpdt = float(s.sphere_poses.size() - 1) * (s.sphere_poses[b.i + 1].center - s.sphere_poses[b.i].center);
+    }
     const Vector3f d = (ray.at(h.t) - sphere.center).normalized();
     h.p = sphere.center + sphere.radius * d;  // back onto the surface: less self-intersection
     h.ng = h.ns = d;
@@ -381,6 +385,12 @@ std::optional<SurfaceHit> Scene::intersect(const Ray& ray, ShapeId leaving) cons
   }
   h.uv = s.mesh.uv.empty() ? Vector2f::Zero()
                            : Vector2f(b0 * s.mesh.uv[tri[0]] + b1 * s.mesh.uv[tri[1]] + b2 * s.mesh.uv[tri[2]]);
+  if (!s.poses.empty()) {  // the velocity of the pose segment the ray's time is in
+    const PoseBlend b = poseBlend(s.poses.size(), ray.time);
+    const float bary[3] = {b0, b1, b2};
+    for (int k = 0; k < 3; ++k) h.dpdt += bary[k] * (s.poses[b.i + 1][tri[k]] - s.poses[b.i][tri[k]]);
+    h.dpdt *= float(s.poses.size() - 1);
+  }
   return h;
 }
 

@@ -1,5 +1,7 @@
 // Golden images: a small render (160 x 90, 4 samples per pixel) of an early frame of each shipped scene, through
-// `wobble run` (simulating and rendering in one pass), compared with tests/golden/<scene>_NNNN.png.
+// `wobble run` (simulating and rendering in one pass), compared with tests/golden/<scene>_NNNN.png. The default
+// scene is motion-blurred (camera.shutter = 0.5); jelly_slope_still_0025.png is it with the shutter at 0, the picture
+// it gave before motion blur existed: a shutter of 0 draws exactly what a renderer without motion blur drew.
 // Tolerance (goldenVerdict below): fail when more than 1% of the pixels differ by more than 0.02 (of full scale) or any
 // pixel by more than 0.25 (idiff semantics, render/image_diff.h), when the mean error over all values exceeds 0.004,
 // or when the mean pixel error (largest over the channels) over any 8 x 8 window exceeds 0.05. idiff's rule alone
@@ -9,8 +11,9 @@
 // change in geometry, camera, lighting or materials moves far more than that. (Measured when written: two renders the
 // goldens' pixels, two a pixel or so off by 1 of 255, mean error under 1e-6, worst window under 0.001.)
 // On failure the new image and a heatmap of the per-pixel error (x 10, magma) are written to golden_failures/ next to
-// the test binary, and the message holds the verdict, `wobble diff`'s report and table (app/commands/diff_command.h). To accept new images on purpose: WOBBLE_UPDATE_GOLDENS=1 ctest -R Golden (or run
-// app_tests with it), then look at and commit tests/golden/.
+// the test binary, and the message holds the verdict, `wobble diff`'s report and table (app/commands/diff_command.h).
+// To accept new images on purpose: WOBBLE_UPDATE_GOLDENS=1 ctest -R Golden (or run app_tests with it), then look at and
+// commit tests/golden/.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -110,7 +113,9 @@ render::ImageF unitFloat(const render::Image8& image) {
 
 struct GoldenCase {
   const char* scene;
-  int frame;  // early, so each case simulates well under a few seconds
+  int frame;                 // early, so each case simulates well under a few seconds
+  const char* set = "";      // a key laid over the scene, if any
+  const char* variant = "";  // the golden's name after the scene's, for a case with a key set
 };
 
 class Golden : public testing::ScratchDir, public ::testing::WithParamInterface<GoldenCase> {};
@@ -129,13 +134,14 @@ TEST_P(Golden, SmallRenderMatches) {
   o.frames = std::to_string(c.frame);
   // Simulate only up to the frame: (frame + 0.5) / fps seconds hold `frame` frames (the scenes run at 30 fps).
   o.sets = {"simulation.duration=" + std::to_string((c.frame + 0.5) / 30.0), "render.video=false", "render.samples=4"};
+  if (*c.set) o.sets.push_back(c.set);
   o.render.resolution = "160x90";
   o.render.render = "png";
   const RunReport report = runScene(o);
   ASSERT_EQ(report.frames_rendered, 1);
 
-  const std::string name = frameName(c.scene, c.frame);
-  const fs::path image = dir() / "out/frames" / (name + ".png");
+  const std::string name = frameName(std::string(c.scene) + c.variant, c.frame);
+  const fs::path image = dir() / "out/frames" / (frameName(c.scene, c.frame) + ".png");
   const fs::path golden = testing::sourceDir() / "tests/golden" / (name + ".png");
   if (const char* update = std::getenv("WOBBLE_UPDATE_GOLDENS"); update && std::string(update) == "1") {
     fs::create_directories(golden.parent_path());
@@ -153,8 +159,8 @@ TEST_P(Golden, SmallRenderMatches) {
     std::ostringstream log;
     const DiffReport report = runDiff({.a = golden, .b = image, .heatmap = difference, .idiff = idiffTolerance()}, log);
     FAIL() << name << " differs from " << golden << ":\n"
-           << v.message << "\n" << log.str() << diffTable(report) << "\nnew image: " << kept
-           << "\nheatmap (x10): " << difference
+           << v.message << "\n"
+           << log.str() << diffTable(report) << "\nnew image: " << kept << "\nheatmap (x10): " << difference
            << "\nIf the change is intended: WOBBLE_UPDATE_GOLDENS=1 ctest -R Golden, then commit tests/golden/.";
   }
   fs::remove(difference);
@@ -164,7 +170,8 @@ TEST_P(Golden, SmallRenderMatches) {
 // 60 of 255 (placed, nearest the centre, where every value is at least 60, so the patch differs by exactly that) and
 // a uniform shift of 0.019; and it accepts the golden itself. (The true renders: Golden.SmallRenderMatches.)
 TEST(GoldenTolerance, RejectsADarkenedPatchAndAUniformShift) {
-  for (const char* name : {"jelly_slope_0025", "jelly_elevator_0046", "cloth_sphere_0010", "cat_jelly_0031"}) {
+  for (const char* name :
+       {"jelly_slope_0025", "jelly_slope_still_0025", "jelly_elevator_0046", "cloth_sphere_0010", "cat_jelly_0031"}) {
     const render::ImageF golden =
         unitFloat(render::readImage(testing::sourceDir() / "tests/golden" / (std::string(name) + ".png")));
     EXPECT_TRUE(goldenVerdict(golden, golden).pass) << name;
@@ -203,9 +210,11 @@ TEST(GoldenTolerance, RejectsADarkenedPatchAndAUniformShift) {
 }
 
 INSTANTIATE_TEST_SUITE_P(ShippedScenes, Golden,
-                         ::testing::Values(GoldenCase{"jelly_slope", 25}, GoldenCase{"jelly_elevator", 46},
-                                           GoldenCase{"cloth_sphere", 10}, GoldenCase{"cat_jelly", 31}),
-                         [](const auto& info) { return std::string(info.param.scene); });
+                         ::testing::Values(GoldenCase{"jelly_slope", 25},
+                                           GoldenCase{"jelly_slope", 25, "camera.shutter=0", "_still"},
+                                           GoldenCase{"jelly_elevator", 46}, GoldenCase{"cloth_sphere", 10},
+                                           GoldenCase{"cat_jelly", 31}),
+                         [](const auto& info) { return std::string(info.param.scene) + info.param.variant; });
 
 }  // namespace
 }  // namespace wobble
