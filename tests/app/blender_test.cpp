@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "app/output/external_program.h"
+#include "render/environment.h"
+#include "render/image/image_file.h"
 #include "tests/app/output_check.h"
 #include "tests/app/scratch_dir.h"
 
@@ -213,6 +215,67 @@ focus = "jelly"
                                    {"frames", 6}};
   std::ofstream(dir() / "expected.json") << expected.dump();
   EXPECT_EQ(blender((out / "gel.blend").string() + " --python-exit-code 1 --python " + script("gelatine_check.py") +
+                        " -- " + (dir() / "expected.json").string(),
+                    log),
+            0)
+      << slurpFile(log);
+}
+
+// The environment map in Cycles (issue 29): tests/blender/environment_check.py finds the map in the world at its
+// strength and rotation, and renders Cycles' view along several directions: each is the radiance wobble's renderer
+// sees there (EnvironmentMap::eval of the same file), so the orientation, rotation and strength agree.
+TEST_F(Blender, EnvironmentMapsOntoCyclesAndShowsWhatWobbleShows) {
+  if (!blender_)
+    GTEST_SKIP() << "blender is not on PATH (./setup.sh tests installs it; plain setup.sh leaves it out: it is large)";
+  // 16 x 8 texels, each its own colour, as float RGB.
+  render::ImageF map(16, 8, 3);
+  for (int y = 0; y < map.height; ++y)
+    for (int x = 0; x < map.width; ++x) {
+      map.at(x, y, 0) = 0.1f + float(x);
+      map.at(x, y, 1) = 0.2f + float(y);
+      map.at(x, y, 2) = 0.5f;
+    }
+  render::writeExrImage(dir() / "sky.exr", map, {"R", "G", "B"}, false);
+  const fs::path scene = write("env.toml", R"([simulation]
+dt = 0.002
+duration = 0.1
+fps = 20
+
+[bodies.jelly]
+type = "jelly"
+n = 3
+size = 1.0
+center = [0, 1.6, 0]
+
+[render]
+environment = "sky.exr"
+environment_rotation = 60
+environment_strength = 2
+)");
+  const fs::path out = dir() / "out", log = dir() / "log.txt";
+  ASSERT_EQ(runWobble("run " + scene.string() + " --render none --pc2 --out " + out.string(), log), 0)
+      << slurpFile(log);
+  ASSERT_EQ(runWobble("blend " + out.string(), log), 0) << slurpFile(log);
+  const render::EnvironmentMap wobble = render::EnvironmentMap::load(dir() / "sky.exr", 60, 2);
+  nlohmann::json probes = nlohmann::json::array();
+  // Texel centres of the map, turned by the rotation: away from texel edges, where a renderer's rounding decides.
+  for (const auto& [x, y] : {std::pair{8, 2}, {1, 4}, {12, 1}, {5, 6}, {15, 3}}) {
+    // The texel's centre in the map: azimuth atan2(z, x) = 2 pi u - pi, polar angle pi v from +Y; turned by the
+    // rotation (right-handed about +Y), its azimuth falls by 60 degrees.
+    const double phi = 2 * M_PI * (x + 0.5) / 16 - M_PI - 60 * M_PI / 180, theta = M_PI * (y + 0.5) / 8;
+    const Eigen::Vector3f d(float(std::sin(theta) * std::cos(phi)), float(std::cos(theta)),
+                            float(std::sin(theta) * std::sin(phi)));
+    const render::Color c = wobble.eval(d);
+    EXPECT_FLOAT_EQ(c.x(), 2 * map.at(x, y, 0));
+    EXPECT_FLOAT_EQ(c.y(), 2 * map.at(x, y, 1));
+    probes.push_back({{"direction", {d.x(), d.y(), d.z()}}, {"radiance", {c.x(), c.y(), c.z()}}});
+  }
+  const nlohmann::json expected = {{"file", (dir() / "sky.exr").string()},
+                                   {"rotation", 60},
+                                   {"strength", 2},
+                                   {"probes", probes}};
+  std::ofstream(dir() / "expected.json") << expected.dump();
+  EXPECT_EQ(blender((out / "env.blend").string() + " --python-exit-code 1 --python " + script("environment_check.py") +
                         " -- " + (dir() / "expected.json").string(),
                     log),
             0)
