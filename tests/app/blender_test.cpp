@@ -163,12 +163,23 @@ TEST_F(Blender, BlendFileReopensAndPlays) {
       << slurpFile(log);
 }
 
-// Gelatine and the thin lens in Cycles (issue 29): tests/blender/gelatine_check.py reads the .blend's nodes and
-// camera against the scene's keys.
-TEST_F(Blender, GelatineAndLensMapOntoCycles) {
+// Gelatine, the thin lens and the environment map in Cycles (issue 29): tests/blender/gelatine_check.py reads the
+// .blend's nodes and camera against the scene's keys; tests/blender/environment_check.py finds the map in the world at
+// its strength and rotation, and renders Cycles' view along several directions: each is the radiance wobble's renderer
+// sees there (EnvironmentMap::eval of the same file), so the orientation, rotation and strength agree.
+TEST_F(Blender, GelatineLensAndEnvironmentMapOntoCycles) {
   if (!blender_)
     GTEST_SKIP() << "blender is not on PATH (./setup.sh tests installs it; plain setup.sh leaves it out: it is large)";
   copyCatTexture();
+  // 16 x 8 texels, each its own colour, as float RGB.
+  render::ImageF map(16, 8, 3);
+  for (int y = 0; y < map.height; ++y)
+    for (int x = 0; x < map.width; ++x) {
+      map.at(x, y, 0) = 0.1f + float(x);
+      map.at(x, y, 1) = 0.2f + float(y);
+      map.at(x, y, 2) = 0.5f;
+    }
+  render::writeExrImage(dir() / "sky.exr", map, {"R", "G", "B"}, false);
   const fs::path scene = write("gel.toml", R"([simulation]
 dt = 0.002
 duration = 0.3
@@ -198,6 +209,11 @@ position = [2, 3, 6]
 look_at = [0, 1.5, 0]
 aperture = 0.1
 focus = "jelly"
+
+[render]
+environment = "sky.exr"
+environment_rotation = 60
+environment_strength = 2
 )");
   const fs::path out = dir() / "out", log = dir() / "log.txt";
   ASSERT_EQ(runWobble("run " + scene.string() + " --render none --pc2 --out " + out.string(), log), 0)
@@ -219,43 +235,6 @@ focus = "jelly"
                     log),
             0)
       << slurpFile(log);
-}
-
-// The environment map in Cycles (issue 29): tests/blender/environment_check.py finds the map in the world at its
-// strength and rotation, and renders Cycles' view along several directions: each is the radiance wobble's renderer
-// sees there (EnvironmentMap::eval of the same file), so the orientation, rotation and strength agree.
-TEST_F(Blender, EnvironmentMapsOntoCyclesAndShowsWhatWobbleShows) {
-  if (!blender_)
-    GTEST_SKIP() << "blender is not on PATH (./setup.sh tests installs it; plain setup.sh leaves it out: it is large)";
-  // 16 x 8 texels, each its own colour, as float RGB.
-  render::ImageF map(16, 8, 3);
-  for (int y = 0; y < map.height; ++y)
-    for (int x = 0; x < map.width; ++x) {
-      map.at(x, y, 0) = 0.1f + float(x);
-      map.at(x, y, 1) = 0.2f + float(y);
-      map.at(x, y, 2) = 0.5f;
-    }
-  render::writeExrImage(dir() / "sky.exr", map, {"R", "G", "B"}, false);
-  const fs::path scene = write("env.toml", R"([simulation]
-dt = 0.002
-duration = 0.1
-fps = 20
-
-[bodies.jelly]
-type = "jelly"
-n = 3
-size = 1.0
-center = [0, 1.6, 0]
-
-[render]
-environment = "sky.exr"
-environment_rotation = 60
-environment_strength = 2
-)");
-  const fs::path out = dir() / "out", log = dir() / "log.txt";
-  ASSERT_EQ(runWobble("run " + scene.string() + " --render none --pc2 --out " + out.string(), log), 0)
-      << slurpFile(log);
-  ASSERT_EQ(runWobble("blend " + out.string(), log), 0) << slurpFile(log);
   const render::EnvironmentMap wobble = render::EnvironmentMap::load(dir() / "sky.exr", 60, 2);
   nlohmann::json probes = nlohmann::json::array();
   // Texel centres of the map, turned by the rotation: away from texel edges, where a renderer's rounding decides.
@@ -270,13 +249,13 @@ environment_strength = 2
     EXPECT_FLOAT_EQ(c.y(), 2 * map.at(x, y, 1));
     probes.push_back({{"direction", {d.x(), d.y(), d.z()}}, {"radiance", {c.x(), c.y(), c.z()}}});
   }
-  const nlohmann::json expected = {{"file", (dir() / "sky.exr").string()},
-                                   {"rotation", 60},
-                                   {"strength", 2},
-                                   {"probes", probes}};
-  std::ofstream(dir() / "expected.json") << expected.dump();
-  EXPECT_EQ(blender((out / "env.blend").string() + " --python-exit-code 1 --python " + script("environment_check.py") +
-                        " -- " + (dir() / "expected.json").string(),
+  const nlohmann::json environment = {{"file", (dir() / "sky.exr").string()},
+                                      {"rotation", 60},
+                                      {"strength", 2},
+                                      {"probes", probes}};
+  std::ofstream(dir() / "environment.json") << environment.dump();
+  EXPECT_EQ(blender((out / "gel.blend").string() + " --python-exit-code 1 --python " + script("environment_check.py") +
+                        " -- " + (dir() / "environment.json").string(),
                     log),
             0)
       << slurpFile(log);
