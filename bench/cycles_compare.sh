@@ -182,7 +182,9 @@ EOF
 key="$( {
   cat "$frame_dir/scene.json" "$frame_dir/scene.obj"
   find "$frame_dir" -maxdepth 1 -name '*.png' -print0 | sort -z | xargs -0 -r cat
-  cat "$script_dir/cycles_scene.py"
+  cat "$script_dir/cycles_scene.py" "$repo/app/blender/cycles_nodes.py"
+  python3 -c 'import json, sys; e = json.load(open(sys.argv[1])).get("environment"); print(e["file"] if e else "")' \
+    "$frame_dir/scene.json" | xargs -r cat  # an environment map: its pixels
   echo "ref_spp=$ref_spp bounces=$bounces blender=$blender_version"
 } | sha256sum | cut -d' ' -f1)"
 ref_a="$out/cycles/reference_a.exr"

@@ -21,12 +21,15 @@ the known mismatches:
     evaluated at n.wo (Layer Weight "Facing" = 1 - |n.wo|), and Glossy roughness sqrt(alpha) (Cycles squares it).
     wobble's coat takes F at n.wo too (render/bsdf.h), so the two coats are the same model.
     Gelatine (dielectric) -> Glass BSDF at the ior, mixed with the Diffuse print by its coverage, over Volume
-    Absorption and Scatter with wobble's coefficients (make_gelatine). Not matched: wobble's interfaces and
-    scattering events do not count against its bounces (docs/materials.md), Cycles' count against max bounces.
+    Absorption and Scatter with wobble's coefficients (app/blender/cycles_nodes.py, which `wobble blend` uses too).
+    wobble's interfaces and scattering events do not count against its bounces (docs/materials.md); Cycles' get
+    their own budget here (64 transmission, 128 volume bounces, setup_render), as wobble's caps.
   - Sun: a Sun light, strength = irradiance (max channel) times colour, angle = 2 x angular radius, invisible to
     camera rays (wobble's camera rays see only the sky).
   - Sky: world shader from the ray direction D: e = D.up; horizon + sqrt(max(e, 0)) (zenith - horizon)
-    + sqrt(clamp(-4 e, 0, 1)) (ground - horizon).
+    + sqrt(clamp(-4 e, 0, 1)) (ground - horizon). An environment map (scene.json "environment") instead: the
+    Environment Texture of its file, Closest interpolation, turned by its rotation (cycles_nodes.environment), at
+    its strength; Cycles importance-samples it as wobble does (its "Sampling Method" Automatic map).
   - Light paths: wobble's bounces count BSDF continuations; its last vertex takes sun light but no sky. Cycles'
     max bounces B gives next-event estimation at vertices 0..B for every light including the world (and a last
     BSDF ray from vertex B that only collects light). With --sky-bounces wobble (the default) the world shader is
@@ -42,6 +45,10 @@ import time
 
 import bpy
 from mathutils import Matrix, Vector
+
+# The gelatine and environment node setups, shared with `wobble blend` (app/blender/cycles_nodes.py).
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "app", "blender"))
+import cycles_nodes  # noqa: E402
 
 
 def fail(message, code=2):
@@ -99,52 +106,6 @@ def load_json(frame_dir):
 # ---------------------------------------------------------------------------------------------- materials
 
 
-def make_gelatine(m, nodes, links, out, diffuse, base_socket, color):
-    """wobble's gelatine (render/dielectric.h): a Glass BSDF (GGX, exact dielectric Fresnel; roughness sqrt(alpha))
-    mixed with the diffuse print (colour x texture) by its coverage, over a volume with wobble's coefficients:
-    Volume Absorption (Cycles: sigma_a = (1 - colour) density) and Volume Scatter (isotropic, sigma_s = colour
-    density); wobble's scattering events keep scatter_albedo, so the rest of sigma_s counts as absorption."""
-    glass = nodes.new("ShaderNodeBsdfGlass")
-    glass.distribution = "GGX" if float(m["roughness"]) > 0 else "SHARP"
-    glass.inputs["Roughness"].default_value = math.sqrt(float(m["roughness"]))
-    glass.inputs["IOR"].default_value = float(m["ior"])
-    glass.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
-    surface = glass.outputs["BSDF"]
-    if float(m["print"]) > 0:
-        if base_socket:
-            links.new(base_socket, diffuse.inputs["Color"])
-        else:
-            diffuse.inputs["Color"].default_value = color
-        mix = nodes.new("ShaderNodeMixShader")
-        mix.inputs["Fac"].default_value = float(m["print"])
-        links.new(glass.outputs["BSDF"], mix.inputs[1])
-        links.new(diffuse.outputs["BSDF"], mix.inputs[2])
-        surface = mix.outputs["Shader"]
-    links.new(surface, out.inputs["Surface"])
-    sigma_s = float(m["scatter"])
-    sigma_a = [a + (1 - albedo) * sigma_s for a, albedo in zip(m["absorption"], m["scatter_albedo"])]
-    volume = None
-    density = max(sigma_a)
-    if density > 0:
-        absorb = nodes.new("ShaderNodeVolumeAbsorption")
-        absorb.inputs["Density"].default_value = density
-        absorb.inputs["Color"].default_value = tuple(1 - a / density for a in sigma_a) + (1.0,)
-        volume = absorb.outputs["Volume"]
-    if sigma_s > 0:
-        scatter = nodes.new("ShaderNodeVolumeScatter")
-        scatter.inputs["Density"].default_value = sigma_s
-        scatter.inputs["Color"].default_value = tuple(m["scatter_albedo"]) + (1.0,)
-        if volume is not None:
-            add = nodes.new("ShaderNodeAddShader")
-            links.new(volume, add.inputs[0])
-            links.new(scatter.outputs["Volume"], add.inputs[1])
-            volume = add.outputs["Shader"]
-        else:
-            volume = scatter.outputs["Volume"]
-    if volume is not None:
-        links.new(volume, out.inputs["Volume"])
-
-
 def make_material(m, frame_dir):
     mat = bpy.data.materials.new(m["name"])
     mat.use_nodes = True
@@ -177,11 +138,13 @@ def make_material(m, frame_dir):
         links.new(tex.outputs["Color"], mul.inputs["Color2"])
         base_socket = mul.outputs["Color"]
 
+    if m.get("dielectric"):  # sigma_a and sigma_s per metre in scene.json
+        g = {k: m[k] for k in ("ior", "roughness", "scatter_albedo", "print")}
+        g.update(sigma_a=m["absorption"], sigma_s=float(m["scatter"]))
+        cycles_nodes.gelatine(nodes, links, out, g, base_socket or color)
+        return mat
     diffuse = nodes.new("ShaderNodeBsdfDiffuse")
     diffuse.inputs["Roughness"].default_value = 0.0  # Lambert
-    if m.get("dielectric"):
-        make_gelatine(m, nodes, links, out, diffuse, base_socket, color)
-        return mat
     coat = float(m.get("coat", 0.0))
     if coat <= 0:
         if base_socket:
@@ -237,7 +200,7 @@ def make_material(m, frame_dir):
 # ---------------------------------------------------------------------------------------------- sky
 
 
-def make_world(scene, sky, bounces, sky_bounces):
+def make_world(scene, sky, environment, bounces, sky_bounces):
     world = bpy.data.worlds.new("wobble_sky")
     scene.world = world
     world.use_nodes = True
@@ -282,15 +245,11 @@ def make_world(scene, sky, bounces, sky_bounces):
         connect(n, (a, b))
         return n.outputs[0]
 
-    coord = nodes.new("ShaderNodeTexCoord")  # in the world, Generated is the ray direction (unit)
-    up = to_blender(sky["up"]).normalized()
-    e = vmath("DOT_PRODUCT", coord.outputs["Generated"], tuple(up))
-    pos = math_node("SQRT", math_node("MAXIMUM", e, 0.0))
-    neg = math_node("SQRT", math_node("MULTIPLY", e, -4.0, clamp=True))  # clamp: min(1, max(0, -4 e))
-    zenith, horizon, ground = (Vector(sky[k]) for k in ("zenith", "horizon", "ground"))
-    up_part = vmath("SCALE", tuple(zenith - horizon), scale=pos)
-    down_part = vmath("SCALE", tuple(ground - horizon), scale=neg)
-    colour = vmath("ADD", vmath("ADD", up_part, down_part), tuple(horizon))
+    if environment:
+        bg.inputs["Strength"].default_value = float(environment["strength"])
+        colour = cycles_nodes.environment(nodes, links, environment)
+    else:
+        colour = sky_colour(nodes, links, sky, vmath, math_node)
 
     if sky_bounces == "wobble":
         # wobble's last vertex (bounce == max bounces) takes no sky light. Cycles' Light Path "Ray Depth" reads
@@ -302,6 +261,19 @@ def make_world(scene, sky, bounces, sky_bounces):
         colour = vmath("SCALE", colour, scale=keep)
     links.new(colour, bg.inputs["Color"])
     return world
+
+
+def sky_colour(nodes, links, sky, vmath, math_node):
+    """wobble's elevation gradient (render/lights.h) as world nodes: the colour socket."""
+    coord = nodes.new("ShaderNodeTexCoord")  # in the world, Generated is the ray direction (unit)
+    up = to_blender(sky["up"]).normalized()
+    e = vmath("DOT_PRODUCT", coord.outputs["Generated"], tuple(up))
+    pos = math_node("SQRT", math_node("MAXIMUM", e, 0.0))
+    neg = math_node("SQRT", math_node("MULTIPLY", e, -4.0, clamp=True))  # clamp: min(1, max(0, -4 e))
+    zenith, horizon, ground = (Vector(sky[k]) for k in ("zenith", "horizon", "ground"))
+    up_part = vmath("SCALE", tuple(zenith - horizon), scale=pos)
+    down_part = vmath("SCALE", tuple(ground - horizon), scale=neg)
+    return vmath("ADD", vmath("ADD", up_part, down_part), tuple(horizon))
 
 
 # ---------------------------------------------------------------------------------------------- scene
@@ -533,7 +505,7 @@ def main():
             add_sun(scene, i, sun)
         for i, light in enumerate(j.get("area_lights", [])):
             add_area_light(scene, i, light)
-        make_world(scene, j["sky"], a.bounces, a.sky_bounces)
+        make_world(scene, j["sky"], j.get("environment"), a.bounces, a.sky_bounces)
     except (KeyError, IndexError, TypeError, ValueError) as e:
         fail("%s/scene.json: unexpected content (%s: %s)" % (frame_dir, type(e).__name__, e))
     if a.blend:

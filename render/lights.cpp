@@ -134,6 +134,19 @@ float SkyDistribution::pdf(const Eigen::Vector3f& d) const {
   return weight_[bin] / total_ * (kBins / 2.0f) / (2.0f * std::numbers::pi_v<float>);
 }
 
+Background::Background(const Lights& lights)
+    : sky_(lights.sky), sky_distribution_(lights.sky), environment_(lights.environment) {
+  sky_.up.normalize();
+}
+
+Eigen::Vector3f Background::sample(float u1, float u2, float& pdf) const {
+  return environment_ ? environment_->sample(u1, u2, pdf) : sky_distribution_.sample(u1, u2, pdf);
+}
+
+float Background::pdf(const Eigen::Vector3f& d) const {
+  return environment_ ? environment_->pdf(d) : sky_distribution_.pdf(d);
+}
+
 void checkLights(const Lights& lights) {
   for (std::size_t i = 0; i < lights.suns.size(); ++i) {
     const SunLight& s = lights.suns[i];

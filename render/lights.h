@@ -13,12 +13,16 @@
 //              (smoothly blended); up is the world's up axis. Black everywhere turns the sky off.
 //              SkyDistribution samples its directions in proportion to luminance (a table over elevation, uniform in
 //              azimuth), for next-event estimation of the sky.
+//   environment an equirectangular image of the light from every direction (environment.h); when set it replaces
+//              the sky as the Background that rays leaving the scene find and that next-event estimation samples.
 #pragma once
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "render/color.h"
+#include "render/environment.h"
 #include "render/ray.h"
 
 namespace wobble::render {
@@ -48,6 +52,7 @@ struct Lights {
   std::vector<SunLight> suns;
   std::vector<RectLight> rects;
   Sky sky;
+  std::shared_ptr<const EnvironmentMap> environment;  // none: the sky
 };
 
 // One light sample seen from point p (already offset off its surface) whose face-forwarded geometric normal is ng.
@@ -105,6 +110,24 @@ class SkyDistribution {
   float total_ = 0;
   float weight_[kBins];  // luminance per bin
   float cdf_[kBins + 1];
+};
+
+// What a ray leaving the scene finds, and its sampling for next-event estimation: the environment map when the
+// lights have one, else the sky. The path tracer asks this alone, never which of the two it is.
+class Background {
+ public:
+  explicit Background(const Lights& lights);
+
+  Color eval(const Eigen::Vector3f& d) const { return environment_ ? environment_->eval(d) : sky_.eval(d); }
+  bool empty() const { return environment_ ? environment_->empty() : sky_distribution_.empty(); }
+  // A unit direction for (u1, u2) in [0, 1)^2 drawn in proportion to luminance, and its solid-angle density.
+  Eigen::Vector3f sample(float u1, float u2, float& pdf) const;
+  float pdf(const Eigen::Vector3f& d) const;
+
+ private:
+  Sky sky_;  // with a unit up vector
+  SkyDistribution sky_distribution_;
+  std::shared_ptr<const EnvironmentMap> environment_;
 };
 
 // Throws std::invalid_argument on a zero direction, negative power or degenerate rectangle.

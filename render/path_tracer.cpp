@@ -80,10 +80,9 @@ void blurFootprint(TextureFootprint& f, Eigen::Vector2f& centre, const Ray& ray,
 }  // namespace
 
 PathContext::PathContext(const Scene& scene_, const PathSettings& settings_)
-    : scene(scene_), settings(settings_), sky(scene_.lights.sky), sky_distribution(scene_.lights.sky) {
-  sky.up.normalize();
+    : scene(scene_), settings(settings_), background(scene_.lights) {
   for (const SunLight& sun : scene.lights.suns) suns.emplace_back(sun);
-  settings.sample_sky = settings.sample_sky && !sky_distribution.empty();
+  settings.sample_sky = settings.sample_sky && !background.empty();
   layout.lights = int(scene.lights.suns.size() + scene.lights.rects.size()) + (settings.sample_sky ? 1 : 0);
 }
 
@@ -197,10 +196,10 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
       }
     }
     if (!hit) {
-      Color light = context.sky.eval(ray.direction);
+      Color light = context.background.eval(ray.direction);
       if (vertex > 0) {
         if (context.settings.sample_sky && previous_sampled_sky)
-          light *= powerHeuristic(previous_pdf, context.sky_distribution.pdf(ray.direction));
+          light *= powerHeuristic(previous_pdf, context.background.pdf(ray.direction));
         for (const SunCone& sun : context.suns) {
           const LightHit h = sunInDirection(sun, ray.direction);
           if (h.pdf > 0 && (context.settings.mis || !lights_weighed))
@@ -328,11 +327,11 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
     if (context.settings.sample_sky) {  // the sky is reached by continuations only, so only where one follows
       const Eigen::Vector2f u = sampler.get2D(sample, layout.light(vertex, light_index++));
       float pdf = 0;
-      const Eigen::Vector3f wi = context.sky_distribution.sample(u.x(), u.y(), pdf);
+      const Eigen::Vector3f wi = context.background.sample(u.x(), u.y(), pdf);
       if (pdf > 0 && wi.dot(ng) > 0 && ns.dot(wi) > 0) {
         ++result.rays;
         if (unoccluded(scene, atTime(Ray{origin, wi}), hit->shape))
-          reflect(wi, context.sky.eval(wi) * (powerHeuristic(pdf, q * bsdf.pdf(wi)) / pdf));
+          reflect(wi, context.background.eval(wi) * (powerHeuristic(pdf, q * bsdf.pdf(wi)) / pdf));
       }
     }
 

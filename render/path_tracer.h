@@ -9,7 +9,8 @@
 // as probability.
 // max_bounces counts the continuations: 0 = direct light only (no sky on surfaces), 1 = one indirect bounce (sky
 // light and colour bleeding onto surfaces: the "ambient" term), 2 = two bounces (the default; light between the jelly
-// and the floor). Camera rays see the sky only (suns and area lights are not drawn).
+// and the floor). Camera rays see the sky only (suns and area lights are not drawn). "The sky" is the scene's
+// Background (lights.h): its environment map when it has one, else the elevation gradient.
 //
 // Every random number comes from the pixel's sampler at a fixed slot (sampler.h: pixel jitter, texture filter, then
 // per bounce one 2D slot per light, the sky, the lobe, the direction and Russian roulette), so the path is a pure
@@ -65,8 +66,7 @@ struct PathContext {
   const Scene& scene;
   PathSettings settings;
   SampleLayout layout;
-  Sky sky;  // the scene's, with a unit up vector
-  SkyDistribution sky_distribution;
+  Background background;  // the sky or the environment map (lights.h)
   std::vector<SunCone> suns;
 };
 

@@ -53,6 +53,10 @@ void exportScene(const Scene& scene, const Camera& camera, const std::filesystem
               {"model",
                "elevation e = d.up: horizon + sqrt(e) (zenith - horizon) for e >= 0, "
                "horizon + sqrt(min(1, -4 e)) (ground - horizon) below"}};
+  if (const auto& env = scene.lights.environment; env && !env->file().empty())  // environment.h: replaces the sky
+    j["environment"] = {{"file", std::filesystem::absolute(env->file()).lexically_normal().string()},
+                        {"rotation_deg", env->rotationDeg()},
+                        {"strength", env->strength()}};
   j["materials"] = nlohmann::json::array();
   for (std::size_t m = 0; m < scene.materialCount(); ++m) {
     const Material& mat = scene.material(MaterialId(m));

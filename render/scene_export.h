@@ -4,7 +4,9 @@
 //                    normals and UVs where it has them; world space, Y up, metres
 //   DIR/scene.json   camera (position, look_at, up, vertical fov, resolution), suns (direction, irradiance, angular
 //                    radius), area lights, sky (zenith, horizon, ground colours, up), analytic spheres (centre,
-//                    radius), and per shape its material (colour, coat, ior, roughness, texture image)
+//                    radius), and per shape its material (colour, coat, ior, roughness, texture image); with an
+//                    environment map, "environment" (its file as an absolute path, rotation_deg, strength), which
+//                    replaces the sky
 //   DIR/texture_<material>.png   each material's texture baked over UV [0, 1]^2 (sRGB, 1024 x 1024)
 // Throws std::runtime_error naming the file when a file cannot be written.
 #pragma once

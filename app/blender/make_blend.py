@@ -5,11 +5,13 @@
 MANIFEST.json (written by app/blend_command.cpp; wobble's Y-up coordinates, metres; paths relative to the run's
 folder, where the .blend is saved) lists the frame range and rate, the bodies (base OBJ, PC2 point cache, colour,
 texture, material), the colliders (plane, sphere, box, mesh; moving ones with a centre per frame), the camera (one view, or
-one per frame for a follow camera; the shutter) and the sun. Each body becomes one object: its base OBJ, imported with Blender's
+one per frame for a follow camera; the shutter) and the sun, or the environment map that replaces the sun and the sky
+(its file an absolute path). Each body becomes one object: its base OBJ, imported with Blender's
 default OBJ axes (forward -Z, up Y, which map wobble's (x, y, z) to Blender's (x, -z, y) by the object's rotation),
 with a Mesh Cache modifier playing its PC2 (whose points are the OBJ's vertices in order) and one material. Moving
 colliders and the follow camera are baked as keyframes, one per frame, linear. Paths in the .blend are relative to
-it, so the run's folder can be moved as a whole.
+it, so the run's folder can be moved as a whole. Gelatine and the environment map come from cycles_nodes.py (written
+beside this script by `wobble blend`; bench/cycles_scene.py uses it too).
 """
 import json
 import math
@@ -19,6 +21,9 @@ import sys
 
 import bpy
 from mathutils import Matrix, Vector
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import cycles_nodes  # noqa: E402  (found beside this script)
 
 
 def fail(message):
@@ -54,71 +59,43 @@ def principled(name, color, roughness, glossy=False):
     return mat, bsdf
 
 
-def tint(mat, bsdf, color, texture, socket="Base Color"):
-    """Base colour = colour x texture, as wobble's renderer (and the MTL's Kd with map_Kd)."""
-    nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    mul = nodes.new("ShaderNodeMixRGB")
+def tinted(mat, color, texture):
+    """Colour x texture, as wobble's renderer (and the MTL's Kd with map_Kd): the socket of the product."""
+    mul = mat.node_tree.nodes.new("ShaderNodeMixRGB")
     mul.blend_type = "MULTIPLY"
     mul.inputs["Fac"].default_value = 1.0
     mul.inputs["Color1"].default_value = tuple(color) + (1.0,)
-    links.new(texture, mul.inputs["Color2"])
-    links.new(mul.outputs["Color"], bsdf.inputs[socket])
+    mat.node_tree.links.new(texture, mul.inputs["Color2"])
+    return mul.outputs["Color"]
+
+
+def tint(mat, bsdf, color, texture):
+    """Base colour = colour x texture."""
+    mat.node_tree.links.new(tinted(mat, color, texture), bsdf.inputs["Base Color"])
 
 
 def gelatine_material(b):
-    """wobble's gelatine (docs/materials.md) in Cycles: a Principled BSDF with full transmission at the body's IOR
-    and roughness, mixed with a diffuse print (colour x texture) by the print's coverage, and a volume inside:
-    Volume Absorption (Cycles' sigma_a = (1 - colour) density) and, with scatter, Volume Scatter (sigma_s = colour
-    density, isotropic), so that the absorption and scattering coefficients are wobble's."""
+    """wobble's gelatine (docs/materials.md) in Cycles (cycles_nodes.gelatine): glass at the body's IOR and
+    roughness, the print (colour x texture) mixed in by its coverage, and a volume with wobble's coefficients: sigma_a
+    from the colour seen through absorption_depth, sigma_s = 1 / scatter (the mean free path)."""
     g = b["gelatine"]
     mat = bpy.data.materials.new(b["name"])
     mat.use_nodes = True
-    nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    out = nodes["Material Output"]
-    glass = nodes["Principled BSDF"]
-    glass.inputs["Base Color"].default_value = (1.0, 1.0, 1.0, 1.0)
-    glass.inputs["Transmission"].default_value = 1.0
-    glass.inputs["IOR"].default_value = g["ior"]
-    glass.inputs["Roughness"].default_value = math.sqrt(g["roughness"])  # Cycles' GGX alpha is roughness^2
-    glass.inputs["Specular"].default_value = ((g["ior"] - 1) / (g["ior"] + 1)) ** 2 / 0.08
-    surface = glass.outputs["BSDF"]
-    if b["texture"] and g["print"] > 0:
-        diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+    nodes = mat.node_tree.nodes
+    nodes.remove(nodes["Principled BSDF"])
+    print_color = tuple(b["color"]) + (1.0,)
+    if b["texture"]:
         tex = nodes.new("ShaderNodeTexImage")
         tex.image = bpy.data.images.load("//" + b["texture"], check_existing=True)
-        tint(mat, diffuse, b["color"], tex.outputs["Color"], "Color")
-        mix = nodes.new("ShaderNodeMixShader")
-        mix.inputs["Fac"].default_value = g["print"]
-        links.new(glass.outputs["BSDF"], mix.inputs[1])
-        links.new(diffuse.outputs["BSDF"], mix.inputs[2])
-        surface = mix.outputs["Shader"]
-    links.new(surface, out.inputs["Surface"])
-    # sigma_a per channel from the colour seen through a depth; scattering events that keep scatter_albedo of the
-    # light are Cycles' scattering of that colour plus the rest as more absorption.
-    sigma_a = [-math.log(max(c, 1e-6)) / g["absorption_depth"] for c in g["absorption_color"]]
-    sigma_s = 1.0 / g["scatter"] if g["scatter"] > 0 else 0.0
-    sigma_a = [a + (1 - albedo) * sigma_s for a, albedo in zip(sigma_a, g["scatter_albedo"])]
-    volume = None
-    density = max(sigma_a)
-    if density > 0:
-        absorb = nodes.new("ShaderNodeVolumeAbsorption")
-        absorb.inputs["Density"].default_value = density
-        absorb.inputs["Color"].default_value = tuple(1 - a / density for a in sigma_a) + (1.0,)
-        volume = absorb.outputs["Volume"]
-    if sigma_s > 0:
-        scatter = nodes.new("ShaderNodeVolumeScatter")
-        scatter.inputs["Density"].default_value = sigma_s
-        scatter.inputs["Color"].default_value = tuple(g["scatter_albedo"]) + (1.0,)
-        scatter.inputs["Anisotropy"].default_value = 0.0
-        if volume is not None:
-            add = nodes.new("ShaderNodeAddShader")
-            links.new(volume, add.inputs[0])
-            links.new(scatter.outputs["Volume"], add.inputs[1])
-            volume = add.outputs["Shader"]
-        else:
-            volume = scatter.outputs["Volume"]
-    if volume is not None:
-        links.new(volume, out.inputs["Volume"])
+        print_color = tinted(mat, b["color"], tex.outputs["Color"])
+    cycles_nodes.gelatine(nodes, mat.node_tree.links, nodes["Material Output"], {
+        "ior": g["ior"],
+        "roughness": g["roughness"],
+        "sigma_a": [-math.log(max(c, 1e-6)) / g["absorption_depth"] for c in g["absorption_color"]],
+        "sigma_s": 1.0 / g["scatter"] if g["scatter"] > 0 else 0.0,
+        "scatter_albedo": g["scatter_albedo"],
+        "print": g["print"],
+    }, print_color)
     return mat
 
 
@@ -300,12 +277,17 @@ def add_sun(sun):
     obj.rotation_quaternion = to_blender(sun["direction"]).normalized().to_track_quat("Z", "Y")  # shines along -Z
 
 
-def add_sky():
-    world = bpy.data.worlds.new("sky")
+def add_sky(env):
+    """A sky colour, or the environment map (cycles_nodes.environment) at its strength."""
+    world = bpy.data.worlds.new("environment" if env else "sky")
     world.use_nodes = True
     background = world.node_tree.nodes["Background"]
     background.inputs["Color"].default_value = (0.45, 0.6, 0.9, 1.0)
     background.inputs["Strength"].default_value = 1.0
+    if env:
+        color = cycles_nodes.environment(world.node_tree.nodes, world.node_tree.links, env)
+        world.node_tree.links.new(color, background.inputs["Color"])
+        background.inputs["Strength"].default_value = env["strength"]
     bpy.context.scene.world = world
 
 
@@ -352,8 +334,10 @@ def main():
                 bake(obj, {"location": centers}, m["frame_start"])
         obj.data.materials.append(collider_material(c))
     add_camera(m["camera"], m["frame_start"])
-    add_sun(m["sun"])
-    add_sky()
+    env = m.get("environment")
+    if not env:  # an environment map holds its own sun
+        add_sun(m["sun"])
+    add_sky(env)
     scene.frame_set(m["frame_start"])
     bpy.ops.wm.save_as_mainfile(filepath=argv[1], relative_remap=True)
     print("make_blend.py: wrote %s: %d objects, frames %d..%d" %

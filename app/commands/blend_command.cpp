@@ -103,12 +103,12 @@ json colliders(const SceneFile& scene, const RunRecord& run) {
   return list;
 }
 
-// Removes the files it names when it goes out of scope: the manifest, the script and Blender's log.
+// Removes the files and folders it names when it goes out of scope: the manifest, the scripts and Blender's log.
 struct TemporaryFiles {
   std::vector<fs::path> paths;
   ~TemporaryFiles() {
     std::error_code ignored;
-    for (const fs::path& p : paths) fs::remove(p, ignored);
+    for (const fs::path& p : paths) fs::remove_all(p, ignored);
   }
 };
 
@@ -186,28 +186,36 @@ BlendReport makeBlend(const BlendOptions& options) {
                        {"shutter", scene.render.camera.shutter},
                        {"views", cameraViews(scene, run, caches, orders)}};
   const RenderOptionsConfig& o = scene.render.options;
-  const json manifest = {{"scene", scene.name},
-                         {"out_dir", fs::absolute(out).lexically_normal().string()},
-                         {"fps", scene.fps},
-                         {"frame_start", run.first_frame},
-                         {"frame_end", run.last_frame},
-                         {"resolution", {scene.render.camera.resolution[0], scene.render.camera.resolution[1]}},
-                         {"bodies", bodies},
-                         {"colliders", colliders(scene, run)},
-                         {"camera", camera},
-                         {"sun", {{"direction", vec(o.sun_direction)}, {"angle_deg", 2 * o.sun_radius_deg}}}};
+  json manifest = {{"scene", scene.name},
+                   {"out_dir", fs::absolute(out).lexically_normal().string()},
+                   {"fps", scene.fps},
+                   {"frame_start", run.first_frame},
+                   {"frame_end", run.last_frame},
+                   {"resolution", {scene.render.camera.resolution[0], scene.render.camera.resolution[1]}},
+                   {"bodies", bodies},
+                   {"colliders", colliders(scene, run)},
+                   {"camera", camera},
+                   {"sun", {{"direction", vec(o.sun_direction)}, {"angle_deg", 2 * o.sun_radius_deg}}}};
+  if (o.environment.named())  // render/environment.h: replaces the sun and the sky
+    manifest["environment"] = {{"file", fs::absolute(o.environment.file).lexically_normal().string()},
+                               {"rotation_deg", o.environment.rotation_deg},
+                               {"strength", o.environment.strength}};
 
   BlendReport report;
   report.blend = out / (scene.name + ".blend");
   TemporaryFiles temporary;
   const fs::path manifest_file = io::temporarySibling(report.blend, "tmp");
-  const fs::path script = io::temporarySibling(out / "make_blend.py", "tmp");
+  // The script and the module it imports, in a folder of their own.
+  const fs::path scripts = io::temporarySibling(out / "blender-scripts", "tmp");
+  const fs::path script = scripts / "make_blend.py";
   const fs::path log = io::temporarySibling(out / "blender.log", "tmp");
   // Absolute: Blender's save operator refuses a relative file path (`wobble blend out/scene` from the project root).
   const fs::path partial = fs::absolute(io::temporarySibling(report.blend, "partial"));
-  temporary.paths = {manifest_file, script, log, partial};
+  temporary.paths = {manifest_file, scripts, log, partial};
   io::writeTextFile(manifest_file, manifest.dump(1) + "\n");
+  fs::create_directory(scripts);
   io::writeTextFile(script, kBlendScript);
+  io::writeTextFile(scripts / "cycles_nodes.py", kCyclesNodes);
   const int status = runProgram({blender->string(), "-b", "--factory-startup", "--python-exit-code", "1", "--python",
                                  script.string(), "--", manifest_file.string(), partial.string()},
                                 log);

@@ -139,7 +139,8 @@ void readRenderTables(TableReader& root, SceneFile& scene) {
   o.noise_threshold = r.number("noise_threshold", preset.noise_threshold, Range{0, 1});
   o.denoise = r.boolean("denoise", preset.denoise);
   o.sampler = r.string("sampler", o.sampler, {"sobol", "independent"});
-  o.sky_sampling = r.boolean("sky_sampling", o.sky_sampling);
+  o.environment = readEnvironment(r, scene);  // sampled by default: an HDR map's sun is found by light samples
+  o.sky_sampling = r.boolean("sky_sampling", o.environment.named());
   o.russian_roulette = r.boolean("russian_roulette", o.russian_roulette);
   o.bounces = r.integer("bounces", o.bounces, Range{0, 16});
   o.exposure = r.number("exposure", o.exposure, Range{-20, 20});

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "app/scene/environment_config.h"
 #include "sim/types.h"
 
 namespace wobble {
@@ -60,6 +61,7 @@ struct RenderOptionsConfig {
   double exposure = -0.5;                // stops: the sun and sky on a light surface need a little less than 0
   Vec3 sun_direction{-0.35, 1.0, 0.55};  // towards the sun
   double sun_radius_deg = 2.0;           // apparent radius: the softness of shadows
+  EnvironmentConfig environment;         // named: it lights the scene instead of the sky and the sun
 };
 
 // A gelatine body's own keys (material_kinds.cpp; render/dielectric.h).

@@ -68,7 +68,9 @@ void readBody(TableReader r, const std::string& name, SceneFile& scene) {
     if (!fs::is_regular_file(path)) r.fail("texture", "file not found: " + path.string());
     std::string reason;
     const auto header = render::readImageHeader(path, reason);
-    if (!header) r.fail("texture", "cannot read the image " + path.string() + " (" + reason + ")");
+    if (!header || header->format == "EXR")
+      r.fail("texture", "cannot read the image " + path.string() + " (" + (header ? "OpenEXR" : reason) +
+                            "; a texture is a PNG, JPEG, BMP or TGA image)");
     if (header->width > kMaxTextureSide || header->height > kMaxTextureSide)
       r.fail("texture", path.string() + " is " + std::to_string(header->width) + " x " +
                             std::to_string(header->height) + " pixels; a texture may have at most " +

@@ -17,6 +17,8 @@ constexpr std::uint64_t kImplicitSpringBytes = 2 * 36 * (16 + 12);
 constexpr std::uint64_t kVertexBytes = 12 + 24 + 90;
 constexpr std::uint64_t kTriangleBytes = 12 + 40;  // indices and an OBJ "f" line
 constexpr std::uint64_t kTexelBytes = 4 + 16;      // 8-bit RGBA as read, and the renderer's float RGBA copy
+// An environment texel: float RGBA as read, the map's float RGB, its sampling weight (twice while built) and cdf.
+constexpr std::uint64_t kEnvironmentTexelBytes = 16 + 12 + 3 * 4;
 // Per image pixel: the film's layers (64 B) and adaptive state (32), the denoiser's padded planes (about 120) and
 // its output (12), the 8-bit image and its PNG (6): about 240 B, and two frames are alive at once.
 constexpr std::uint64_t kRenderPixelBytes = 2 * 256;
@@ -49,12 +51,14 @@ std::uint64_t SceneEstimate::bytes(bool implicit_integrator) const {
   return std::uint64_t(bodies.particles) * kParticleBytes +
          std::uint64_t(bodies.springs) * (kSpringBytes + (implicit_integrator ? kImplicitSpringBytes : 0)) +
          std::uint64_t(bodies.surface_vertices) * kVertexBytes + std::uint64_t(bodies.triangles) * kTriangleBytes +
-         std::uint64_t(texture_pixels) * kTexelBytes + std::uint64_t(render_pixels) * kRenderPixelBytes;
+         std::uint64_t(texture_pixels) * kTexelBytes + std::uint64_t(environment_pixels) * kEnvironmentTexelBytes +
+         std::uint64_t(render_pixels) * kRenderPixelBytes;
 }
 
 std::string SceneEstimate::describe(bool implicit_integrator) const {
   return std::to_string(bodies.particles) + " particles, " + std::to_string(bodies.springs) + " springs" +
          (texture_pixels > 0 ? ", " + std::to_string(texture_pixels) + " texture pixels" : "") +
+         (environment_pixels > 0 ? ", " + std::to_string(environment_pixels) + " environment pixels" : "") +
          (render_pixels > 0 ? ", " + std::to_string(render_pixels) + " image pixels" : "") + ": about " +
          formatBytes(bytes(implicit_integrator));
 }

@@ -15,7 +15,8 @@ inline constexpr double kMaxStepsPerFrame = 1e6;               // 1 / (fps dt): 
 inline constexpr int kMaxNestingDepth = 64;                    // TOML nesting ([ { and dotted keys), see toml_depth.h
 inline constexpr std::uintmax_t kMaxSceneFileBytes = 1 << 20;  // a scene is a hand-written file of a few KB
 inline constexpr int kMaxTextureSide = render::kMaxImageSide;  // pixels, width and height of a texture image
-inline constexpr std::size_t kMaxNameLength = 64;              // body, collider and scene names (identifier.h)
+inline constexpr int kMaxEnvironmentSide = render::kMaxImageSide / 2;  // pixels, height of an environment map (2:1)
+inline constexpr std::size_t kMaxNameLength = 64;                      // body, collider and scene names (identifier.h)
 
 // Half of physical memory: the estimate below is an upper bound of the simulation's own data, and the renderer,
 // the OS and other programs need the rest.
@@ -29,7 +30,8 @@ std::uint64_t memoryBudget();
 struct SceneEstimate {
   BodySize bodies;
   std::int64_t texture_pixels = 0;
-  std::int64_t render_pixels = 0;  // camera resolution, when the scene renders images
+  std::int64_t environment_pixels = 0;  // render.environment's map
+  std::int64_t render_pixels = 0;       // camera resolution, when the scene renders images
 
   void add(const BodySize& b);
   // Upper bound in bytes: particle state and the integrator's stages, springs (twice: body and system, with

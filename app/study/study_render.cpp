@@ -35,14 +35,15 @@ constexpr int kRendererVersion = 5;
 // The second half of the reference uses this seed offset: far from any frame number.
 constexpr std::uint32_t kSecondHalfSeed = 0x80000000u;
 
+// scene_sky: the scene's own render.sky_sampling (on with an environment map), which a variant can only add to.
 render::RenderSettings settingsFor(const RenderVariant& v, int spp, double threshold, int bounces, int frame,
-                                   bool motion_blur) {
+                                   bool motion_blur, bool scene_sky) {
   render::RenderSettings s;
   s.motion_blur = motion_blur;
   s.samples_per_pixel = spp;
   s.max_bounces = v.bounces >= 0 ? v.bounces : bounces;
   render::parseSamplerKind(v.sampler, s.sampler);
-  s.sample_sky = v.sky_sampling;
+  s.sample_sky = v.sky_sampling || scene_sky;
   s.mis = v.mis;
   s.roulette = v.roulette;
   s.noise_threshold = v.adaptive ? static_cast<float>(threshold) : 0.0f;
@@ -149,6 +150,12 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
   std::ostringstream key;
   key << scene.text << "\nframe " << frame << " bounces " << result.bounces << " spp " << o.reference_spp << " version "
       << kRendererVersion;
+  if (const EnvironmentConfig& env = scene.render.options.environment; env.named()) {  // its pixels, not its name
+    io::ContentHash file;
+    file.addFile(env.file);
+    key << " environment " << file.hex();
+  }
+  const bool scene_sky = scene.render.options.sky_sampling;
   const std::string hex = io::hashOf(key.str());  // stable across builds, unlike std::hash
   result.reference_file = out / ("reference-" + hex + ".pfm");
   const fs::path second_half = out / ("reference-" + hex + "-b.pfm");
@@ -167,11 +174,11 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
     const auto start = Clock::now();
     render::Film a =
         render::render(view.scene.scene(), camera,
-                       settingsFor(sobol, o.reference_spp / 2, 0, result.bounces, frame, view.motion_blur));
+                       settingsFor(sobol, o.reference_spp / 2, 0, result.bounces, frame, view.motion_blur, scene_sky));
     tick();
     render::Film b = render::render(view.scene.scene(), camera,
                                     settingsFor(sobol, o.reference_spp / 2, 0, result.bounces, frame ^ kSecondHalfSeed,
-                                                view.motion_blur));
+                                                view.motion_blur, scene_sky));
     tick();
     result.reference_seconds = std::chrono::duration<double>(Clock::now() - start).count();
     reference = std::move(a.color);
@@ -203,7 +210,7 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
         const auto start = Clock::now();
         render::Film film =
             render::render(view.scene.scene(), camera,
-                           settingsFor(v, spp, threshold, result.bounces, frame, view.motion_blur), &stats);
+                           settingsFor(v, spp, threshold, result.bounces, frame, view.motion_blur, scene_sky), &stats);
         const auto rendered = Clock::now();
         image = v.denoise ? render::denoise(film) : std::move(film.color);
         const auto end = Clock::now();

@@ -6,7 +6,9 @@
 // as reference-<key>.pfm, keyed by the scene text after overrides, the frame, the resolution and the reference
 // settings, so a second study of the same frame starts at once. Then every variant renders the frame over a sweep:
 // fixed-count variants at spp = 1, 2, 4, ... max_spp; adaptive ones over noise thresholds with max_spp as their
-// cap and their mean samples per pixel as spp. Each point's error (render/image_error.h: RMSE of display values and
+// cap and their mean samples per pixel as spp. The scene's render.sky_sampling (on when it names an environment map)
+// holds in every variant and the reference; the reference's cache key holds the environment map's bytes. Gelatine
+// bodies render as in a run (the camera's first gelatine hit split into its branches). Each point's error (render/image_error.h: RMSE of display values and
 // relative MSE, over the frame and its worst 32 x 32 tile) and wall time (render plus denoising, the minimum of
 // `repeats` runs) are recorded.
 // Outputs: render.csv (every point), render.md (per variant: the fitted slope of log RMSE against log spp, where

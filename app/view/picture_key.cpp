@@ -29,6 +29,7 @@ PictureKey::PictureKey(const SceneFile& scene) {
     h.add(std::string_view(body));
     h.addFile(file);
   }
+  if (scene.render.options.environment.named()) h.addFile(scene.render.options.environment.file);
   settings_ = h.hex();
 }
 

@@ -3,7 +3,8 @@
 // different settings. Two digests (io/content_hash.h), stored in each PNG's text chunks and each EXR's header:
 //   settings (kSettingsName): one per scene as read: the wobble program itself (another build may draw otherwise),
 //     the scene text after overrides without the keys that only choose outputs (SceneFile::picture_text: camera,
-//     resolution, render settings, looks, colliders, frame rate, the bodies), and the bytes of every texture file;
+//     resolution, render settings, looks, colliders, frame rate, the bodies), and the bytes of every texture file and
+//     of the environment map;
 //   frame (kFrameName): the settings, the frame number (it seeds the noise), that frame's camera (a follow camera
 //     depends on the earlier frames) and every body's surface as the renderer gets it (at every instant of a
 //     motion-blurred shutter): from the simulation in

@@ -6,6 +6,7 @@
 #include <variant>
 
 #include "app/scene/collider_kinds.h"
+#include "app/scene/input_error.h"
 #include "app/scene/material_kinds.h"
 #include "render/image_texture.h"
 #include "render/texture.h"
@@ -49,6 +50,18 @@ render::TriangleMesh toRender(const DrawnMesh& m, const std::string& name) {
     mesh.triangles.push_back({base, base + 1, base + 2});
   }
   return mesh;
+}
+
+// An environment map lights the scene alone: it replaces the sky, and the sun (an outdoor map holds its own).
+render::Lights environmentLights(const EnvironmentConfig& env) {
+  render::Lights lights;
+  try {
+    lights.environment = std::make_shared<const render::EnvironmentMap>(
+        render::EnvironmentMap::load(env.file, float(env.rotation_deg), float(env.strength)));
+  } catch (const std::exception& e) {  // unreadable pixels: the header was checked when the scene was read
+    throw InputError(std::string(e.what()) + " (render.environment)");
+  }
+  return lights;
 }
 
 render::TriangleMesh bodyMesh(const Body& body) {
@@ -97,6 +110,7 @@ RenderScene::RenderScene(const SceneFile& scene) {
   sun.angular_radius_deg = static_cast<float>(o.sun_radius_deg);
   scene_.lights.suns = {sun};
   scene_.lights.sky = render::Sky{};
+  if (o.environment.named()) scene_.lights = environmentLights(o.environment);
   scene_.commit();
 }
 

@@ -1,6 +1,6 @@
 // RenderScene: a wobble SceneFile as a render::Scene. Each body's surface mesh (topology once, positions and normals
 // every frame), each collider the scene names as the shape its kind draws (collider_kinds.h; the moving ones again at
-// every frame), the sun and the sky.
+// every frame), the sun and the sky, or the environment map that replaces both.
 // Materials come from the bodies' and colliders' look keys (render_config.h) and the bodies' textures.
 #pragma once
 #include <span>
@@ -16,7 +16,8 @@ struct ColliderKind;
 
 class RenderScene {
  public:
-  // Loads the body textures the scene names (and no others). Throws std::runtime_error if one cannot be read.
+  // Loads the body textures and the environment map the scene names (and no others). Throws std::runtime_error if a
+  // texture cannot be read, InputError if the environment map cannot.
   explicit RenderScene(const SceneFile& scene);
 
   // Surfaces of every body, in scene.system->bodies() order, and the time for the moving colliders; commits.

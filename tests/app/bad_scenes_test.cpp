@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "render/image/image_file.h"
 #include "tests/app/scratch_dir.h"
 
 namespace fs = std::filesystem;
@@ -45,6 +46,12 @@ std::string pngHeader(std::uint32_t width, std::uint32_t height) {
   png += std::string("\x08\x00\x00\x00\x00", 5);  // 8-bit grey (RGBA would exceed stb's own 1 GB cap)
   be32(0);                                        // CRC (not checked for the size)
   return png;
+}
+
+// A Radiance HDR file's header declaring width x height, and a 2 x 1 run of pixels: stb reads the header for the size.
+std::string hdrHeader(int width, int height) {
+  return "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y " + std::to_string(height) + " +X " + std::to_string(width) + "\n" +
+         std::string("\x80\x80\x80\x81\x80\x80\x80\x81", 8);
 }
 
 const BadScene kCorpus[] = {
@@ -220,6 +227,38 @@ TEST_F(BadFiles, TextureDeclaringAHugeSizeIsRefusedFromItsHeader) {
   std::ofstream(dir() / "junk.png", std::ios::binary) << "not a png";
   expectRefused(write("bad.toml", kJelly + "texture = \"junk.png\"\n"), "", dir() / "out",
                 {"bad.toml:4:", "bodies.jelly.texture", "cannot read the image"});
+}
+
+// render.environment: checked from the file's header when the scene is read, before anything is written.
+TEST_F(BadFiles, EnvironmentMapThatIsMissingNotAnImageNot2To1OrTooLargeIsRefused) {
+  const auto scene = [&](const std::string& file, const std::string& more = "") {
+    return write("bad.toml", kJelly + "[render]\nenvironment = \"" + file + "\"\n" + more);  // line 5
+  };
+  const std::string allowed = "allowed: an equirectangular Radiance .hdr or OpenEXR .exr file";
+  expectRefused(scene("nowhere.hdr"), "", dir() / "out",
+                {"bad.toml:5:", "render.environment = \"nowhere.hdr\"", "file not found", allowed});
+  std::ofstream(dir() / "junk.hdr", std::ios::binary) << "not an image";
+  expectRefused(scene("junk.hdr"), "", dir() / "out",
+                {"bad.toml:5:", "render.environment = \"junk.hdr\"", "not an image wobble reads", allowed});
+  std::ofstream(dir() / "sky.png", std::ios::binary) << pngHeader(64, 32);
+  expectRefused(scene("sky.png"), "", dir() / "out",
+                {"bad.toml:5:", "render.environment", "PNG image of display values", allowed});
+  std::ofstream(dir() / "narrow.hdr", std::ios::binary) << hdrHeader(30, 16);
+  expectRefused(scene("narrow.hdr"), "", dir() / "out",
+                {"bad.toml:5:", "render.environment = \"narrow.hdr\"", "30 x 16 pixels, not twice as wide as high"});
+  std::ofstream(dir() / "huge.hdr", std::ios::binary) << hdrHeader(18000, 9000);
+  expectRefused(scene("huge.hdr"), "", dir() / "out",
+                {"bad.toml:5:", "render.environment = \"huge.hdr\"", "18000 x 9000 pixels", "16384 x 8192"});
+  std::ofstream(dir() / "small.hdr", std::ios::binary) << hdrHeader(2, 1);
+  expectRefused(scene("small.hdr", "environment_strength = -1\n"), "", dir() / "out",
+                {"bad.toml:6:", "render.environment_strength = -1", ">= 0"});
+  expectRefused(write("bad.toml", kJelly + "[render]\nenvironment_rotation = 90\n"), "", dir() / "out",
+                {"bad.toml:5:", "render.environment_rotation = 90", "set render.environment"});
+  // A cut OpenEXR file: refused when its header or its pixels fail to read, before any file is written.
+  render::writeExrImage(dir() / "whole.exr", render::ImageF(64, 32, 3), {"R", "G", "B"}, true);
+  std::string exr = slurp(dir() / "whole.exr");
+  std::ofstream(dir() / "cut.exr", std::ios::binary) << exr.substr(0, exr.size() / 2);
+  expectRefused(scene("cut.exr"), "--frames 1 --resolution 8x8", dir() / "out", {"cut.exr", "render.environment"});
 }
 
 // Every image read checks its header first: `wobble diff` of such a file is exit 4 (a file cannot be read, as idiff).

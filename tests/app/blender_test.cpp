@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "app/output/external_program.h"
+#include "render/environment.h"
+#include "render/image/image_file.h"
 #include "tests/app/output_check.h"
 #include "tests/app/scratch_dir.h"
 
@@ -161,12 +163,23 @@ TEST_F(Blender, BlendFileReopensAndPlays) {
       << slurpFile(log);
 }
 
-// Gelatine and the thin lens in Cycles (issue 29): tests/blender/gelatine_check.py reads the .blend's nodes and
-// camera against the scene's keys.
-TEST_F(Blender, GelatineLensAndShutterMapOntoCycles) {
+// Gelatine, the thin lens, the shutter and the environment map in Cycles (issue 29): tests/blender/gelatine_check.py
+// reads the .blend's nodes and camera against the scene's keys; tests/blender/environment_check.py finds the map in
+// the world at its strength and rotation, and renders Cycles' view along several directions: each is the radiance
+// wobble's renderer sees there (EnvironmentMap::eval of the same file), so the orientation, rotation and strength agree.
+TEST_F(Blender, GelatineLensShutterAndEnvironmentMapOntoCycles) {
   if (!blender_)
     GTEST_SKIP() << "blender is not on PATH (./setup.sh tests installs it; plain setup.sh leaves it out: it is large)";
   copyCatTexture();
+  // 16 x 8 texels, each its own colour, as float RGB.
+  render::ImageF map(16, 8, 3);
+  for (int y = 0; y < map.height; ++y)
+    for (int x = 0; x < map.width; ++x) {
+      map.at(x, y, 0) = 0.1f + float(x);
+      map.at(x, y, 1) = 0.2f + float(y);
+      map.at(x, y, 2) = 0.5f;
+    }
+  render::writeExrImage(dir() / "sky.exr", map, {"R", "G", "B"}, false);
   const fs::path scene = write("gel.toml", R"([simulation]
 dt = 0.002
 duration = 0.3
@@ -197,6 +210,11 @@ look_at = [0, 1.5, 0]
 aperture = 0.1
 focus = "jelly"
 shutter = 0.4
+
+[render]
+environment = "sky.exr"
+environment_rotation = 60
+environment_strength = 2
 )");
   const fs::path out = dir() / "out", log = dir() / "log.txt";
   ASSERT_EQ(runWobble("run " + scene.string() + " --render none --pc2 --out " + out.string(), log), 0)
@@ -216,6 +234,30 @@ shutter = 0.4
   std::ofstream(dir() / "expected.json") << expected.dump();
   EXPECT_EQ(blender((out / "gel.blend").string() + " --python-exit-code 1 --python " + script("gelatine_check.py") +
                         " -- " + (dir() / "expected.json").string(),
+                    log),
+            0)
+      << slurpFile(log);
+  const render::EnvironmentMap wobble = render::EnvironmentMap::load(dir() / "sky.exr", 60, 2);
+  nlohmann::json probes = nlohmann::json::array();
+  // Texel centres of the map, turned by the rotation: away from texel edges, where a renderer's rounding decides.
+  for (const auto& [x, y] : {std::pair{8, 2}, {1, 4}, {12, 1}, {5, 6}, {15, 3}}) {
+    // The texel's centre in the map: azimuth atan2(z, x) = 2 pi u - pi, polar angle pi v from +Y; turned by the
+    // rotation (right-handed about +Y), its azimuth falls by 60 degrees.
+    const double phi = 2 * M_PI * (x + 0.5) / 16 - M_PI - 60 * M_PI / 180, theta = M_PI * (y + 0.5) / 8;
+    const Eigen::Vector3f d(float(std::sin(theta) * std::cos(phi)), float(std::cos(theta)),
+                            float(std::sin(theta) * std::sin(phi)));
+    const render::Color c = wobble.eval(d);
+    EXPECT_FLOAT_EQ(c.x(), 2 * map.at(x, y, 0));
+    EXPECT_FLOAT_EQ(c.y(), 2 * map.at(x, y, 1));
+    probes.push_back({{"direction", {d.x(), d.y(), d.z()}}, {"radiance", {c.x(), c.y(), c.z()}}});
+  }
+  const nlohmann::json environment = {{"file", (dir() / "sky.exr").string()},
+                                      {"rotation", 60},
+                                      {"strength", 2},
+                                      {"probes", probes}};
+  std::ofstream(dir() / "environment.json") << environment.dump();
+  EXPECT_EQ(blender((out / "gel.blend").string() + " --python-exit-code 1 --python " + script("environment_check.py") +
+                        " -- " + (dir() / "environment.json").string(),
                     log),
             0)
       << slurpFile(log);

@@ -3,8 +3,8 @@
     blender OUT/scene.blend --python-exit-code 1 --python gelatine_check.py -- EXPECTED.json
 
 EXPECTED.json: the body's name and its gelatine keys (ior, roughness, absorption_color, absorption_depth, scatter,
-scatter_albedo, print), the lens's aperture (m), the camera's shutter and the number of frames. Checked, independently of make_blend.py's
-arithmetic: full transmission at the IOR and roughness, the print mixed in by its coverage over a textured diffuse
+scatter_albedo, print), the lens's aperture (m), the camera's shutter and the number of frames. Checked, independently of
+make_blend.py's arithmetic: a Glass BSDF at the IOR and roughness (GGX), the print mixed in by its coverage over a textured diffuse
 BSDF, a volume whose absorption and scattering coefficients (Cycles: sigma_a = (1 - colour) density, sigma_s =
 colour density) are wobble's, and the camera's f-stop giving the lens radius (radius = lens / (2 f-stop)) with the
 focus distance keyed at every frame; and the shutter (a fraction of the frame interval, closing at the frame) as
@@ -28,8 +28,8 @@ def close(a, b, tol=1e-4):
 obj = bpy.data.objects[e["name"]]
 mat = obj.data.materials[0]
 nodes = mat.node_tree.nodes
-glass = nodes["Principled BSDF"]
-assert glass.inputs["Transmission"].default_value == 1.0, "no transmission"
+glass = [n for n in nodes if n.type == "BSDF_GLASS"][0]
+assert glass.distribution == "GGX", glass.distribution
 assert close(glass.inputs["IOR"].default_value, e["ior"]), glass.inputs["IOR"].default_value
 # Cycles' GGX alpha is its roughness squared; wobble's roughness is alpha.
 assert close(glass.inputs["Roughness"].default_value ** 2, e["roughness"]), glass.inputs["Roughness"].default_value

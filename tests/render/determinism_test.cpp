@@ -19,9 +19,9 @@ namespace wobble::render {
 namespace {
 
 // A small version of a real scene: textured jelly-like mesh (a folded sheet with vertex normals), wooden slope,
-// a box platform, a sphere, a sun, an area light and the sky.
+// a box platform, a sphere, a sun, an area light and the sky, or (lit) an environment map with a bright spot instead.
 // blur: the sheet, slope, platform and ball move over the shutter (several poses each, as a run gives them).
-Scene demoScene(bool blur = false) {
+Scene demoScene(bool blur = false, bool lit = false) {
   Scene scene;
   std::vector<Color> texels;
   for (int i = 0; i < 64; ++i) texels.emplace_back((i % 8) / 8.0f, (i / 8) / 8.0f, 0.3f);
@@ -72,6 +72,13 @@ Scene demoScene(bool blur = false) {
   }
   scene.lights.suns = {SunLight{}};
   scene.lights.rects = {RectLight{}};
+  if (lit) {
+    ImageF map(32, 16, 3);
+    for (int y = 0; y < map.height; ++y)
+      for (int x = 0; x < map.width; ++x)
+        for (int k = 0; k < 3; ++k) map.at(x, y, k) = (x == 9 && y == 4) ? 500.0f : 0.2f + 0.05f * float((x + k) % 4);
+    scene.lights.environment = std::make_shared<EnvironmentMap>(map, 40, 1.5f);
+  }
   scene.commit();
   return scene;
 }
@@ -82,9 +89,10 @@ struct Frame {
   int other_threads = 0;  // threads besides the caller's that joined TBB's parallel work
 };
 
-Frame renderWithThreads(int threads, int tile_size = 16, std::uint32_t frame = 0, int spp = 4, bool blur = false) {
+Frame renderWithThreads(int threads, int tile_size = 16, std::uint32_t frame = 0, int spp = 4, bool blur = false,
+                        bool lit = false) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-  const Scene scene = demoScene(blur);  // built under the same limit: the BVH build is part of the result
+  const Scene scene = demoScene(blur, lit);  // built under the same limit: the BVH build is part of the result
   CameraParams cp;
   cp.position = {0, 3, 6};
   cp.look_at = {0, 0.8f, 0};
@@ -96,6 +104,7 @@ Frame renderWithThreads(int threads, int tile_size = 16, std::uint32_t frame = 0
   settings.frame = frame;
   settings.motion_blur = blur;
   if (blur) cp.shutter_motion = {0.3f, 0, -0.2f};
+  settings.sample_sky = lit;
   auto seen = std::make_unique<wobble::testing::ThreadsSeen>();  // render()'s threads only (not the BVH build's)
   Film film = render(scene, Camera(cp), settings);
   const int other_threads = seen->others();
@@ -106,10 +115,11 @@ Frame renderWithThreads(int threads, int tile_size = 16, std::uint32_t frame = 0
 
 // On two threads, until a second thread took part in the render (a small frame may be done before a worker wakes
 // on a busy machine; 20 tries at most): every try must give the same bytes, returned with its thread count.
-Frame renderOnTwoThreads(int tile_size = 16, std::uint32_t frame = 0, int spp = 4, bool blur = false) {
-  Frame first = renderWithThreads(2, tile_size, frame, spp, blur);
+Frame renderOnTwoThreads(int tile_size = 16, std::uint32_t frame = 0, int spp = 4, bool blur = false,
+                         bool lit = false) {
+  Frame first = renderWithThreads(2, tile_size, frame, spp, blur, lit);
   for (int attempt = 1; attempt < 20 && first.other_threads == 0; ++attempt) {
-    const Frame again = renderWithThreads(2, tile_size, frame, spp, blur);
+    const Frame again = renderWithThreads(2, tile_size, frame, spp, blur, lit);
     EXPECT_EQ(again.image.pixels, first.image.pixels) << "try " << attempt;
     first.other_threads = again.other_threads;
   }
@@ -155,6 +165,14 @@ TEST(Determinism, MotionBlurGivesIdenticalBytesOnOneAndTwoThreadsAndAnyTiling) {
     EXPECT_TRUE(sameFloats(one.film.color, renderWithThreads(2, 7, 0, spp, true).film.color));
     EXPECT_FALSE(sameFloats(one.film.color, renderWithThreads(1, 16, 0, spp).film.color));
   }
+}
+
+// Lit by an environment map, sampled by its luminance (render/environment.h): the same bytes too.
+TEST(Determinism, EnvironmentLitFrameGivesIdenticalBytesWhateverTheThreadsAndTiles) {
+  const Frame one = renderWithThreads(1, 16, 0, 4, false, true);
+  expectSameBytes(one, renderOnTwoThreads(16, 0, 4, false, true));
+  EXPECT_TRUE(sameFloats(one.film.color, renderWithThreads(2, 7, 0, 4, false, true).film.color));
+  EXPECT_FALSE(sameFloats(one.film.color, renderWithThreads(1).film.color));  // not the sky's picture
 }
 
 TEST(Determinism, TilingDoesNotMatterButTheFrameIndexDoes) {
