@@ -126,18 +126,24 @@ double MassSpringSystem::colliderWork(double t, double h, const VecX& x0, const 
   Vec3 weighted = Vec3::Zero();
   double touching = 0;
   // The particles colliders meet, then the embedded points, each with its mass (0: not met by colliders).
-  thread_local VecX point_x, point_v, point_mass;
+  thread_local VecX point_x0, point_v0, point_x1, point_v1, point_mass;
   point_mass.resize(points_.size());
   for (int p = 0; p < points_.size(); ++p)
     point_mass[p] = points_[p].inverse_mass > 0 ? 1 / points_[p].inverse_mass : 0.0;
+  if (!points_.empty() && !colliders_.empty()) {
+    points_.blendAll(x0, point_x0);
+    points_.blendAll(v0, point_v0);
+    points_.blendAll(x1, point_x1);
+    points_.blendAll(v1, point_v1);
+  }
+  using Ends = std::tuple<double, const VecX*, const VecX*, const VecX*, const VecX*>;
   for (const auto& collider : colliders_)
-    for (const auto& [time, x, v] : {std::tuple<double, const VecX*, const VecX*>{t, &x0, &v0}, {t + h, &x1, &v1}}) {
+    for (const auto& [time, x, v, px, pv] :
+         {Ends{t, &x0, &v0, &point_x0, &point_v0}, {t + h, &x1, &v1, &point_x1, &point_v1}}) {
       const double epsilon = collider->contact().epsilon;
-      points_.blendAll(*x, point_x);
-      points_.blendAll(*v, point_v);
       for (const auto& [xs, vs, met, mass] :
            {std::tuple<const VecX*, const VecX*, const VecX*, const VecX*>{x, v, &collider_inv_mass_, &mass_},
-            {&point_x, &point_v, &point_mass, &point_mass}}) {
+            {px, pv, &point_mass, &point_mass}}) {
         collider->near(time, *xs, epsilon + 2 * reach, near);  // the surface moves too: at most as far, for the margin
         for (const int i : near) {
           if ((*met)[i] == 0) continue;

@@ -12,16 +12,21 @@ void WeightedPoints::add(const std::array<int, 8>& particle, const std::array<do
   points_.push_back(w);
 }
 
-Vec3 WeightedPoints::blend(const VecX& s, int p) const {
-  const WeightedPoint& w = points_[p];
-  Vec3 sum = Vec3::Zero();
-  for (int k = 0; k < 8; ++k) sum += w.weight[k] * particle(s, w.particle[k]);
-  return sum;
-}
-
 void WeightedPoints::blendAll(const VecX& s, VecX& out) const {
   out.resize(3 * size());
-  for (int p = 0; p < size(); ++p) particle(out, p) = blend(s, p);
+  const double* in = s.data();
+  double* o = out.data();
+  for (const WeightedPoint& w : points_) {  // the same sums as blend(), in the same order
+    double x = 0, y = 0, z = 0;
+    for (int k = 0; k < 8; ++k) {
+      const double* q = in + 3 * std::size_t(w.particle[k]);
+      x += w.weight[k] * q[0];
+      y += w.weight[k] * q[1];
+      z += w.weight[k] * q[2];
+    }
+    o[0] = x, o[1] = y, o[2] = z;
+    o += 3;
+  }
 }
 
 Vec3 WeightedPoints::acceleration(const VecX& f, const VecX& inv_mass, int p) const {

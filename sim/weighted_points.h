@@ -33,7 +33,12 @@ class WeightedPoints {
   const WeightedPoint& operator[](int p) const { return points_[p]; }
 
   // sum_k w_k s_k of a flat 3-per-particle vector s (a position, a velocity).
-  Vec3 blend(const VecX& s, int p) const;
+  Vec3 blend(const VecX& s, int p) const {
+    const WeightedPoint& w = points_[p];
+    Vec3 sum = Vec3::Zero();
+    for (int k = 0; k < 8; ++k) sum += w.weight[k] * particle(s, w.particle[k]);
+    return sum;
+  }
   // Every point's blend of s, 3 per point (resized).
   void blendAll(const VecX& s, VecX& out) const;
   // The point's acceleration under the particle forces f: sum_k w_k f_k / m_k.
