@@ -144,5 +144,25 @@ TEST(MeshCollider, ClosestPointOnASphere) {
   EXPECT_NEAR(box->max().y(), 1, 1e-12);
 }
 
+// The mesh collider's near() skips the point query beyond the margin of its box. Oracle: the base class's near(), which
+// queries every particle. On a closed, moving mesh the two lists are the same at every margin, particles inside the
+// box, around it and far from it alike.
+TEST(MeshCollider, NearSkipsOnlyWhatCannotTouch) {
+  const ModelMesh sphere = uvSphere(1, 16, 32);
+  const MeshCollider ball("ball", {}, sphere.points, sphere.triangles, Vec3(0.5, 0, 0));
+  const int n = 2000;
+  VecX x(3 * n);
+  for (int i = 0; i < n; ++i)  // a deterministic spiral through [-3, 3]^3, dense near the sphere
+    particle(x, i) = (0.2 + 2.8 * i / n) * Vec3(std::cos(0.37 * i), std::sin(0.91 * i), std::cos(1.3 * i)).normalized();
+  std::vector<int> fast, all;
+  for (const double margin : {0.0, 0.01, 0.3, 1.5})
+    for (const double t : {0.0, 0.4}) {
+      ball.near(t, x, margin, fast);
+      ball.Collider::near(t, x, margin, all);
+      EXPECT_EQ(fast, all) << "margin " << margin << ", t " << t;
+      EXPECT_FALSE(all.empty());
+    }
+}
+
 }  // namespace
 }  // namespace wobble
