@@ -11,6 +11,38 @@ std::vector<int>& nearScratch() {
   return near;
 }
 
+// The support and friction force on a point of mass m under net force f, moving at v, that s supports (activeSupport).
+Vec3 supportForce(const SurfacePoint& s, const ContactParams& c, const Vec3& f, const Vec3& v, double m,
+                  double stick_time) {
+  // Net force relative to the surface's frame; its normal part pushes into the surface (activeSupport).
+  const Vec3 g = f - m * s.acceleration;
+  const double push = s.normal.dot(g), support = -push;
+  const Vec3 vr = v - s.velocity;
+  const Vec3 vt = vr - s.normal.dot(vr) * s.normal;
+  const Vec3 gt = g - push * s.normal;
+  const double limit = c.friction * support;
+  Vec3 friction = -(gt + (m / stick_time) * vt);
+  if (friction.norm() > limit) {
+    const double speed = vt.norm();
+    const Vec3 direction = speed > 0 ? Vec3(vt / speed) : gt.normalized();
+    friction = -limit * direction;
+  }
+  return support * s.normal + friction;
+}
+
+// The step end's velocity change of a point within the band (restitution on its approach), and its move onto the
+// surface when it is below it.
+struct Response {
+  Vec3 dv = Vec3::Zero(), dx = Vec3::Zero();
+};
+Response response(const SurfacePoint& s, const ContactParams& c, const Vec3& v) {
+  Response r;
+  const double vn = s.normal.dot(v - s.velocity);
+  if (vn < 0) r.dv = -(1 + c.restitution) * vn * s.normal;
+  if (s.distance < 0) r.dx = -s.distance * s.normal;
+  return r;
+}
+
 }  // namespace
 
 std::optional<SurfacePoint> activeSupport(const Collider& collider, double t, const Vec3& x, const Vec3& f, double m) {
@@ -30,21 +62,7 @@ void addContactForces(Colliders colliders, double t, const VecX& x, const VecX& 
       if (inv_mass[i] == 0) continue;
       const auto s = activeSupport(*collider, t, particle(x, i), particle(f, i), mass[i]);
       if (!s) continue;
-      // Net force relative to the surface's frame; its normal part pushes into the surface (activeSupport).
-      const Vec3 g = particle(f, i) - mass[i] * s->acceleration;
-      const double push = s->normal.dot(g), support = -push;
-      const ContactParams& c = collider->contact();
-      const Vec3 vr = particle(v, i) - s->velocity;
-      const Vec3 vt = vr - s->normal.dot(vr) * s->normal;
-      const Vec3 gt = g - push * s->normal;
-      const double limit = c.friction * support;
-      Vec3 friction = -(gt + (mass[i] / stick_time) * vt);
-      if (friction.norm() > limit) {
-        const double speed = vt.norm();
-        const Vec3 direction = speed > 0 ? Vec3(vt / speed) : gt.normalized();
-        friction = -limit * direction;
-      }
-      particle(f, i) += support * s->normal + friction;
+      particle(f, i) += supportForce(*s, collider->contact(), particle(f, i), particle(v, i), mass[i], stick_time);
     }
   }
 }
@@ -58,9 +76,49 @@ void resolveCollisions(Colliders colliders, double t, VecX& x, VecX& v, const Ve
       if (inv_mass[i] == 0) continue;
       const auto s = collider->query(t, particle(x, i));
       if (!s || s->distance >= c.epsilon) continue;
-      const double vn = s->normal.dot(particle(v, i) - s->velocity);
-      if (vn < 0) particle(v, i) -= (1 + c.restitution) * vn * s->normal;
-      if (s->distance < 0) particle(x, i) -= s->distance * s->normal;
+      const Response r = response(*s, c, particle(v, i));
+      particle(v, i) += r.dv;
+      particle(x, i) += r.dx;
+    }
+  }
+}
+
+void addContactForces(Colliders colliders, const WeightedPoints& points, double t, const VecX& x, const VecX& v,
+                      const VecX& inv_mass, double stick_time, VecX& f) {
+  if (points.empty()) return;
+  thread_local VecX at;  // the points' positions
+  points.blendAll(x, at);
+  std::vector<int>& near = nearScratch();
+  // Point by point (Gauss-Seidel): a point sees the support its neighbours in the same cell already have.
+  for (const auto& collider : colliders) {
+    collider->near(t, at, collider->contact().epsilon, near);
+    for (const int p : near) {
+      if (points[p].inverse_mass == 0) continue;
+      const double m = 1 / points[p].inverse_mass;
+      const Vec3 fp = m * points.acceleration(f, inv_mass, p);
+      const auto s = activeSupport(*collider, t, particle(at, p), fp, m);
+      if (!s) continue;
+      points.spread(p, supportForce(*s, collider->contact(), fp, points.blend(v, p), m, stick_time), f);
+    }
+  }
+}
+
+void resolveCollisions(Colliders colliders, const WeightedPoints& points, double t, VecX& x, VecX& v,
+                       const VecX& inv_mass) {
+  if (points.empty()) return;
+  thread_local VecX at;
+  std::vector<int>& near = nearScratch();
+  for (const auto& collider : colliders) {
+    const ContactParams& c = collider->contact();
+    points.blendAll(x, at);
+    collider->near(t, at, c.epsilon, near);
+    for (const int p : near) {
+      if (points[p].inverse_mass == 0) continue;
+      const auto s = collider->query(t, points.blend(x, p));  // where the points before it left it
+      if (!s || s->distance >= c.epsilon) continue;
+      const Response r = response(*s, c, points.blend(v, p));
+      points.shift(p, r.dv, inv_mass, v);
+      points.shift(p, r.dx, inv_mass, x);
     }
   }
 }

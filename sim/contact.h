@@ -15,6 +15,7 @@
 #include <span>
 
 #include "sim/colliders/collider.h"
+#include "sim/weighted_points.h"
 
 namespace wobble {
 
@@ -29,5 +30,13 @@ void addContactForces(Colliders colliders, double t, const VecX& x, const VecX& 
                       const VecX& inv_mass, double stick_time, VecX& f);
 
 void resolveCollisions(Colliders colliders, double t, VecX& x, VecX& v, const VecX& inv_mass);
+
+// The same for points riding on particles (weighted_points.h: a mesh jelly's surface): each point meets the colliders
+// as a particle of the point's mass would, at its own position and velocity, and the force, impulse or move is handed
+// to its particles by its weights. Points in order, each seeing what the earlier ones did to their shared particles.
+void addContactForces(Colliders colliders, const WeightedPoints& points, double t, const VecX& x, const VecX& v,
+                      const VecX& inv_mass, double stick_time, VecX& f);
+void resolveCollisions(Colliders colliders, const WeightedPoints& points, double t, VecX& x, VecX& v,
+                       const VecX& inv_mass);
 
 }  // namespace wobble

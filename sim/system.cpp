@@ -33,6 +33,16 @@ void MassSpringSystem::addBody(Body body) {
       particle(v0_, first + i).setZero();
     }
   appendTo(inv_mass_, inv_mass);
+  const SurfaceMesh& surface = body.surface;
+  if (!surface.embedded.empty()) {
+    std::vector<char> used(surface.embedded.size(), 0);
+    for (const auto& t : surface.triangles)
+      for (const int vertex : t) used[surface.particle[vertex]] = 1;
+    for (std::size_t e = 0; e < used.size(); ++e)
+      if (used[e]) points_.add(surface.embedded[e].particle, surface.embedded[e].weight, first, inv_mass_);
+    inv_mass.setZero();
+  }
+  appendTo(collider_inv_mass_, inv_mass);
   appendTo(drag_, drag);
   springs_.append(body.springs, first);
   // The springs go into the schedule's order once, here, so every force and Jacobian loop runs over them in turn.
@@ -55,7 +65,8 @@ void MassSpringSystem::smoothForce(double, const VecX& x, const VecX& v, VecX& f
 void MassSpringSystem::force(double t, const VecX& x, const VecX& v, VecX& f) const {
   smoothForce(t, x, v, f);
   // Contact support cancels the net push of the other forces, so it is added last.
-  addContactForces(colliders_, t, x, v, mass_, inv_mass_, stick_time_, f);
+  addContactForces(colliders_, t, x, v, mass_, collider_inv_mass_, stick_time_, f);
+  addContactForces(colliders_, points_, t, x, v, inv_mass_, stick_time_, f);
 }
 
 void MassSpringSystem::addForceJacobians(double, const VecX& x, const VecX&, Triplets& dfdx, Triplets& dfdv) const {
@@ -83,12 +94,12 @@ void MassSpringSystem::contactConstraints(double t, const VecX& x, const VecX& v
   if (colliders_.empty()) return;
   thread_local VecX f;  // kept between calls: no allocation per step
   smoothForce(t, x, v, f);
-  findContactConstraints(colliders_, t, stick_time_ / 2, x, v, f, mass_, inv_mass_, out);  // h: setStepSize
+  findContactConstraints(colliders_, t, stick_time_ / 2, x, v, f, mass_, collider_inv_mass_, out);  // h: setStepSize
 }
 
 bool MassSpringSystem::impactConstraints(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
                                          const VecX& v1, std::vector<ContactConstraint>& out) const {
-  return addImpactConstraints(colliders_, t, h, x0, v0, x1, v1, inv_mass_, out);
+  return addImpactConstraints(colliders_, t, h, x0, v0, x1, v1, collider_inv_mass_, out);
 }
 
 void MassSpringSystem::acceleration(double t, const VecX& x, const VecX& v, VecX& a) const {
@@ -99,7 +110,8 @@ void MassSpringSystem::acceleration(double t, const VecX& x, const VecX& v, VecX
 }
 
 void MassSpringSystem::resolveCollisions(double t, VecX& x, VecX& v) const {
-  wobble::resolveCollisions(colliders_, t, x, v, inv_mass_);
+  wobble::resolveCollisions(colliders_, t, x, v, collider_inv_mass_);
+  wobble::resolveCollisions(colliders_, points_, t, x, v, inv_mass_);
 }
 
 double MassSpringSystem::colliderWork(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
@@ -113,16 +125,33 @@ double MassSpringSystem::colliderWork(double t, double h, const VecX& x0, const 
     reach = std::max(reach, h * std::max(particle(v0, i).norm(), particle(v1, i).norm()));
   Vec3 weighted = Vec3::Zero();
   double touching = 0;
+  // The particles colliders meet, then the embedded points, each with its mass (0: not met by colliders).
+  thread_local VecX point_x0, point_v0, point_x1, point_v1, point_mass;
+  point_mass.resize(points_.size());
+  for (int p = 0; p < points_.size(); ++p)
+    point_mass[p] = points_[p].inverse_mass > 0 ? 1 / points_[p].inverse_mass : 0.0;
+  if (!points_.empty() && !colliders_.empty()) {
+    points_.blendAll(x0, point_x0);
+    points_.blendAll(v0, point_v0);
+    points_.blendAll(x1, point_x1);
+    points_.blendAll(v1, point_v1);
+  }
+  using Ends = std::tuple<double, const VecX*, const VecX*, const VecX*, const VecX*>;
   for (const auto& collider : colliders_)
-    for (const auto& [time, x, v] : {std::tuple<double, const VecX*, const VecX*>{t, &x0, &v0}, {t + h, &x1, &v1}}) {
+    for (const auto& [time, x, v, px, pv] :
+         {Ends{t, &x0, &v0, &point_x0, &point_v0}, {t + h, &x1, &v1, &point_x1, &point_v1}}) {
       const double epsilon = collider->contact().epsilon;
-      collider->near(time, *x, epsilon + 2 * reach, near);  // the surface moves too: at most as far, for the margin
-      for (const int i : near) {
-        if (inv_mass_[i] == 0) continue;
-        const auto s = collider->query(time, particle(*x, i));
-        if (!s || std::abs(s->distance) >= epsilon + h * (particle(*v, i) - s->velocity).norm()) continue;
-        weighted += mass_[i] * s->velocity;
-        touching += mass_[i];
+      for (const auto& [xs, vs, met, mass] :
+           {std::tuple<const VecX*, const VecX*, const VecX*, const VecX*>{x, v, &collider_inv_mass_, &mass_},
+            {px, pv, &point_mass, &point_mass}}) {
+        collider->near(time, *xs, epsilon + 2 * reach, near);  // the surface moves too: at most as far, for the margin
+        for (const int i : near) {
+          if ((*met)[i] == 0) continue;
+          const auto s = collider->query(time, particle(*xs, i));
+          if (!s || std::abs(s->distance) >= epsilon + h * (particle(*vs, i) - s->velocity).norm()) continue;
+          weighted += (*mass)[i] * s->velocity;
+          touching += (*mass)[i];
+        }
       }
     }
   if (touching == 0 || weighted == Vec3::Zero()) return 0;

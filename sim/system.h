@@ -9,6 +9,7 @@
 #include "sim/colliders/collider.h"
 #include "sim/dynamics.h"
 #include "sim/solver/pair_schedule.h"
+#include "sim/weighted_points.h"
 
 namespace wobble {
 
@@ -48,7 +49,9 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   // The particles a candidate implicit step ends inside a collider (contact_constraints.h, addImpactConstraints).
   bool impactConstraints(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1, const VecX& v1,
                          std::vector<ContactConstraint>& out) const override;
-  // Restitution and penetration correction, applied to the stored state at the end of each step.
+  // Restitution and penetration correction, applied to the stored state at the end of each step. Every integrator
+  // meets colliders with an embedded surface here and in the contact forces (weighted_points.h); backward Euler's
+  // constraints hold particles only, so an embedded surface's impacts are resolved here after its solve.
   void resolveCollisions(double t, VecX& x, VecX& v) const;
 
   // Work done on the bodies by moving colliders over a step from (x0, v0) at t to (x1, v1) at t + h (after contact
@@ -73,6 +76,9 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   int scheduleBuilds() const { return schedule_builds_; }
   const std::vector<BodySlot>& bodies() const { return bodies_; }
   const std::vector<std::unique_ptr<Collider>>& colliders() const { return colliders_; }
+  // The points of embedded surfaces that meet colliders in place of their lattice's particles: every model vertex a
+  // mesh jelly's triangles use, once.
+  const WeightedPoints& embeddedPoints() const { return points_; }
   const Vec3& gravity() const { return gravity_; }
 
  private:
@@ -82,6 +88,10 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   std::vector<BodySlot> bodies_;
   std::vector<std::unique_ptr<Collider>> colliders_;
   VecX x0_, v0_, mass_, inv_mass_, drag_;
+  // inv_mass_ as colliders see particles: 0 also for a lattice particle under an embedded surface, which meets
+  // colliders through points_ alone (so that the visible surface, not the lattice's corners, rests on a floor).
+  VecX collider_inv_mass_;
+  WeightedPoints points_;
   Springs springs_;
   PairSchedule schedule_;
   int schedule_builds_ = 0;

@@ -98,6 +98,20 @@ std::optional<SurfacePoint> MeshCollider::query(double t, const Vec3& x) const {
   return SurfacePoint{side * len, normal, velocity_, Vec3::Zero()};
 }
 
+void MeshCollider::near(double t, const VecX& x, double margin, std::vector<int>& out) const {
+  out.clear();
+  const int n = static_cast<int>(x.size() / 3);
+  out.reserve(n);  // once: the list never reallocates while a body settles onto the collider
+  const Vec3 lo = box_.min() + offset(t), hi = box_.max() + offset(t);
+  const double reach2 = margin > 0 ? margin * margin : 0;
+  for (int i = 0; i < n; ++i) {
+    const Vec3 p = particle(x, i);
+    const double d2 = (lo - p).cwiseMax(p - hi).cwiseMax(0.0).squaredNorm();  // to the box: 0 inside it
+    if (d2 > reach2) continue;
+    if (const auto s = query(t, p); s && s->distance < margin) out.push_back(i);
+  }
+}
+
 std::optional<Eigen::AlignedBox3d> MeshCollider::bounds(double t) const {
   return Eigen::AlignedBox3d(box_.min() + offset(t), box_.max() + offset(t));
 }

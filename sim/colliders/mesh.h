@@ -5,6 +5,7 @@
 // point on each candidate triangle in double: Ericson, Real-Time Collision Detection, 5.1.5). The sign is the side of
 // the closest triangle's plane (behind its front face: inside), and the normal is the direction from the closest point
 // to the particle (the face normal at the surface itself), so edges and corners push out along their bisector.
+// near() asks Embree only about particles within the margin of the mesh's bounding box (the contact code's cheap test).
 #pragma once
 #include <array>
 #include <memory>
@@ -21,6 +22,10 @@ class MeshCollider final : public Collider {
   ~MeshCollider() override;
   std::optional<SurfacePoint> query(double t, const Vec3& x) const override;
   std::optional<Eigen::AlignedBox3d> bounds(double t) const override;
+  // Skips the point query for a particle farther than margin from the mesh's box: for a closed mesh, such a particle
+  // is outside at a distance of at least that, so the answer is the default's; an open mesh (a plate) touches only
+  // what comes within margin of its box, never a particle far behind its sheet.
+  void near(double t, const VecX& x, double margin, std::vector<int>& out) const override;
 
   // The mesh at t = 0 in the scene's frame; at time t it is moved by offset(t).
   const std::vector<Vec3>& points() const { return points_; }

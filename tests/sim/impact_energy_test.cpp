@@ -10,9 +10,11 @@
 
 #include "point_masses.h"
 #include "sim/bodies/jelly.h"
+#include "sim/bodies/mesh_jelly.h"
 #include "sim/colliders/elevator.h"
 #include "sim/colliders/plane.h"
 #include "sim/colliders/sphere.h"
+#include "test_models.h"
 
 namespace wobble {
 namespace {
@@ -30,21 +32,27 @@ struct Drop {
 // Steps a jelly dropped onto the collider and returns the energy just before and just after each impact (an impact:
 // the steps during which any particle is within the contact band), and the highest lowest point after the first one.
 struct Impacts {
-  std::vector<std::pair<double, double>> energy;  // before, after
-  double highest_rebound = 0;                     // of the body's lowest particle, after the first impact
-  double drop = 0;                                // the lowest particle's starting height above the surface
+  std::vector<std::pair<double, double>> energy;             // before, after
+  double highest_rebound = 0;                                // of the body's lowest particle, after the first impact
+  double drop = 0;                                           // the lowest particle's starting height above the surface
+  double deepest = std::numeric_limits<double>::infinity();  // the lowest particle's lowest height at a step's end
+  double last = 0;                                           // its height at the end
 };
 
-Impacts dropJelly(const Drop& d, std::unique_ptr<Collider> collider, const JellyParams& jelly, double duration) {
+Impacts dropBody(const Drop& d, std::unique_ptr<Collider> collider, Body body, double duration) {
   MassSpringSystem system;
-  system.addBody(buildJelly("jelly", jelly));
+  system.addBody(std::move(body));
   const Collider& floor = *collider;
   system.addCollider(std::move(collider));
   Simulation sim(system, makeIntegrator(d.integrator), d.dt);
+  // The lowest of what meets the collider: the particles, or an embedded surface's points.
+  const WeightedPoints& points = system.embeddedPoints();
   const auto lowest = [&](double t) {
     double low = std::numeric_limits<double>::infinity();
-    for (int i = 0; i < system.particleCount(); ++i)
-      low = std::min(low, floor.query(t, particle(sim.x(), i))->distance);
+    if (points.empty())
+      for (int i = 0; i < system.particleCount(); ++i)
+        low = std::min(low, floor.query(t, particle(sim.x(), i))->distance);
+    for (int p = 0; p < points.size(); ++p) low = std::min(low, floor.query(t, points.blend(sim.x(), p))->distance);
     return low;
   };
   Impacts r;
@@ -65,8 +73,14 @@ Impacts dropJelly(const Drop& d, std::unique_ptr<Collider> collider, const Jelly
       r.energy.emplace_back(before, e);
     }
     if (bounced) r.highest_rebound = std::max(r.highest_rebound, low);
+    r.deepest = std::min(r.deepest, low);
+    r.last = low;
   }
   return r;
+}
+
+Impacts dropJelly(const Drop& d, std::unique_ptr<Collider> collider, const JellyParams& jelly, double duration) {
+  return dropBody(d, std::move(collider), buildJelly("jelly", jelly), duration);
 }
 
 void expectNoGain(const Impacts& r, const std::string& what) {
@@ -109,6 +123,27 @@ TEST(ImpactEnergy, TiltedJellyOnTheSphereNeverGainsUnderEveryIntegrator) {
                                                                  1.0, Vec3::Zero()),
                                 jelly, 1.5);
     expectNoGain(r, d.integrator);
+  }
+}
+
+// A mesh jelly meets colliders with its visible surface (weighted_points.h), not with its lattice. Oracle: the plane's
+// own height. A box 1 m wide and 0.8 m tall on a lattice of 4 cells of 0.25 m: the lattice is 1 m tall, so its bottom
+// corners hang 0.1 m below the box's base, and a lattice resting on the floor would hold the visible base that far
+// above it. Dropped tilted, under every integrator: the surface's lowest vertex never ends a step more than the
+// contact band below the floor, rests within the band at the end, and no impact adds energy.
+TEST(ImpactEnergy, MeshJellysSurfaceRestsOnTheFloorUnderEveryIntegrator) {
+  MeshJellyParams slab{.cells = 4, .ks = 2000, .kd = 50};
+  slab.placement = {.center = Vec3(0, 1.5, 0), .rotation_axis = Vec3(1, 0, 1), .rotation_deg = 20};
+  const double epsilon = 0.01;
+  for (const Drop& d : stableDrops()) {
+    const Impacts r = dropBody(d,
+                               std::make_unique<PlaneCollider>("floor", ContactParams{0.3, 0.5, epsilon}, Vec3::Zero(),
+                                                               Vec3::UnitY()),
+                               buildMeshJelly("slab", testing::box(Vec3(1, 0.8, 1)), slab), 3.0);
+    expectNoGain(r, d.integrator);
+    EXPECT_GE(r.deepest, -epsilon) << d.integrator << ": the surface sank into the floor";
+    EXPECT_GE(r.last, -epsilon) << d.integrator;
+    EXPECT_LE(r.last, 1.01 * epsilon) << d.integrator << ": the surface hovers above the floor";
   }
 }
 

@@ -8,40 +8,14 @@
 #include "sim/bodies/jelly.h"
 #include "sim/bodies/mesh_jelly.h"
 #include "sim/colliders/mesh.h"
+#include "test_models.h"
 
 namespace wobble {
 namespace {
 
-// A UV sphere of radius r: rings x segments, poles as single points, counter-clockwise seen from outside.
-ModelMesh uvSphere(double r, int rings, int segments) {
-  ModelMesh m;
-  m.points.emplace_back(0, r, 0);
-  for (int k = 1; k < rings; ++k)
-    for (int i = 0; i < segments; ++i) {
-      const double th = EIGEN_PI * k / rings, ph = 2 * EIGEN_PI * i / segments;
-      m.points.emplace_back(r * std::sin(th) * std::cos(ph), r * std::cos(th), -r * std::sin(th) * std::sin(ph));
-    }
-  m.points.emplace_back(0, -r, 0);
-  const int south = int(m.points.size()) - 1;
-  const auto at = [&](int k, int i) { return 1 + (k - 1) * segments + (i % segments); };
-  for (int i = 0; i < segments; ++i) m.triangles.push_back({0, at(1, i), at(1, i + 1)});
-  for (int k = 1; k + 1 < rings; ++k)
-    for (int i = 0; i < segments; ++i) {
-      m.triangles.push_back({at(k, i), at(k + 1, i), at(k + 1, i + 1)});
-      m.triangles.push_back({at(k, i), at(k + 1, i + 1), at(k, i + 1)});
-    }
-  for (int i = 0; i < segments; ++i) m.triangles.push_back({south, at(rings - 1, i + 1), at(rings - 1, i)});
-  return m;
-}
+using testing::uvSphere;
 
-ModelMesh cube(double size) {
-  ModelMesh m;
-  for (int c = 0; c < 8; ++c) m.points.emplace_back(size * (c & 1), size * (c >> 1 & 1), size * (c >> 2));
-  // Each face as two triangles, outward: (-x, +x, -y, +y, -z, +z).
-  m.triangles = {{0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}, {0, 1, 5}, {0, 5, 4},
-                 {2, 6, 7}, {2, 7, 3}, {0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}};
-  return m;
-}
+ModelMesh cube(double size) { return testing::box(Vec3::Constant(size)); }
 
 double surfaceArea(const ModelMesh& m) {
   double a = 0;
@@ -168,6 +142,26 @@ TEST(MeshCollider, ClosestPointOnASphere) {
   const auto box = ball.bounds(0);
   ASSERT_TRUE(box);
   EXPECT_NEAR(box->max().y(), 1, 1e-12);
+}
+
+// The mesh collider's near() skips the point query beyond the margin of its box. Oracle: the base class's near(), which
+// queries every particle. On a closed, moving mesh the two lists are the same at every margin, particles inside the
+// box, around it and far from it alike.
+TEST(MeshCollider, NearSkipsOnlyWhatCannotTouch) {
+  const ModelMesh sphere = uvSphere(1, 16, 32);
+  const MeshCollider ball("ball", {}, sphere.points, sphere.triangles, Vec3(0.5, 0, 0));
+  const int n = 2000;
+  VecX x(3 * n);
+  for (int i = 0; i < n; ++i)  // a deterministic spiral through [-3, 3]^3, dense near the sphere
+    particle(x, i) = (0.2 + 2.8 * i / n) * Vec3(std::cos(0.37 * i), std::sin(0.91 * i), std::cos(1.3 * i)).normalized();
+  std::vector<int> fast, all;
+  for (const double margin : {0.0, 0.01, 0.3, 1.5})
+    for (const double t : {0.0, 0.4}) {
+      ball.near(t, x, margin, fast);
+      ball.Collider::near(t, x, margin, all);
+      EXPECT_EQ(fast, all) << "margin " << margin << ", t " << t;
+      EXPECT_FALSE(all.empty());
+    }
 }
 
 }  // namespace

@@ -1,0 +1,56 @@
+// Points that ride on particles with fixed weights: a mesh jelly's model vertices, each the trilinear blend of its
+// lattice cell's 8 particles (bodies/mesh_jelly.h). Contact treats such a point as a particle of its own: it meets
+// colliders where it is, and what contact does to it (a force, an impulse, a displacement) is handed to its particles
+// by the same weights, scaled so that the point itself gets exactly that change (the embedded-surface contact of
+// Sifakis, Shinar, Irving & Fedkiw 2007, "Hybrid simulation of deformable solids", and McAdams et al. 2011,
+// "Efficient elasticity for character skinning with contact and collisions": collision proxies on the embedded
+// surface, their response distributed through the interpolation weights).
+//
+// A point p = sum_k w_k x_k with weights w_k >= 0 summing to 1. An impulse J at p, given as w_k J to each particle,
+// changes p's velocity by J sum_k w_k^2 / m_k: the point's mass is m_p = 1 / sum_k w_k^2 / m_k (a particle alone:
+// its own mass), and a force or impulse on it moves it as it would move a particle of that mass.
+#pragma once
+#include <array>
+#include <vector>
+
+#include "sim/types.h"
+
+namespace wobble {
+
+struct WeightedPoint {
+  std::array<int, 8> particle;   // in the system's flat state
+  std::array<double, 8> weight;  // >= 0, summing to 1
+  double inverse_mass = 0;       // sum_k w_k^2 / m_k: 0 when every particle with a weight is pinned
+};
+
+class WeightedPoints {
+ public:
+  // Appends a point over particles first + particle[k] of a body, with inverse_mass from the system's inverse masses.
+  void add(const std::array<int, 8>& particle, const std::array<double, 8>& weight, int first, const VecX& inv_mass);
+
+  int size() const { return static_cast<int>(points_.size()); }
+  bool empty() const { return points_.empty(); }
+  const WeightedPoint& operator[](int p) const { return points_[p]; }
+
+  // sum_k w_k s_k of a flat 3-per-particle vector s (a position, a velocity).
+  Vec3 blend(const VecX& s, int p) const {
+    const WeightedPoint& w = points_[p];
+    Vec3 sum = Vec3::Zero();
+    for (int k = 0; k < 8; ++k) sum += w.weight[k] * particle(s, w.particle[k]);
+    return sum;
+  }
+  // Every point's blend of s, 3 per point (resized).
+  void blendAll(const VecX& s, VecX& out) const;
+  // The point's acceleration under the particle forces f: sum_k w_k f_k / m_k.
+  Vec3 acceleration(const VecX& f, const VecX& inv_mass, int p) const;
+  // Hands the force (or impulse) g at point p to its particles: out_k += w_k g.
+  void spread(int p, const Vec3& g, VecX& out) const;
+  // Changes the point's own state by d through its particles: s_k += (w_k / m_k) m_p d, so blend(s, p) moves by d
+  // (a velocity change from an impulse m_p d, or a displacement).
+  void shift(int p, const Vec3& d, const VecX& inv_mass, VecX& s) const;
+
+ private:
+  std::vector<WeightedPoint> points_;
+};
+
+}  // namespace wobble
