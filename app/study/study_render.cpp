@@ -31,7 +31,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Bumped whenever the renderer's converged picture changes, so cached references of older builds are not reused.
-constexpr int kRendererVersion = 5;
+constexpr int kRendererVersion = 6;
 // The second half of the reference uses this seed offset: far from any frame number.
 constexpr std::uint32_t kSecondHalfSeed = 0x80000000u;
 
