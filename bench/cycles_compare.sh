@@ -34,9 +34,12 @@
 #
 # Matching (bench/cycles_scene.py has the details): Y-up converted to Blender's Z-up as its OBJ importer does; the
 # camera's vertical fov; Lambertian Diffuse BSDF for plain surfaces; the coat as Diffuse x (1 - coat F) + GGX Glossy
-# x coat F (Schlick, roughness sqrt(alpha)); sun strength = irradiance, angle = 2 x radius, unseen by the camera; the
-# sky as a world shader; wobble's light paths (sky light at vertices 0..B-1, sun at 0..B); box pixel filter, no
-# clamping, no light threshold, no glossy filter, caustics on, no denoising, no adaptive sampling.
+# x coat F (Schlick, roughness sqrt(alpha)); gelatine as a Glass BSDF mixed with its Diffuse print over Volume
+# Absorption and Scatter with wobble's coefficients (app/blender/cycles_nodes.py, which `wobble blend` uses too); sun
+# strength = irradiance, angle = 2 x radius, unseen by the camera; the sky as a world shader, or a scene's environment
+# map (render.environment) as an Environment Texture of the same file (cycles_nodes.py: Closest, its rotation and
+# strength); wobble's light paths (sky light at vertices 0..B-1, sun at 0..B, refractions not counted); box pixel
+# filter, no clamping, no light threshold, no glossy filter, caustics on, no denoising, no adaptive sampling.
 # Known mismatches:
 #   - textures: Cycles reads the baked 1024 x 1024 8-bit PNG (bilinear, no mip-maps), wobble evaluates the
 #     procedural texture filtered over the pixel's footprint: the converged floors differ by about 1% (wood) and

@@ -33,8 +33,10 @@ the known mismatches:
   - Light paths: wobble's bounces count BSDF continuations; its last vertex takes sun light but no sky. Cycles'
     max bounces B gives next-event estimation at vertices 0..B for every light including the world (and a last
     BSDF ray from vertex B that only collects light). With --sky-bounces wobble (the default) the world shader is
-    zeroed where it would light vertex B (Light Path "Ray Depth" >= B + 2, see make_world), so both renderers
-    compute the same light transport: sun light at vertices 0..B, sky light at vertices 0..B-1.
+    zeroed where it would light vertex B (Light Path "Ray Depth" minus "Transmission Depth" >= B + 2, see
+    make_world), so both renderers compute the same light transport: sun light at vertices 0..B, sky light at
+    vertices 0..B-1, refractions through gelatine not counted as vertices. Reflections off gelatine still count in
+    Cycles' depth (they are glossy bounces there, inseparable from a coat's), not in wobble's.
 """
 import argparse
 import json
@@ -255,9 +257,11 @@ def make_world(scene, sky, environment, bounces, sky_bounces):
         # wobble's last vertex (bounce == max bounces) takes no sky light. Cycles' Light Path "Ray Depth" reads
         # k + 2 when the world lights vertex k, whether by light sampling or by a BSDF ray escaping from it (and 1
         # for camera rays): measured, rendering B = 2 with the world cut at depth >= 4 gives B = 1's image exactly.
-        # So the world is cut from depth B + 2 on.
+        # So the world is cut from depth B + 2 on. Refractions through gelatine do not count against wobble's
+        # bounces: Cycles' Transmission Depth (its refractions) comes off the Ray Depth.
         lp = nodes.new("ShaderNodeLightPath")
-        keep = math_node("LESS_THAN", lp.outputs["Ray Depth"], bounces + 1.5)
+        depth = math_node("SUBTRACT", lp.outputs["Ray Depth"], lp.outputs["Transmission Depth"])
+        keep = math_node("LESS_THAN", depth, bounces + 1.5)
         colour = vmath("SCALE", colour, scale=keep)
     links.new(colour, bg.inputs["Color"])
     return world
