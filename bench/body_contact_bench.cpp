@@ -2,7 +2,7 @@
 // (tests/sim/folded_cloth.h) is dropped onto the floor and collapses onto itself. After a warm-up of 0.5 s to the
 // collapsed state, layers lying on each other (simulated once per case, untimed), each iteration is one step, with
 // self-contact on (/1) against off (/0, the same cloth from its own warm-up, layers passing through each other); the
-// last argument 0 turns the broad phase's motion cull off (sim/collision/body_collisions.h), to show what it saves:
+// last argument 0 turns the broad phase's culls off (sim/collision/body_collisions.h), to show what it saves:
 //   BM_Folded/100/x: 100 x 100 cloth, backward Euler at dt 1/60 (the 2x target);
 //   BM_Folded/256/x: 256 x 256 cloth, backward Euler at 1/60 (target: 50 ms a step on 2 threads);
 //   BM_FoldedRk4/32/x: 32 x 32 cloth, RK4 at 2.5e-4 s, below its stable step (theory: 3.0e-4 s; at 100 x 100 it is
@@ -38,7 +38,7 @@ std::unique_ptr<Folded> folded(int n, bool self_contact, const char* integrator,
 void run(benchmark::State& state, const char* integrator, double dt) {
   const int n = int(state.range(0));
   const bool self_contact = state.range(1) != 0;
-  collision::setMotionCull(state.range(2) != 0);
+  collision::setBroadPhaseCulls(state.range(2) != 0);
   auto c = folded(n, self_contact, integrator, dt);
   Simulation& sim = *c->sim;
   const collision::Stats before = sim.bodyContact() ? *sim.bodyContact() : collision::Stats{};
@@ -54,7 +54,7 @@ void run(benchmark::State& state, const char* integrator, double dt) {
     state.counters["min_dist"] = s->min_distance;  // smallest since the start: the warm-up's included
   }
   state.counters["particles"] = n * n;
-  collision::setMotionCull(true);
+  collision::setBroadPhaseCulls(true);
 }
 
 void BM_Folded(benchmark::State& state) { run(state, "backward-euler", 1.0 / 60); }

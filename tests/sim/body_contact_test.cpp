@@ -242,22 +242,22 @@ TEST(BodyContact, ContactFreeStepsAreTheSameBytes) {
   EXPECT_EQ(sim.bodyContact()->passes, 200);
 }
 
-// The broad phase's motion cull (body_collisions.h, setMotionCull) drops only pairs that cannot be near or collide:
+// The broad phase's culls (body_collisions.h, setBroadPhaseCulls) drop only pairs that cannot be near or collide:
 // the folded cloth of bench/body_contact_bench.cpp (folded_cloth.h), 20 x 20, landing on the floor and collapsing
-// onto itself under backward Euler at 1/60 s, gives the same bytes and the same counts with the cull as without it,
+// onto itself under backward Euler at 1/60 s, gives the same bytes and the same counts with the culls as without,
 // with contacts and collisions found on the way and no triangle pair intersecting at the end (the independent test).
-TEST(BodyContact, MotionCullFindsTheSameContacts) {
+TEST(BodyContact, BroadPhaseCullsFindTheSameContacts) {
   struct Result {
     VecX x, v;
     collision::Stats stats;
     testing::ParticleTriangles tris;
   };
   const auto run = [](bool cull) {
-    collision::setMotionCull(cull);
+    collision::setBroadPhaseCulls(cull);
     const auto system = testing::foldedCloth(20, true);
     Simulation sim(*system, makeIntegrator("backward-euler"), 1.0 / 60);
     EXPECT_FALSE(sim.advanceTo(0.6));
-    collision::setMotionCull(true);
+    collision::setBroadPhaseCulls(true);
     return Result{sim.x(), sim.v(), *sim.bodyContact(), surfaces(*system)};
   };
   const Result cull = run(true), all = run(false);
