@@ -89,15 +89,22 @@ void addStability(CLI::App& study, int& status) {
   cmd->add_option("--dt-points", o->dt_points, "dt values, log spaced")->capture_default_str();
   cmd->add_flag("--fine", *fine, "A finer grid: 13 ks x 12 dt values");
   cmd->add_flag("--no-infer", *no_infer, "Run every cell (default: below a stable dt, a row is taken as stable)");
+  auto no_contact = std::make_shared<bool>(false);
+  cmd->add_option("--contact-scene", o->contact_scene,
+                  "Scene of the contact case: a stiff jelly landing on a jelly, at ks 1e5 and dt 1/60, 1/120, 1/240 s")
+      ->capture_default_str();
+  cmd->add_flag("--no-contact", *no_contact, "Leave the contact case out");
   cmd->add_option("--jobs", o->jobs, "Threads (0: one per hardware thread; results do not depend on it)")
       ->capture_default_str();
   cmd->add_option("--set", o->sets, "Override a scene key, KEY=VALUE (repeatable), as for `wobble run`");
   addMaxMemoryOption(*cmd);
   cmd->add_option("--gnuplot", o->gnuplot, "The gnuplot program (name on PATH or a path)")->capture_default_str();
   cmd->footer(
-      "The users' cases (ks 5e4 at dt 1.2e-3, ks 1e5 at dt 1.4e-3) are always run in full.\nExample:\n"
+      "The users' cases (ks 5e4 at dt 1.2e-3, ks 1e5 at dt 1.4e-3) and the contact case are always run in full.\n"
+      "Example:\n"
       "  wobble study stability --integrators explicit-euler,rk4 --duration 0.3");
-  cmd->callback([o, fine, no_infer, &status] {
+  cmd->callback([o, fine, no_infer, no_contact, &status] {
+    if (*no_contact) o->contact_scene.clear();
     if (*fine) {
       o->ks_points = 13;
       o->dt_points = 12;
@@ -110,6 +117,10 @@ void addStability(CLI::App& study, int& status) {
     for (const StabilityCell& c : r.cells)
       if (c.user_case)
         std::printf("  ks %-6g dt %-7g %-17s %-10s max strain %s\n", c.ks, c.dt, c.integrator.c_str(),
+                    toString(c.outcome), io::formatNumber(c.max_strain, 3).c_str());
+    for (const StabilityCell& c : r.cells)
+      if (c.contact_case)
+        std::printf("  contact: ks %-6g dt %-7.3g %-17s %-10s max strain %s\n", c.ks, c.dt, c.integrator.c_str(),
                     toString(c.outcome), io::formatNumber(c.max_strain, 3).c_str());
     std::printf("wrote %s/stability.csv and stability.md\n", out.c_str());
     for (const PlotResult& p : plots) {

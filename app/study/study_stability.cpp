@@ -45,14 +45,24 @@ void validate(const StabilityOptions& o) {
   for (const auto& c : o.cases)
     check(c[0] >= 0 && c[1] > 0,
           "--case " + io::formatNumber(c[0]) + "," + io::formatNumber(c[1]) + ": need ks >= 0, dt > 0");
+  for (const auto& c : o.contact_cases)
+    check(c[0] >= 0 && c[1] > 0,
+          "contact case " + io::formatNumber(c[0]) + "," + io::formatNumber(c[1]) + ": need ks >= 0, dt > 0");
+  check(o.contact_duration > 0 && std::isfinite(o.contact_duration),
+        "contact duration " + io::formatNumber(o.contact_duration) + ": must be > 0");
 }
 
 // The scene with every spring's ks set: one override per body.
-std::unique_ptr<MassSpringSystem> systemAt(const StabilityOptions& o, const std::vector<std::string>& bodies,
-                                           double ks) {
-  std::vector<std::string> sets = o.sets;
+std::unique_ptr<MassSpringSystem> systemAt(const std::filesystem::path& scene, std::vector<std::string> sets,
+                                           const std::vector<std::string>& bodies, double ks) {
   for (const std::string& b : bodies) sets.push_back("bodies." + b + ".ks=" + io::formatNumber(ks, 17));
-  return std::move(loadScene(o.scene, sets).system);
+  return std::move(loadScene(scene, sets).system);
+}
+
+std::vector<std::string> bodyNames(const SceneFile& scene) {
+  std::vector<std::string> names;
+  for (const BodySlot& slot : scene.system->bodies()) names.push_back(slot.body.name);
+  return names;
 }
 
 }  // namespace
@@ -132,14 +142,21 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
   result.strain_bound = o.strain_bound;
   result.ks = logSpaced(o.ks_min, o.ks_max, o.ks_points);
   result.dt = logSpaced(o.dt_min, o.dt_max, o.dt_points);
-  std::vector<std::string> bodies;
-  for (const BodySlot& slot : base.system->bodies()) bodies.push_back(slot.body.name);
+  const std::vector<std::string> bodies = bodyNames(base);
+  std::vector<std::string> contact_bodies;
+  if (!o.contact_scene.empty()) {
+    result.contact_scene_file = o.contact_scene;
+    result.contact_duration = o.contact_duration;
+    const SceneFile contact = loadScene(o.contact_scene, {});
+    result.contact_scene_name = contact.name;
+    contact_bodies = bodyNames(contact);
+  }
 
   // Theory at every ks the study touches.
   std::vector<double> theory_ks = result.ks;
   for (const auto& c : o.cases) theory_ks.push_back(c[0]);
   for (double ks : theory_ks) {
-    const auto system = systemAt(o, bodies, ks);
+    const auto system = systemAt(o.scene, o.sets, bodies, ks);
     StabilityTheory t;
     t.ks = ks;
     t.omega_gershgorin = gershgorinOmegaMax(*system);
@@ -158,15 +175,28 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
     std::string integrator;
     double ks;
     std::vector<double> dts;  // descending for grid rows
-    bool user_case;
+    bool user_case, contact_case;
+    double duration;
     std::unique_ptr<MassSpringSystem> system;
     std::vector<StabilityCell> cells;
   };
   std::vector<Item> items;
   std::vector<double> descending(result.dt.rbegin(), result.dt.rend());
   for (const std::string& name : result.integrators) {
-    for (double ks : result.ks) items.push_back({name, ks, descending, false, systemAt(o, bodies, ks), {}});
-    for (const auto& c : o.cases) items.push_back({name, c[0], {c[1]}, true, systemAt(o, bodies, c[0]), {}});
+    for (double ks : result.ks)
+      items.push_back({name, ks, descending, false, false, o.duration, systemAt(o.scene, o.sets, bodies, ks), {}});
+    for (const auto& c : o.cases)
+      items.push_back({name, c[0], {c[1]}, true, false, o.duration, systemAt(o.scene, o.sets, bodies, c[0]), {}});
+    if (!o.contact_scene.empty())
+      for (const auto& c : o.contact_cases)
+        items.push_back({name,
+                         c[0],
+                         {c[1]},
+                         false,
+                         true,
+                         o.contact_duration,
+                         systemAt(o.contact_scene, {}, contact_bodies, c[0]),
+                         {}});
   }
   int total = 0;
   for (const Item& item : items) total += int(item.dts.size());
@@ -187,12 +217,14 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
           c.inferred = true;
           c.max_strain = c.final_strain = c.max_speed = kNaN;
         } else {
-          c = classifyCell(*item.system, item.integrator, dt, o.duration, o.strain_bound);
-          if (o.infer && !item.user_case && (c.outcome == Outcome::Stable || c.outcome == Outcome::LostShape))
+          c = classifyCell(*item.system, item.integrator, dt, item.duration, o.strain_bound);
+          if (o.infer && !item.user_case && !item.contact_case &&
+              (c.outcome == Outcome::Stable || c.outcome == Outcome::LostShape))
             survived_above = c.outcome;
         }
         c.ks = item.ks;
         c.user_case = item.user_case;
+        c.contact_case = item.contact_case;
         item.cells.push_back(c);
         std::lock_guard lock(mutex);
         if (o.progress) progress.update(++done);
@@ -207,9 +239,10 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
   progress.finish();
   for (Item& item : items)  // in item order, whatever thread ran it: the output does not depend on jobs
     for (StabilityCell& c : item.cells) result.cells.push_back(std::move(c));
-  std::stable_sort(result.cells.begin(), result.cells.end(), [](const StabilityCell& a, const StabilityCell& b) {
-    return a.user_case != b.user_case ? !a.user_case : false;
-  });
+  // The grid first, then the users' cases, then the contact case.
+  const auto group = [](const StabilityCell& c) { return c.contact_case ? 2 : c.user_case ? 1 : 0; };
+  std::stable_sort(result.cells.begin(), result.cells.end(),
+                   [&](const StabilityCell& a, const StabilityCell& b) { return group(a) < group(b); });
   return result;
 }
 

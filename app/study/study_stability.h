@@ -1,14 +1,16 @@
 // `wobble study stability`: for each integrator, a map over spring stiffness ks (every spring of every body) and
 // time step dt of what a short run does: stable, blew up (sim/simulation.h's rule: a NaN or |v|^2 > 1e6), or
 // survived but lost its shape (largest spring strain |l - rest| / rest above strain_bound at any check, every
-// 0.01 s). Each cell runs the scene from its initial state for `duration` simulated seconds, or until it blows up.
-// Beside the map, theory's boundary (stability_theory.h): the largest stable dt at each ks from omega_max by
-// Gershgorin and by power iteration. rk45 picks its own steps (dt is only its largest), so it is skipped unless
-// named in integrators. With `infer`, a row (integrator, ks) is scanned from the largest dt down and stops at the
-// first cell that did not blow up; the smaller steps get its outcome (stable or lost shape) without running
+// 0.01 s), or gained energy (the run's energy check, docs/energy.md). Each cell runs the scene from its initial state
+// for `duration` simulated seconds, or until it blows up. Beside the map, theory's boundary (stability_theory.h): the
+// largest stable dt at each ks from omega_max by Gershgorin and by power iteration. rk45 picks its own steps (dt is
+// only its largest), so it is skipped unless named in integrators. With `infer`, a row (integrator, ks) is scanned from
+// the largest dt down and stops at the first cell that did not blow up; the smaller steps get its outcome (stable or
+// lost shape) without running
 // ("inferred": stability regions of these methods contain the whole segment from 0 to their boundary, and a
-// smaller step solves the same physics more accurately). The extra `cases` (ks, dt) always run. Rows run
-// on `jobs` threads; each cell is single-threaded and deterministic, so the results do not depend on jobs.
+// smaller step solves the same physics more accurately). The extra `cases` (ks, dt) always run, and so do the
+// `contact_cases` on their own scene (two jellies, one landing on the other: contact between bodies at large steps).
+// Rows run on `jobs` threads; each cell is single-threaded and deterministic, so the results do not depend on jobs.
 // This file runs the study into a plain StabilityResult; study_stability_report.h writes it.
 #pragma once
 #include <array>
@@ -33,6 +35,11 @@ struct StabilityOptions {
   double ks_min = 1e3, ks_max = 1e9, dt_min = 1e-5, dt_max = 1.0 / 30;
   int ks_points = 7, dt_points = 6;  // log spaced, ends included (--fine: 13 x 12)
   std::vector<std::array<double, 2>> cases = {{5e4, 1.2e-3}, {1e5, 1.4e-3}};  // (ks, dt): the users' reports
+  // The contact case: a stiff jelly landing on a jelly (contact between bodies, docs/body-contact.md) at large steps,
+  // each (ks, dt) run for contact_duration on contact_scene with every spring's ks set; no contact case when empty.
+  std::filesystem::path contact_scene = "scenes/jelly_stack.toml";
+  std::vector<std::array<double, 2>> contact_cases = {{1e5, 1.0 / 60}, {1e5, 1.0 / 120}, {1e5, 1.0 / 240}};
+  double contact_duration = 1.0;
   bool infer = true;
   int jobs = 0;  // 0: hardware threads
   std::string gnuplot = "gnuplot";
@@ -48,10 +55,10 @@ struct StabilityCell {
   std::string integrator;
   double ks = 0, dt = 0;
   Outcome outcome = Outcome::Stable;
-  bool inferred = false, user_case = false;
-  double max_strain = 0, final_strain = 0;  // over the checks / at the end (NaN when it blew up)
-  double end_time = 0;                      // simulated time reached
-  double max_speed = 0;                     // largest particle speed seen (m/s)
+  bool inferred = false, user_case = false, contact_case = false;  // at most one of the cases
+  double max_strain = 0, final_strain = 0;                         // over the checks / at the end (NaN when it blew up)
+  double end_time = 0;                                             // simulated time reached
+  double max_speed = 0;                                            // largest particle speed seen (m/s)
   long steps = 0;
   std::string note;  // the failure's message
 };
@@ -64,7 +71,9 @@ struct StabilityTheory {
 
 struct StabilityResult {
   std::string scene_name;
-  std::filesystem::path scene_file;
+  std::string contact_scene_name;  // empty without a contact case
+  std::filesystem::path scene_file, contact_scene_file;
+  double contact_duration = 0;
   double duration = 0, strain_bound = 0;
   std::vector<std::string> integrators;
   std::vector<double> ks, dt;  // the grid

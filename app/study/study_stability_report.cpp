@@ -30,6 +30,8 @@ std::string cellSymbol(const StabilityCell& c) {
   return "?";
 }
 
+bool gridCell(const StabilityCell& c) { return !c.user_case && !c.contact_case; }
+
 }  // namespace
 
 std::string stabilityMarkdown(const StabilityResult& r) {
@@ -86,6 +88,25 @@ std::string stabilityMarkdown(const StabilityResult& r) {
     md << t.markdown() << "\n";
   }
 
+  bool any_contact = false;
+  for (const StabilityCell& c : r.cells) any_contact |= c.contact_case;
+  if (any_contact) {
+    md << "## Contact: a stiff jelly landing on a jelly\n\n"
+       << "Scene `" << r.contact_scene_file.string() << "` (contact between bodies, docs/body-contact.md) with every "
+       << "spring's ks set to the case's value, run for " << io::formatNumber(r.contact_duration)
+       << " simulated seconds at large steps: the landing is where a step too large for the stiff jelly blows up "
+          "(BLOW), crushes it (SHAPE), or gives energy back (GAIN); a contact the fail-safe cannot resolve stops the "
+          "run like a blow-up (BLOW, the note says so).\n\n";
+    io::TextTable t{{"ks", "dt (s)", "integrator", "outcome", "max strain", "final strain", "max speed (m/s)",
+                     "end time (s)", "note"}};
+    for (const StabilityCell& c : r.cells)
+      if (c.contact_case)
+        t.add({io::formatNumber(c.ks), io::formatNumber(c.dt, 3), c.integrator, cellSymbol(c),
+               io::formatNumber(c.max_strain, 3), io::formatNumber(c.final_strain, 3), io::formatNumber(c.max_speed, 3),
+               io::formatNumber(c.end_time, 3), c.note});
+    md << t.markdown() << "\n";
+  }
+
   md << "## Theory: fastest mode and largest stable dt per ks\n\n";
   std::vector<std::string> header{"ks", "omega_max Gershgorin", "omega_max power it.", "zeta at omega_max (power)"};
   for (const std::string& n : r.integrators) header.push_back(n + " dt_max");
@@ -110,7 +131,7 @@ std::string stabilityMarkdown(const StabilityResult& r) {
     for (double ks : r.ks) {
       double largest_ok = 0, smallest_bad = std::numeric_limits<double>::infinity();
       for (const StabilityCell& c : r.cells)
-        if (!c.user_case && c.integrator == name && c.ks == ks) {
+        if (gridCell(c) && c.integrator == name && c.ks == ks) {
           const bool survived = c.outcome == Outcome::Stable || c.outcome == Outcome::LostShape;
           if (survived && !c.inferred) largest_ok = std::max(largest_ok, c.dt);
           if (c.outcome == Outcome::BlewUp || c.outcome == Outcome::Failed) smallest_bad = std::min(smallest_bad, c.dt);
@@ -135,7 +156,7 @@ std::string stabilityMarkdown(const StabilityResult& r) {
       std::vector<std::string> row{io::formatNumber(ks)};
       for (double dt : r.dt)
         for (const StabilityCell& c : r.cells)
-          if (!c.user_case && c.integrator == name && c.ks == ks && c.dt == dt) row.push_back(cellSymbol(c));
+          if (gridCell(c) && c.integrator == name && c.ks == ks && c.dt == dt) row.push_back(cellSymbol(c));
       const double th = theoryAt(ks)->dt_power[index(name)];
       row.push_back(std::isinf(th) ? "unbounded" : io::formatNumber(th, 3));
       map.add(row);
@@ -148,20 +169,21 @@ std::string stabilityMarkdown(const StabilityResult& r) {
 std::vector<PlotResult> writeStabilityOutputs(const StabilityResult& r, const fs::path& out,
                                               const std::string& gnuplot) {
   fs::create_directories(out);
-  io::TextTable csv{{"scene", "integrator", "ks", "dt", "outcome", "inferred", "user_case", "max_strain",
-                     "final_strain", "max_speed", "end_time", "steps", "theory_dt_power", "theory_dt_gershgorin",
-                     "note"}};
+  io::TextTable csv{{"scene", "integrator", "ks", "dt", "outcome", "inferred", "user_case", "contact_case",
+                     "max_strain", "final_strain", "max_speed", "end_time", "steps", "theory_dt_power",
+                     "theory_dt_gershgorin", "note"}};
   for (const StabilityCell& c : r.cells) {
     const auto i =
         std::size_t(std::find(r.integrators.begin(), r.integrators.end(), c.integrator) - r.integrators.begin());
-    const StabilityTheory* th = nullptr;
+    const StabilityTheory* th = nullptr;  // the theory is the main scene's
     for (const StabilityTheory& t : r.theory)
-      if (t.ks == c.ks) th = &t;
-    csv.add({r.scene_name, c.integrator, io::formatNumber(c.ks, 10), io::formatNumber(c.dt, 10), toString(c.outcome),
-             c.inferred ? "1" : "0", c.user_case ? "1" : "0", io::formatNumber(c.max_strain, 6),
-             io::formatNumber(c.final_strain, 6), io::formatNumber(c.max_speed, 6), io::formatNumber(c.end_time, 6),
-             std::to_string(c.steps), th ? io::formatNumber(th->dt_power[i], 6) : "",
-             th ? io::formatNumber(th->dt_gershgorin[i], 6) : "", c.note});
+      if (t.ks == c.ks && !c.contact_case) th = &t;
+    csv.add({c.contact_case ? r.contact_scene_name : r.scene_name, c.integrator, io::formatNumber(c.ks, 10),
+             io::formatNumber(c.dt, 10), toString(c.outcome), c.inferred ? "1" : "0", c.user_case ? "1" : "0",
+             c.contact_case ? "1" : "0", io::formatNumber(c.max_strain, 6), io::formatNumber(c.final_strain, 6),
+             io::formatNumber(c.max_speed, 6), io::formatNumber(c.end_time, 6), std::to_string(c.steps),
+             th ? io::formatNumber(th->dt_power[i], 6) : "", th ? io::formatNumber(th->dt_gershgorin[i], 6) : "",
+             c.note});
   }
   io::writeTextFile(out / "stability.csv", csv.csv());
   io::writeTextFile(out / "stability.md", stabilityMarkdown(r));
@@ -185,7 +207,7 @@ std::vector<PlotResult> writeStabilityOutputs(const StabilityResult& r, const fs
     for (int k = 0; k < 7; ++k) {
       gp << "$c" << k << " << EOD\n";
       for (const StabilityCell& c : r.cells)
-        if (c.integrator == name && cellSymbol(c) == kinds[k])
+        if (!c.contact_case && c.integrator == name && cellSymbol(c) == kinds[k])
           gp << io::formatNumber(c.dt, 10) << " " << io::formatNumber(c.ks, 10) << " " << (c.user_case ? 1 : 0) << "\n";
       gp << "EOD\n";
     }

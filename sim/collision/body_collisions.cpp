@@ -1,6 +1,7 @@
 #include "sim/collision/body_collisions.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numeric>
 #include <sstream>
@@ -57,7 +58,11 @@ class UnionFind {
   std::vector<int> parent_;
 };
 
+std::atomic<bool> motion_cull{true};
+
 }  // namespace
+
+void setBroadPhaseCulls(bool on) { motion_cull = on; }
 
 struct BodyCollisions::Impl {
   // The surfaces over particles: triangles and edges in system particle indices, each with its body.
@@ -71,13 +76,15 @@ struct BodyCollisions::Impl {
   Settings settings;
   bool parallel;
   double max_thickness = 0;
+  bool cull = true;  // setBroadPhaseCulls, read once a broad phase
 
   // Per step
   VecX xs;                           // the step's start positions
   VecX vbar, vbar0, xe;              // trajectory velocity (changed and at the start), trajectory end
   std::vector<char> changed, dirty;  // per particle: vbar changed this step; since the last detection
   std::vector<Box> vertex_boxes, edge_boxes, triangle_boxes;
-  std::vector<std::pair<int, int>> vf, ee;  // candidate pairs: (vertex slot, triangle), (edge, edge)
+  std::vector<char> vertex_moved, edge_moved, triangle_moved;  // per element: a particle of it is dirty
+  std::vector<std::pair<int, int>> vf, ee;                     // candidate pairs: (vertex slot, triangle), (edge, edge)
   UnionFind zones;
   std::vector<int> root;  // zones.find of each surface particle, for the threads of a detection round
 
@@ -117,6 +124,8 @@ struct BodyCollisions::Impl {
 
   bool bodiesMeet(int a, int b) const { return a != b || params[a].self_contact; }
 
+  double pairThickness(int a, int b) const { return std::max(params[a].thickness, params[b].thickness); }
+
   PairInfo info(Primitive kind, int first, int second) const {
     PairInfo p;
     p.kind = kind;
@@ -129,7 +138,7 @@ struct BodyCollisions::Impl {
       p.stencil.particle = {edges[first][0], edges[first][1], edges[second][0], edges[second][1]};
       a = edge_body[first], b = edge_body[second];
     }
-    p.thickness = std::max(params[a].thickness, params[b].thickness);
+    p.thickness = pairThickness(a, b);
     p.friction = 0.5 * (params[a].friction + params[b].friction);
     p.stiffness = 0.5 * (stiffness[a] + stiffness[b]);
     return p;
@@ -148,9 +157,44 @@ struct BodyCollisions::Impl {
     return out;
   }
 
+  // Whether the elements a (na particles) and b (nb particles) are further apart than gap all through the step, by a
+  // fixed axis that separates them by more than gap at both ends. Along a fixed axis each point's projection is
+  // linear in s, so the gap between the elements' projections (the smallest of one's minus the largest of the
+  // other's) is concave in s and at least its value at an end: more than gap at both ends, more all along, and the
+  // distance is at least that gap. The axes are x, y and z: the swept boxes overlap when the elements move together
+  // (a falling cloth), their boxes at each end mostly do not.
+  bool apartAllStep(const int* a, int na, const int* b, int nb, double gap) const {
+    if (!cull) return false;
+    for (int k = 0; k < 3; ++k) {
+      bool ab = true, ba = true;  // a below b all along, b below a all along
+      for (const VecX* x : {&xs, &xe}) {
+        double lo_a = std::numeric_limits<double>::infinity(), hi_a = -lo_a, lo_b = lo_a, hi_b = -lo_a;
+        for (int i = 0; i < na; ++i) {
+          const double v = (*x)[3 * a[i] + k];
+          lo_a = std::min(lo_a, v), hi_a = std::max(hi_a, v);
+        }
+        for (int i = 0; i < nb; ++i) {
+          const double v = (*x)[3 * b[i] + k];
+          lo_b = std::min(lo_b, v), hi_b = std::max(hi_b, v);
+        }
+        ab = ab && lo_b - hi_a > gap;
+        ba = ba && lo_a - hi_b > gap;
+      }
+      if (ab || ba) return true;
+    }
+    return false;
+  }
+
   // The candidate pairs of the swept boxes (padded by half the largest thickness, so that every pair within the
-  // thickness at the start or meeting on the way is found).
-  void broadPhase() {
+  // thickness at the start or meeting on the way is found). Directly before a detection (after_impulses: a later
+  // round, impulses applied since the last broad phase), less the pairs a fixed axis keeps further apart than the
+  // thickness all through the step (apartAllStep), which continuous detection would not find (never within eta, a
+  // thousandth of it), and only the pairs with a particle moved since the last detection (dirty), the only ones it
+  // tests then: the same pairs that detection finds, in the same order. The step's first broad phase keeps them all:
+  // repulsion changes the trajectories before that round's detection, which tests apartAllStep per pair.
+  void broadPhase(bool after_impulses = false) {
+    cull = motion_cull;
+    const bool moved_only = after_impulses && cull;
     const double pad = 0.5 * max_thickness;
     const auto fill = [&](auto& boxes, const auto& items) {
       boxes.resize(items.size());
@@ -164,23 +208,43 @@ struct BodyCollisions::Impl {
     fill(vertex_boxes, single);
     fill(edge_boxes, edges);
     fill(triangle_boxes, triangles);
-    overlappingPairs(
-        vertex_boxes, triangle_boxes, false, parallel,
+    const auto pairs = [&](const std::vector<Box>& queries, const std::vector<Box>& targets, bool same,
+                           const std::vector<char>& query_moved, const std::vector<char>& target_moved,
+                           const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out) {
+      if (moved_only) overlappingMarkedPairs(queries, targets, same, parallel, query_moved, target_moved, keep, out);
+      else overlappingPairs(queries, targets, same, parallel, keep, out);
+    };
+    if (moved_only) {
+      const auto mark = [&](const auto& items, std::vector<char>& moved) {
+        moved.resize(items.size());
+        for (std::size_t k = 0; k < items.size(); ++k) {
+          moved[k] = 0;
+          for (const int p : items[k]) moved[k] |= dirty[p];
+        }
+      };
+      mark(single, vertex_moved);
+      mark(edges, edge_moved);
+      mark(triangles, triangle_moved);
+    }
+    pairs(
+        vertex_boxes, triangle_boxes, false, vertex_moved, triangle_moved,
         [&](int v, int t) {
           if (!bodiesMeet(vertex_body[v], triangle_body[t])) return false;
           const int p = vertices[v];
           const auto& tri = triangles[t];
           if (p == tri[0] || p == tri[1] || p == tri[2]) return false;
-          return inv_mass[p] + inv_mass[tri[0]] + inv_mass[tri[1]] + inv_mass[tri[2]] > 0;
+          if (!(inv_mass[p] + inv_mass[tri[0]] + inv_mass[tri[1]] + inv_mass[tri[2]] > 0)) return false;
+          return !moved_only || !apartAllStep(&p, 1, tri.data(), 3, pairThickness(vertex_body[v], triangle_body[t]));
         },
         vf);
-    overlappingPairs(
-        edge_boxes, edge_boxes, true, parallel,
+    pairs(
+        edge_boxes, edge_boxes, true, edge_moved, edge_moved,
         [&](int e, int f) {
           if (!bodiesMeet(edge_body[e], edge_body[f])) return false;
           const auto &a = edges[e], &b = edges[f];
           if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return false;
-          return inv_mass[a[0]] + inv_mass[a[1]] + inv_mass[b[0]] + inv_mass[b[1]] > 0;
+          if (!(inv_mass[a[0]] + inv_mass[a[1]] + inv_mass[b[0]] + inv_mass[b[1]] > 0)) return false;
+          return !moved_only || !apartAllStep(a.data(), 2, b.data(), 2, pairThickness(edge_body[e], edge_body[f]));
         },
         ee);
   }
@@ -313,6 +377,9 @@ struct BodyCollisions::Impl {
         if (r == root[p.stencil.particle[1]] && r == root[p.stencil.particle[2]] && r == root[p.stencil.particle[3]])
           return std::nullopt;
       }
+      const auto& q = p.stencil.particle;
+      const int first = p.kind == Primitive::PointTriangle ? 1 : 2;
+      if (apartAllStep(q.data(), first, q.data() + first, 4 - first, p.thickness)) return std::nullopt;
       const auto hit = firstHit(p.kind, points(xs, p.stencil), points(xe, p.stencil), kEtaFraction * p.thickness);
       if (!hit) return std::nullopt;
       return Contact{k, hit->at, hit->normal, hit->t};
@@ -418,7 +485,7 @@ std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v
   bool all = true, clean = false;  // the first detection tests every pair: repulsion moved only some
   std::vector<Contact> hits;
   for (int round = 0; round < s.settings.ccd_iterations; ++round) {
-    if (round > 0) s.broadPhase();
+    if (round > 0) s.broadPhase(true);
     hits = s.detect(all);
     all = false;
     if (hits.empty()) {
@@ -429,7 +496,7 @@ std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v
     s.impulses(hits, h);
   }
   if (!clean) {  // the last round's impulses are not checked yet
-    s.broadPhase();
+    s.broadPhase(!all);
     hits = s.detect(all);
   }
   if (!hits.empty()) {
@@ -439,20 +506,21 @@ std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v
     for (; round < s.settings.zone_iterations && !hits.empty(); ++round) {
       stats_.largest_zone = std::max(stats_.largest_zone, s.rigidify(hits, h));
       ++stats_.zone_rounds;
-      s.broadPhase();
+      s.broadPhase(true);
       hits = s.detect(false, true);
     }
     if (!hits.empty()) {
       const PairInfo p = s.pairInfo(hits[0].pair);
       std::ostringstream why;
+      const auto& q = p.stencil.particle;
       why << hits.size() << (hits.size() > 1 ? " collisions" : " collision") << " between body surfaces left after "
-          << round << " rounds of rigid impact zones (the first: "
-          << (p.kind == Primitive::PointTriangle ? "particle " : "edge of particles ") << p.stencil.particle[0]
-          << (p.kind == Primitive::PointTriangle ? "" : " and " + std::to_string(p.stencil.particle[1]))
-          << (p.kind == Primitive::PointTriangle ? " against the triangle of particles "
-                                                 : " against the edge of particles ")
-          << p.stencil.particle[1 + int(p.kind == Primitive::EdgeEdge)] << ", " << p.stencil.particle[2] << ", "
-          << p.stencil.particle[3] << " at " << hits[0].t << " of the step)";
+          << round << (round > 1 ? " rounds" : " round") << " of rigid impact zones (the first: ";
+      if (p.kind == Primitive::PointTriangle)
+        why << "particle " << q[0] << " against the triangle of particles " << q[1] << ", " << q[2] << ", " << q[3];
+      else
+        why << "the edge of particles " << q[0] << " and " << q[1] << " against the edge of particles " << q[2]
+            << " and " << q[3];
+      why << " at " << hits[0].t << " of the step)";
       failure = Failure{p.stencil.particle[0], why.str()};
     }
   }

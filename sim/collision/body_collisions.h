@@ -71,6 +71,11 @@ class BodyCollisions {
   Stats stats_;
 };
 
+// Whether the broad phase takes its two shortcuts (on by default): dropping the pairs a fixed axis keeps apart all
+// through the step, and in the later rounds of a step listing only the pairs with a particle that moved. The pass
+// finds the same contacts in the same order either way, only slower without; tests compare the two.
+void setBroadPhaseCulls(bool on);
+
 // The pass for a system's bodies (their SurfaceParams), or nothing when no two elements may collide.
 std::unique_ptr<BodyCollisions> makeBodyCollisions(const MassSpringSystem& system);
 

@@ -90,37 +90,80 @@ class HashGrid {
   std::vector<int> oversized_;
 };
 
-}  // namespace
-
-void overlappingPairs(const std::vector<Box>& queries, const std::vector<Box>& targets, bool same, bool parallel,
-                      const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out) {
-  out.clear();
-  if (queries.empty() || targets.empty()) return;
-  const HashGrid grid(targets);
+// Every (q, t) with q a query that wanted(q) and t a target of the grid (its index through target_index when that
+// is not empty) whose boxes overlap and accepted(q, t) holds, appended by ascending q, then t.
+template <class Wanted, class Accepted>
+void lookUp(const HashGrid& grid, const std::vector<Box>& queries, const std::vector<Box>& targets,
+            const std::vector<int>& target_index, bool parallel, Wanted&& wanted, Accepted&& accepted,
+            std::vector<std::pair<int, int>>& out) {
   static std::atomic<std::uint64_t> calls{0};
   const std::uint64_t call = ++calls;
   const int n = static_cast<int>(queries.size()), chunk = particleChunk(n), chunks = (n + chunk - 1) / chunk;
   std::vector<std::vector<std::pair<int, int>>> parts(chunks);
   forEachChunk(n, parallel, [&](int begin, int end) {
     // A target met again within one query (it spans several of the query's cells) is skipped by its stamp: the
-    // call's number and the query's index, unique over the process. The order of a query's pairs is the grid's, built
-    // serially: the same whatever the threads.
+    // call's number and the query's index, unique over the process.
     thread_local std::vector<int> found;
     thread_local std::vector<std::uint64_t> stamp;
     if (stamp.size() < targets.size()) stamp.resize(targets.size(), 0);
     auto& part = parts[begin / chunk];
     for (int q = begin; q < end; ++q) {
+      if (!wanted(q)) continue;
+      const std::size_t first = part.size();
       found.clear();
       grid.candidates(queries[q], found);
       const std::uint64_t mark = (call << 32) | std::uint64_t(q);
-      for (const int t : found) {
+      for (int t : found) {
+        if (!target_index.empty()) t = target_index[t];
         if (stamp[t] == mark) continue;
         stamp[t] = mark;
-        if ((!same || q < t) && queries[q].overlaps(targets[t]) && keep(q, t)) part.emplace_back(q, t);
+        if (queries[q].overlaps(targets[t]) && accepted(q, t)) part.emplace_back(q, t);
       }
+      std::sort(part.begin() + first, part.end());  // ascending t: the order of the grid's buckets is not
     }
   });
   for (const auto& part : parts) out.insert(out.end(), part.begin(), part.end());
+}
+
+}  // namespace
+
+void overlappingPairs(const std::vector<Box>& queries, const std::vector<Box>& targets, bool same, bool parallel,
+                      const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out) {
+  out.clear();
+  if (queries.empty() || targets.empty()) return;
+  lookUp(
+      HashGrid(targets), queries, targets, {}, parallel, [](int) { return true; },
+      [&](int q, int t) { return (!same || q < t) && keep(q, t); }, out);
+}
+
+void overlappingMarkedPairs(const std::vector<Box>& queries, const std::vector<Box>& targets, bool same, bool parallel,
+                            const std::vector<char>& query_marked, const std::vector<char>& target_marked,
+                            const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out) {
+  out.clear();
+  if (queries.empty() || targets.empty()) return;
+  // Marked queries against every target; with one list on both sides that finds every pair with a marked element,
+  // each taken as (smaller, larger).
+  lookUp(
+      HashGrid(targets), queries, targets, {}, parallel, [&](int q) { return query_marked[q] != 0; },
+      [&](int q, int t) { return same ? q != t && keep(std::min(q, t), std::max(q, t)) : keep(q, t); }, out);
+  if (same) {
+    for (auto& [q, t] : out)
+      if (q > t) std::swap(q, t);
+  } else {  // every other query against the marked targets
+    std::vector<Box> marked;
+    std::vector<int> index;
+    for (std::size_t t = 0; t < targets.size(); ++t)
+      if (target_marked[t]) {
+        marked.push_back(targets[t]);
+        index.push_back(int(t));
+      }
+    if (!marked.empty())
+      lookUp(
+          HashGrid(marked), queries, targets, index, parallel, [&](int q) { return query_marked[q] == 0; },
+          [&](int q, int t) { return keep(q, t); }, out);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
 }
 
 }  // namespace wobble::collision

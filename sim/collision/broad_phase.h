@@ -24,4 +24,11 @@ struct Box {
 void overlappingPairs(const std::vector<Box>& queries, const std::vector<Box>& targets, bool same, bool parallel,
                       const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out);
 
+// The pairs of overlappingPairs that have a marked query or a marked target (marks: one char per box), in the same
+// order: for the later rounds of a step, where only pairs with an element that moved can newly collide. Marked
+// queries look up every target; every other query looks up the marked targets only.
+void overlappingMarkedPairs(const std::vector<Box>& queries, const std::vector<Box>& targets, bool same, bool parallel,
+                            const std::vector<char>& query_marked, const std::vector<char>& target_marked,
+                            const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out);
+
 }  // namespace wobble::collision

@@ -1,7 +1,8 @@
 // The shipped contact scenes (jelly_stack, jelly_trampoline, cloth_drop), run as `wobble run` runs them, for RK4
 // and backward Euler: zero intersecting triangle pairs at every frame by the independent test of
 // tests/sim/triangle_intersection.h (Moller 1997): non-adjacent triangles of one body, any two of different bodies.
-// Also: the trampoline's jelly comes to rest on the cloth; run.json counts the contact work; bad contact keys.
+// Also: the trampoline's jelly comes to rest on the cloth; run.json counts the contact work; a collision the fail-safe
+// cannot resolve stops the run like a blow-up.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -11,6 +12,7 @@
 
 #include "app/commands/run_command.h"
 #include "app/scene/input_error.h"
+#include "tests/app/output_check.h"
 #include "tests/app/scratch_dir.h"
 #include "tests/sim/triangle_intersection.h"
 
@@ -117,6 +119,78 @@ TEST_F(Trampoline, JellyComesToRestOnTheCloth) {
   }
   EXPECT_GT(jelly_low, cloth_low);
   EXPECT_LT(center(frames[last]).y(), 1.0);  // it rests on the sagging cloth (at y = 1 before), not in the air
+}
+
+class FailSafe : public testing::ScratchDir {};
+
+// A 3^3 jelly at 20 m/s onto another under backward Euler at 0.01 s: the jellies meet within one step, and with the
+// [contact] caps at their least (no rounds of collision impulses, one round of rigid impact zones) the pass cannot
+// resolve every collision. The run stops like a blow-up: exit 3, a message naming the integrator, the step, the time,
+// the colliding particles and what to try, run.json saying so, and every frame before the failing step kept. The
+// control: with the default caps the same scene runs to the end.
+TEST_F(FailSafe, UnresolvedCollisionStopsTheRunWithExit3) {
+  const std::string scene = R"(
+[simulation]
+integrator = "backward-euler"
+dt = 0.01
+duration = 0.3
+fps = 100
+[output]
+pc2 = true
+[bodies.base]
+type = "jelly"
+n = 3
+size = 1.0
+center = [0.0, 0.52, 0.0]
+[bodies.top]
+type = "jelly"
+n = 3
+size = 0.8
+center = [0.1, 1.6, 0.05]
+rotation_axis = [1.0, 0.3, 1.0]
+rotation_deg = 30.0
+velocity = [0.0, -20.0, 0.0]
+[colliders.floor]
+type = "plane"
+)";
+  const fs::path capped = write("capped.toml", "[contact]\nccd_iterations = 0\nzone_iterations = 1\n" + scene),
+                 log = dir() / "log.txt", out = dir() / "out";
+  ASSERT_EQ(testing::runWobble("run " + capped.string() + " --render none --out " + out.string(), log), 3)
+      << testing::slurpFile(log);
+  const std::string said = testing::slurpFile(log);
+  for (const char* part : {"contact between bodies failed", "integrator backward-euler", "step ",
+                           "t = ", "collision between body surfaces left after 1 round of rigid impact zones",
+                           "particle", "--dt 0.0025", "zone_iterations"})
+    EXPECT_NE(said.find(part), std::string::npos) << part << " missing from: " << said;
+  std::ifstream in(out / "run.json");
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["blew_up"], true);
+  const long step = j["blow_up"]["step"].get<long>();
+  EXPECT_EQ(j["steps"].get<long>(), step);
+  EXPECT_NE(said.find(j["blow_up"]["message"].get<std::string>()), std::string::npos);
+  EXPECT_NE(said.find("step " + std::to_string(step) + ", t = "), std::string::npos);
+  EXPECT_GT(j["body_contact"]["failsafe_activations"].get<long>(), 0);
+  // A frame a step (fps 100, dt 0.01): frame k holds t = (k - 1) dt, so frames 1 .. step were written before the
+  // failing step, and kept.
+  const int written = j["frames"]["written"].get<int>();
+  EXPECT_EQ(written, step);
+  EXPECT_GT(written, 3);
+  for (int f = 1; f <= written; ++f)
+    for (const char* body : {"base", "top"}) {
+      char name[32];
+      std::snprintf(name, sizeof name, "%s_%04d.obj", body, f);
+      EXPECT_TRUE(fs::exists(out / "mesh" / name)) << name;
+    }
+  // The control: the default caps resolve every collision of the same scene.
+  RunOptions o;
+  o.scene = write("default.toml", scene);
+  o.out = dir() / "default";
+  o.render.render = "none";
+  o.progress = false;
+  o.stop_on_energy_gain = false;
+  const RunReport r = runScene(o);
+  EXPECT_FALSE(r.blow_up) << r.blow_up_message;
+  EXPECT_EQ(r.frames_written, 30);
 }
 
 }  // namespace

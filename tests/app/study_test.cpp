@@ -7,9 +7,11 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "app/commands/run_command.h"
+#include "app/scene/scene_file.h"
 #include "app/study/order_fit.h"
 #include "app/study/stability_theory.h"
 #include "app/study/study_accuracy_report.h"
@@ -264,6 +266,17 @@ TEST(StabilityStudy, GainedEnergyIsAnOutcomeOfItsOwn) {
   EXPECT_EQ(classifyCell(steady, "rk4", 0.02, 1.0, 0.5).outcome, Outcome::Stable);
 }
 
+// The study run again on one thread gives the same cells as r.
+void expectSameOnOneThread(StabilityOptions o, const StabilityResult& r) {
+  o.jobs = 1;
+  const StabilityResult one = runStabilityStudy(o);
+  ASSERT_EQ(one.cells.size(), r.cells.size());
+  for (std::size_t i = 0; i < r.cells.size(); ++i) {
+    EXPECT_EQ(one.cells[i].outcome, r.cells[i].outcome) << i;
+    EXPECT_EQ(one.cells[i].steps, r.cells[i].steps) << i;
+  }
+}
+
 TEST_F(Study, StabilityFilesAndInference) {
   StabilityOptions o;
   o.scene = write("jelly.toml",
@@ -278,6 +291,7 @@ TEST_F(Study, StabilityFilesAndInference) {
   o.dt_max = 1e-2;
   o.dt_points = 3;
   o.cases = {{5e4, 1.2e-3}};
+  o.contact_scene.clear();  // the contact case: below
   o.progress = false;
   o.jobs = 2;
   const StabilityResult r = runStabilityStudy(o);
@@ -293,14 +307,95 @@ TEST_F(Study, StabilityFilesAndInference) {
   const std::string md = slurp(dir() / "out/stability.md");
   EXPECT_NE(md.find("## The users' cases"), std::string::npos);
   EXPECT_NE(md.find("### explicit-euler"), std::string::npos);
-  // Deterministic whatever the thread count.
-  o.jobs = 1;
-  const StabilityResult one = runStabilityStudy(o);
-  ASSERT_EQ(one.cells.size(), r.cells.size());
-  for (std::size_t i = 0; i < r.cells.size(); ++i) {
-    EXPECT_EQ(one.cells[i].outcome, r.cells[i].outcome) << i;
-    EXPECT_EQ(one.cells[i].steps, r.cells[i].steps) << i;
+  expectSameOnOneThread(o, r);
+}
+
+// The contact case: a stiff 3^3 jelly (ks 1e5) dropped onto another at steps far beyond RK4's limit for that ks
+// (theory's dt_max, stability_theory.h): RK4 blows up, backward Euler (no step limit) runs to the end, whatever it
+// then is (stable, lost shape, or gained energy, with its note). The cells stay out of the maps, and the report and
+// the CSV give them a section and a column of their own, in the same order whatever the thread count.
+TEST_F(Study, ContactCaseLandsAStiffJellyOnAJelly) {
+  StabilityOptions o;
+  o.scene =
+      write("jelly.toml", "[bodies.jelly]\ntype = \"jelly\"\nn = 2\nsize = 1.0\n[colliders.floor]\ntype = \"plane\"\n");
+  o.contact_scene = write("stack.toml",
+                          "[bodies.base]\ntype = \"jelly\"\nn = 3\nsize = 1.0\nmass = 0.1\ncenter = [0, 0.52, 0]\n"
+                          "[bodies.top]\ntype = \"jelly\"\nn = 3\nsize = 0.8\nmass = 0.1\ncenter = [0.1, 1.6, 0.05]\n"
+                          "rotation_axis = [1, 0.3, 1]\nrotation_deg = 30\n[colliders.floor]\ntype = \"plane\"\n");
+  o.integrators = {"rk4", "backward-euler"};
+  o.duration = 0.05;
+  o.ks_min = o.ks_max = 1e3;
+  o.ks_points = o.dt_points = 1;
+  o.dt_min = o.dt_max = 1e-3;
+  o.cases = {};
+  o.contact_cases = {{1e5, 1.0 / 60}, {1e5, 1.0 / 120}};
+  o.contact_duration = 0.6;  // the top jelly lands at about 0.4 s
+  o.progress = false;
+  o.jobs = 2;
+  const StabilityResult r = runStabilityStudy(o);
+  ASSERT_EQ(r.cells.size(), 2u * (1 + 2));
+  const auto stack = loadScene(o.contact_scene, {"bodies.base.ks=1e5", "bodies.top.ks=1e5"});
+  const double omega = powerIterationOmegaMax(*stack.system), zeta = damperRatio(*stack.system);
+  int contact = 0;
+  for (const StabilityCell& c : r.cells) {
+    if (!c.contact_case) continue;
+    ++contact;
+    EXPECT_FALSE(c.user_case);
+    EXPECT_EQ(c.ks, 1e5);
+    if (c.integrator == "rk4") {
+      ASSERT_LT(stableStep("rk4", omega, zeta), c.dt / 4);
+      EXPECT_EQ(c.outcome, Outcome::BlewUp) << c.dt << " " << c.note;
+    } else {
+      EXPECT_NE(c.outcome, Outcome::BlewUp) << c.dt << " " << c.note;
+      EXPECT_NEAR(c.end_time, 0.6, 1e-9);
+      if (c.outcome == Outcome::GainedEnergy) EXPECT_NE(c.note.find("gained energy at t = "), std::string::npos);
+    }
   }
+  EXPECT_EQ(contact, 4);
+  writeStabilityOutputs(r, dir() / "out", (dir() / "no-gnuplot").string());
+  const std::string md = slurp(dir() / "out/stability.md");
+  EXPECT_NE(md.find("## Contact: a stiff jelly landing on a jelly"), std::string::npos);
+  EXPECT_NE(md.find("BLOW"), std::string::npos);
+  const auto csv = lines(dir() / "out/stability.csv");
+  ASSERT_EQ(csv.size(), 1u + r.cells.size());
+  EXPECT_NE(csv[0].find("contact_case"), std::string::npos);
+  EXPECT_EQ(csv.back().rfind("stack,backward-euler,", 0), 0u) << csv.back();
+  expectSameOnOneThread(o, r);
+}
+
+// A gained-energy contact cell is reported as GAIN in the contact section, not in the maps.
+TEST(StabilityReport, ContactCellsHaveTheirOwnSection) {
+  StabilityResult r;
+  r.scene_name = "jelly";
+  r.contact_scene_name = "stack";
+  r.contact_scene_file = "stack.toml";
+  r.contact_duration = 1;
+  r.integrators = {"backward-euler"};
+  r.ks = {1e3};
+  r.dt = {1e-3};
+  StabilityTheory t;
+  t.ks = 1e3;
+  t.dt_power = t.dt_gershgorin = {std::numeric_limits<double>::infinity()};
+  r.theory = {t};
+  StabilityCell grid;
+  grid.integrator = "backward-euler";
+  grid.ks = 1e3;
+  grid.dt = 1e-3;
+  StabilityCell gain = grid;
+  gain.ks = 1e5;
+  gain.dt = 1.0 / 60;
+  gain.contact_case = true;
+  gain.outcome = Outcome::GainedEnergy;
+  gain.note = "gained energy at t = 0.45 s, step 27: 900 J from 800 J";
+  r.cells = {grid, gain};
+  const std::string md = stabilityMarkdown(r);
+  const std::size_t section = md.find("## Contact: a stiff jelly landing on a jelly"), maps = md.find("## Maps");
+  ASSERT_NE(section, std::string::npos);
+  const std::size_t row = md.find("| GAIN |");
+  EXPECT_GT(row, section);
+  EXPECT_LT(row, maps);
+  EXPECT_NE(md.find(gain.note), std::string::npos);
+  EXPECT_EQ(md.find("GAIN", maps), std::string::npos);  // the maps hold the grid only
 }
 
 TEST_F(Study, EstimateErrorMatchesExplicitEulerInFreeFall) {
