@@ -51,6 +51,8 @@ struct IntegratorStats {
   long error_rule_stops = 0;        // backward-euler: solves that stopped by cg_error_fraction before cg_tolerance
   long pattern_setups = 0;          // backward-euler: matrices sized for a new Jacobian pattern (once per topology)
   long impact_solves = 0;           // backward-euler: extra solves with impact constraints (contact_constraints.h)
+  long body_contact_solves = 0;     // backward-euler: extra solves with contact between bodies (ContactPair)
+  long body_contact_pairs = 0;      // backward-euler: pairs of surface elements in those solves, all steps
 };
 
 class Integrator {
@@ -59,6 +61,9 @@ class Integrator {
   virtual std::string_view name() const = 0;
   // Advances x, v from time t to t + h.
   virtual void step(const Dynamics& dynamics, double t, double h, VecX& x, VecX& v) = 0;
+  // Whether step() keeps the surfaces of bodies apart itself (ForceJacobian::bodyContacts): then the pass after the
+  // step (sim/collision/body_collisions.h) only checks for collisions and leaves out its repulsion.
+  virtual bool solvesBodyContact() const { return false; }
   const IntegratorStats& stats() const { return stats_; }
 
  protected:
