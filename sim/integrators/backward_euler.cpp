@@ -19,7 +19,15 @@
 // likewise (B&W's constraints, here for collisions within the step): when the solved step would end a particle inside
 // a surface, that particle is constrained along the normal to its restitution bounce (or what keeps it out) and the
 // step is solved again, so the stiff springs pass the impulse to the body inside the implicit solve and no position
-// is moved behind the solve's back (ForceJacobian::impactConstraints, docs/energy.md). Options:
+// is moved behind the solve's back (ForceJacobian::impactConstraints, docs/energy.md). Contact between bodies
+// (ForceJacobian::bodyContacts, docs/body-contact.md) goes into the solve as well: every point-triangle and edge-edge
+// pair whose gap, linearized at the step's start, the solved step would close gets a stiff one-sided quadratic
+// penalty with its Jacobian (a stencil block of the matrix), the set of pressed pairs updated after each solve (an
+// active set), and Coulomb friction as a tangential damper sized from the pressed pair's normal force (lagged, as IPC
+// does: Li et al. 2020, "Incremental Potential Contact"). The penalty is convex, and backward Euler is the minimizer of
+// the incremental potential (Gast et al. 2015, "Optimization integrator for large time steps"), so an exact step never
+// gains energy through it; the pass after the step keeps only its collision impulses and impact zones (Bridson et al.
+// 2002), the guarantee that nothing passes through. Options:
 // cg_tolerance (relative residual |S (b - A dv)| / |S (b - A z)|, default in integrator.h), cg_error_fraction (below),
 // cg_preconditioner (integrator.h) and cg_max_iterations of each linear solve (a solve that hits the limit is used as
 // it stands, as Blender's cloth solver does; the achieved residual is in the stats); newton: after that first step,
@@ -61,7 +69,7 @@ class BackwardEuler final : public Integrator {
   }
 
   std::string_view name() const override { return "backward-euler"; }
-  bool solvesBodyContact() const override { return true; }
+  bool solvesBodyContact() const override { return options_.body_contact_in_solve; }
 
   void step(const Dynamics& dynamics, double t, double h, VecX& x, VecX& v) override {
     const ForceJacobian* jacobian = dynamics.forceJacobian();
@@ -120,7 +128,7 @@ class BackwardEuler final : public Integrator {
       for (int p = begin; p < end; ++p)
         particle(end_x_, p) = particle(x, p) + h * (particle(v, p) + h * particle(f0_, p));
     });
-    if (jacobian->bodyContacts(x, end_x_, pairs_) && updatePairs(*jacobian, h, x, end_x_)) applyPairs(h, x, v, false);
+    if (options_.body_contact_in_solve && jacobian->bodyContacts(x, end_x_, pairs_) && updatePairs(*jacobian, h, x, end_x_)) applyPairs(h, x, v, false);
     solve(rhs_, dv_, absolute);
     solveImpacts(*jacobian, t, h, x, v, absolute);
     if (!pairs_.empty()) solveFriction(h, x, v, absolute);
@@ -163,8 +171,8 @@ class BackwardEuler final : public Integrator {
         }
       });
       const bool impacts = jacobian.impactConstraints(t, h, x, v, end_x_, end_v_, contacts_);
-      jacobian.bodyContacts(x, end_x_, pairs_);
-      const bool pairs = updatePairs(jacobian, h, x, end_x_);
+      const bool pairs = options_.body_contact_in_solve && (jacobian.bodyContacts(x, end_x_, pairs_) || !pairs_.empty()) &&
+                         updatePairs(jacobian, h, x, end_x_);
       if (!impacts && !pairs) return;
       history_ = 0;  // this step's dv carries impulses: not the smooth error's measure
       if (impacts) {
