@@ -423,6 +423,13 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
     ContactPair pair{p.stencil.particle, c.at.w, c.normal, p.thickness, p.friction};
     if (!(pair.gap(x1) < 0)) continue;
     if (std::binary_search(known.begin(), known.end(), pair.particle)) continue;
+    // The linearized gap of a pair far apart at x0 says little: only a pair that does come within the thickness at
+    // x1 (or crosses on the way) joins.
+    const auto e = s.points(x1, p.stencil);
+    const Closest end =
+        p.kind == Primitive::PointTriangle ? pointTriangle(e[0], e[1], e[2], e[3]) : edgeEdge(e[0], e[1], e[2], e[3]);
+    if (!(end.distance < p.thickness) && !firstHit(p.kind, s.points(x0, p.stencil), e, kEtaFraction * p.thickness))
+      continue;
     out.push_back(pair);
   }
   return out.size() > before;
