@@ -35,8 +35,8 @@ struct ContactPair {
   std::array<int, 4> particle;
   std::array<double, 4> w;
   Vec3 normal;
-  double thickness;  // m
-  double friction;   // Coulomb coefficient
+  double thickness;                     // m
+  double friction;                      // Coulomb coefficient
   Vec3 relative(const VecX& y) const {  // sum w_i y_i
     Vec3 r = Vec3::Zero();
     for (int i = 0; i < 4; ++i) r += w[i] * wobble::particle(y, particle[i]);

@@ -67,7 +67,8 @@ class BodyCollisions {
   // Whether any pair of elements may collide at all: two bodies, or one with self-contact.
   static bool needed(const std::vector<Surface>& surfaces);
   // The pass over one step of size h from x0 to (x1, v1); see above. Nothing when the end is free of collisions.
-  // repulsion: stage 1's impulses (false when the integrator's solve carried the contacts; the pairs are still counted).
+  // repulsion: stage 1's impulses (false when the integrator's solve carried the contacts; the pairs are still
+  // counted).
   std::optional<Failure> resolve(const VecX& x0, VecX& x1, VecX& v1, double h, bool repulsion = true);
   // For an implicit solve (ForceJacobian::bodyContacts): appends to out the pairs of elements, not in out yet, whose
   // gap, linearized at x0 along their nearest points' direction there, ends below 0 at x1 (candidates from the swept

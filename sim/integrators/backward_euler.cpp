@@ -128,7 +128,9 @@ class BackwardEuler final : public Integrator {
       for (int p = begin; p < end; ++p)
         particle(end_x_, p) = particle(x, p) + h * (particle(v, p) + h * particle(f0_, p));
     });
-    if (options_.body_contact_in_solve && jacobian->bodyContacts(x, end_x_, pairs_) && updatePairs(*jacobian, h, x, end_x_)) applyPairs(h, x, v, false);
+    if (options_.body_contact_in_solve && jacobian->bodyContacts(x, end_x_, pairs_) &&
+        updatePairs(*jacobian, h, x, end_x_))
+      applyPairs(h, x, v, false);
     solve(rhs_, dv_, absolute);
     solveImpacts(*jacobian, t, h, x, v, absolute);
     if (!pairs_.empty()) solveFriction(h, x, v, absolute);
@@ -171,7 +173,8 @@ class BackwardEuler final : public Integrator {
         }
       });
       const bool impacts = jacobian.impactConstraints(t, h, x, v, end_x_, end_v_, contacts_);
-      const bool pairs = options_.body_contact_in_solve && (jacobian.bodyContacts(x, end_x_, pairs_) || !pairs_.empty()) &&
+      const bool pairs = options_.body_contact_in_solve &&
+                         (jacobian.bodyContacts(x, end_x_, pairs_) || !pairs_.empty()) &&
                          updatePairs(jacobian, h, x, end_x_);
       if (!impacts && !pairs) return;
       history_ = 0;  // this step's dv carries impulses: not the smooth error's measure

@@ -34,7 +34,8 @@ struct IntegratorOptions {
   int cg_max_iterations = 1000;
   CgPreconditioner cg_preconditioner = CgPreconditioner::Auto;
   // backward-euler: contact between bodies inside the solve (a penalty on each near pair, docs/body-contact.md); false:
-  // left to the pass after the step, as for the explicit methods (for comparison: the benchmarks and the docs' figures).
+  // left to the pass after the step, as for the explicit methods (for comparison: the benchmarks and the docs'
+  // figures).
   bool body_contact_in_solve = true;
 };
 

@@ -28,8 +28,9 @@ struct Case {
 };
 
 // jelly_trampoline's jelly has come to rest on the cloth: at the last frame its centre moves slower than 5 cm/s (from
-// the last two frames; a hundredth of its landing speed, about 5 m/s: the cloth's drag leaves a faint bob), its lowest particle is above the cloth's lowest (it sits in the cloth's sag, not below it), and
-// its centre is below the cloth's starting height (it rests on the sagging cloth, not in the air).
+// the last two frames; a hundredth of its landing speed, about 5 m/s: the cloth's drag leaves a faint bob), its lowest
+// particle is above the cloth's lowest (it sits in the cloth's sag, not below it), and its centre is below the cloth's
+// starting height (it rests on the sagging cloth, not in the air).
 void expectJellyAtRestOnCloth(const SceneFile& scene, const VecX& before_last, const VecX& last) {
   ASSERT_GT(before_last.size(), 0);
   const int jelly_first = scene.system->bodies()[1].first, count = scene.system->particleCount();
@@ -65,7 +66,7 @@ TEST_P(ContactScene, NoTrianglesIntersectAtAnyFrame) {
   for (std::size_t b = 0; b < scene.system->bodies().size(); ++b)
     testing::addSurface(tris, scene.system->bodies()[b].body.surface, scene.system->bodies()[b].first, int(b));
   int frames = 0, worst = 0;
-  std::string first;  // the first intersecting pair seen: frame, bodies, triangles' particles
+  std::string first;       // the first intersecting pair seen: frame, bodies, triangles' particles
   VecX last, before_last;  // the last two frames
   o.on_frame = [&](int frame, const VecX& x) {
     ++frames;
@@ -137,7 +138,8 @@ TEST_P(Stack, UpperJellyEndsOnTopOfTheLower) {
   };
   double lower_top = -1e9;
   const VecX& end = frames.back();
-  for (int i = 0; i < lower.body.particleCount(); ++i) lower_top = std::max(lower_top, particle(end, lower.first + i).y());
+  for (int i = 0; i < lower.body.particleCount(); ++i)
+    lower_top = std::max(lower_top, particle(end, lower.first + i).y());
   const Vec3 u = center(end, upper), l = center(end, lower);
   EXPECT_GT(u.y(), lower_top) << c.integrator;
   EXPECT_LT(std::abs(u.x() - l.x()), 0.5) << c.integrator;  // the lower jelly is 1 m wide
@@ -147,7 +149,8 @@ TEST_P(Stack, UpperJellyEndsOnTopOfTheLower) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Shipped, Stack,
-                         ::testing::Values(Case{"jelly_stack", "rk4", 0}, Case{"jelly_stack", "backward-euler", 1.0 / 60}),
+                         ::testing::Values(Case{"jelly_stack", "rk4", 0},
+                                           Case{"jelly_stack", "backward-euler", 1.0 / 60}),
                          [](const auto& info) {
                            std::string name = info.param.integrator;
                            std::replace(name.begin(), name.end(), '-', '_');
