@@ -10,11 +10,16 @@
 // Counters per step: contacts (pairs within the thickness), CCD hits, impact-zone activations; min_dist is the
 // smallest distance between non-adjacent elements seen in the timed steps (m; the thickness is a quarter of the
 // particle spacing: 5.1 mm at 100, 2.0 mm at 256).
+//   BM_StackInSolve/x: jelly_stack's two 5^3 jellies, the upper one resting on the lower, backward Euler at 1/60 with
+//   the contacts in its solve (/1) against the pass after the step alone (/0, as before they went into the solve).
 // Run: taskset -c 0,1 build/body_contact_bench (two cores).
 #include <benchmark/benchmark.h>
 
 #include <memory>
 
+#include "sim/bodies/cloth.h"
+#include "sim/bodies/jelly.h"
+#include "sim/colliders/plane.h"
 #include "sim/collision/body_collisions.h"
 #include "sim/simulation.h"
 #include "tests/sim/folded_cloth.h"
@@ -68,6 +73,38 @@ BENCHMARK(BM_Folded)
     ->Args({256, 1, 1})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FoldedRk4)->Args({32, 0, 1})->Args({32, 1, 1})->Unit(benchmark::kMillisecond);
+
+// jelly_stack (scenes/jelly_stack.toml), the upper jelly dropped onto the lower: timed once it rests on it (1.5 s).
+void BM_StackInSolve(benchmark::State& state) {
+  const double dt = 1.0 / 60;
+  MassSpringSystem system;
+  JellyParams base{.n = 5, .size = 1, .mass = 0.1, .ks = 3000, .kd = 2, .center = Vec3(0, 0.52, 0)};
+  system.addBody(buildJelly("base", base));
+  JellyParams top = base;
+  top.size = 0.8;
+  top.center = Vec3(0.05, 2.1, -0.05);
+  top.rotation_axis = Vec3::UnitY();
+  top.rotation_deg = 30;
+  system.addBody(buildJelly("top", top));
+  system.addCollider(
+      std::make_unique<PlaneCollider>("floor", ContactParams{0.2, 0.6, 0.01}, Vec3::Zero(), Vec3::UnitY()));
+  IntegratorOptions options;
+  options.body_contact_in_solve = state.range(0) != 0;
+  Simulation sim(system, makeIntegrator("backward-euler", options), dt);
+  if (sim.advanceTo(1.5)) state.SkipWithError("the warm-up stopped");
+  const long steps = sim.steps();
+  const IntegratorStats before = sim.integrator().stats();
+  for (auto _ : state)
+    if (sim.advanceTo(sim.time() + dt)) state.SkipWithError("the run stopped");
+  const double taken = double(sim.steps() - steps);
+  const IntegratorStats& after = sim.integrator().stats();
+  state.counters["cg/step"] = double(after.cg_iterations - before.cg_iterations) / taken;
+  state.counters["solves/step"] =
+      1 + double(after.body_contact_solves - before.body_contact_solves + after.impact_solves - before.impact_solves) /
+              taken;
+}
+
+BENCHMARK(BM_StackInSolve)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace wobble

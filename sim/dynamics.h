@@ -1,6 +1,7 @@
 // What an integrator sees of a physical system: accelerations as a function of time and flat state, and, for
 // implicit integrators, an optional linearization of the forces.
 #pragma once
+#include <array>
 #include <vector>
 
 #include <Eigen/SparseCore>
@@ -23,6 +24,25 @@ struct ContactConstraint {
   // The particle's normal velocity changes by h times this over the step: the surface's normal acceleration for a
   // resting contact; for an impact (addImpactConstraints), the change that gives it its bounce.
   double normal_acceleration;
+};
+
+// Two surface elements of bodies near each other in an implicit step (contact between bodies, docs/body-contact.md): a
+// point against a triangle or an edge against an edge, as a stencil of four particles with weights w such that sum w_i
+// x_i is the relative position (sim/collision/primitives.h). At the step's start their nearest points are along the
+// unit normal n (from the second element to the first); the pair's gap g(x) = n . sum w_i x_i - thickness, linear in
+// x over the step, is kept >= 0 by a stiff penalty inside backward Euler's solve (backward_euler.cpp).
+struct ContactPair {
+  std::array<int, 4> particle;
+  std::array<double, 4> w;
+  Vec3 normal;
+  double thickness;                     // m
+  double friction;                      // Coulomb coefficient
+  Vec3 relative(const VecX& y) const {  // sum w_i y_i
+    Vec3 r = Vec3::Zero();
+    for (int i = 0; i < 4; ++i) r += w[i] * wobble::particle(y, particle[i]);
+    return r;
+  }
+  double gap(const VecX& x) const { return normal.dot(relative(x)) - thickness; }
 };
 
 // Optional capability of a Dynamics, for implicit integrators: the lumped (diagonal) mass and the smooth forces with
@@ -59,6 +79,13 @@ class ForceJacobian {
   virtual bool impactConstraints(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1, const VecX& v1,
                                  std::vector<ContactConstraint>& out) const {
     (void)t, (void)h, (void)x0, (void)v0, (void)x1, (void)v1, (void)out;
+    return false;
+  }
+  // Contact between bodies for a candidate step from x0 to x1: appends to out every pair of surface elements not yet
+  // in it whose gap (ContactPair) would end the step below 0, its normal and weights from x0 (so a pair found again is
+  // the same pair). Returns whether out grew; the solver then solves again with the pairs' penalty (the default: none).
+  virtual bool bodyContacts(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out) const {
+    (void)x0, (void)x1, (void)out;
     return false;
   }
 

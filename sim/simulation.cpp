@@ -14,12 +14,17 @@ Simulation::Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> int
       v_(system.initialVelocities()),
       collisions_(collision::makeBodyCollisions(system)) {
   system.setStepSize(dt);
+  system.setBodyContact(collisions_.get());  // for an implicit solve's contacts (ForceJacobian::bodyContacts)
   for (int i = 0; i < system.particleCount(); ++i)
     max_speed_squared_ = std::max(max_speed_squared_, particle(v_, i).squaredNorm());
   energy_start_ = system.energy(x_, v_);
   double free_mass = 0;
   for (int i = 0; i < system.particleCount(); ++i) free_mass += system.inverseMass()[i] > 0 ? system.mass()[i] : 0;
   lift_margin_ = free_mass * std::max(system.gravity().norm(), 1.0) * kEnergyGainLift;
+}
+
+Simulation::~Simulation() {
+  if (system_.bodyContact() == collisions_.get()) system_.setBodyContact(nullptr);
 }
 
 double Simulation::maxSpeed() const { return std::sqrt(max_speed_squared_); }
@@ -44,7 +49,7 @@ std::optional<BlowUp> Simulation::advanceTo(double t_end) {
     ++steps_;
     system_.resolveCollisions(t_, x_, v_);
     if (collisions_)
-      if (auto failure = collisions_->resolve(x_before_, x_, v_, h))
+      if (auto failure = collisions_->resolve(x_before_, x_, v_, h, !integrator_->solvesBodyContact()))
         return BlowUp{std::string(integrator_->name()), steps_, t_, failure->particle, 0, failure->reason};
     if (auto blow_up = check()) return blow_up;
     if (colliders) {

@@ -52,6 +52,9 @@ class Simulation {
  public:
   // Sets the system's step size (for static friction) to dt.
   Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> integrator, double dt);
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
 
   // Steps until time() == t_end. Stops at once and returns what happened if the state blows up. At the end, checks the
   // energy (EnergyGain above): energyGain() holds the first check that failed; the caller decides whether to go on
@@ -83,7 +86,7 @@ class Simulation {
   std::optional<BlowUp> check();
   void checkEnergy();
 
-  const MassSpringSystem& system_;
+  MassSpringSystem& system_;
   std::unique_ptr<Integrator> integrator_;
   double dt_;
   VecX x_, v_;

@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "sim/collision/body_collisions.h"
 #include "sim/contact.h"
 #include "sim/contact_constraints.h"
 #include "sim/force_jacobian.h"
@@ -100,6 +101,10 @@ void MassSpringSystem::contactConstraints(double t, const VecX& x, const VecX& v
 bool MassSpringSystem::impactConstraints(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
                                          const VecX& v1, std::vector<ContactConstraint>& out) const {
   return addImpactConstraints(colliders_, t, h, x0, v0, x1, v1, collider_inv_mass_, out);
+}
+
+bool MassSpringSystem::bodyContacts(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out) const {
+  return body_contact_ && body_contact_->nearPairs(x0, x1, out);
 }
 
 void MassSpringSystem::acceleration(double t, const VecX& x, const VecX& v, VecX& a) const {

@@ -13,6 +13,10 @@
 
 namespace wobble {
 
+namespace collision {
+class BodyCollisions;
+}
+
 struct BodySlot {
   Body body;      // as built (initial state, surface), body-local indices
   int first = 0;  // index of its first particle in the system
@@ -49,6 +53,11 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   // The particles a candidate implicit step ends inside a collider (contact_constraints.h, addImpactConstraints).
   bool impactConstraints(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1, const VecX& v1,
                          std::vector<ContactConstraint>& out) const override;
+  // Contact between bodies for an implicit step (BodyCollisions::nearPairs of the pass set below; none without one).
+  bool bodyContacts(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out) const override;
+  // The body-contact pass whose pairs bodyContacts reports (Simulation sets it; nullptr: none).
+  void setBodyContact(collision::BodyCollisions* pass) { body_contact_ = pass; }
+  const collision::BodyCollisions* bodyContact() const { return body_contact_; }
   // Restitution and penetration correction, applied to the stored state at the end of each step. Every integrator
   // meets colliders with an embedded surface here and in the contact forces (weighted_points.h); backward Euler's
   // constraints hold particles only, so an embedded surface's impacts are resolved here after its solve.
@@ -85,6 +94,7 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   Vec3 gravity_;
   double stick_time_ = 2e-3;
   collision::Settings contact_settings_;
+  collision::BodyCollisions* body_contact_ = nullptr;
   std::vector<BodySlot> bodies_;
   std::vector<std::unique_ptr<Collider>> colliders_;
   VecX x0_, v0_, mass_, inv_mass_, drag_;

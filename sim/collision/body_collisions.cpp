@@ -308,8 +308,8 @@ struct BodyCollisions::Impl {
     return denom;
   }
 
-  // Step 1: repulsion and friction for pairs within the thickness at the start.
-  void repel(double h, Stats& stats) {
+  // Step 1: repulsion and friction for pairs within the thickness at the start (only counted without impulses).
+  void repel(double h, Stats& stats, bool impulses) {
     const std::vector<Contact> near = gather([&](int k, const PairInfo& p) -> std::optional<Contact> {
       const auto x = points(xs, p.stencil);
       // The start's boxes (the swept ones found the pair) further apart than the thickness: not near.
@@ -340,6 +340,7 @@ struct BodyCollisions::Impl {
       stats.min_distance = std::min(stats.min_distance, c.at.distance);
       if (c.t < 0) continue;
       ++stats.contacts;
+      if (!impulses) continue;
       const PairInfo p = pairInfo(c.pair);
       const double denom = weightNorm(p.stencil, c.at.w);
       if (denom <= 0) continue;
@@ -466,7 +467,42 @@ bool BodyCollisions::needed(const std::vector<Surface>& surfaces) {
   return !surfaces.empty() && surfaces[0].params.self_contact;
 }
 
-std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v1, double h) {
+bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out) {
+  Impl& s = *impl_;
+  if (!x1.allFinite()) return false;
+  s.xs = x0;
+  s.xe = x1;
+  s.broadPhase();
+  const std::size_t before = out.size();
+  std::vector<std::array<int, 4>> known;  // the pairs already in out, sorted
+  for (const ContactPair& c : out) known.push_back(c.particle);
+  std::sort(known.begin(), known.end());
+  // The nearest points at x0 on threads (gather keeps the pair order), then the gap at x1 of each.
+  const std::vector<Contact> found = s.gather([&](int k, const PairInfo& p) -> std::optional<Contact> {
+    const auto x = s.points(x0, p.stencil);
+    const Closest c =
+        p.kind == Primitive::PointTriangle ? pointTriangle(x[0], x[1], x[2], x[3]) : edgeEdge(x[0], x[1], x[2], x[3]);
+    if (!(c.distance > 0)) return std::nullopt;  // touching at the start: no direction (the post-step pass has it)
+    return Contact{k, c, c.delta / c.distance, 0};
+  });
+  for (const Contact& c : found) {
+    const PairInfo p = s.pairInfo(c.pair);
+    ContactPair pair{p.stencil.particle, c.at.w, c.normal, p.thickness, p.friction};
+    if (!(pair.gap(x1) < 0)) continue;
+    if (std::binary_search(known.begin(), known.end(), pair.particle)) continue;
+    // The linearized gap of a pair far apart at x0 says little: only a pair that does come within the thickness at
+    // x1 (or crosses on the way) joins.
+    const auto e = s.points(x1, p.stencil);
+    const Closest end =
+        p.kind == Primitive::PointTriangle ? pointTriangle(e[0], e[1], e[2], e[3]) : edgeEdge(e[0], e[1], e[2], e[3]);
+    if (!(end.distance < p.thickness) && !firstHit(p.kind, s.points(x0, p.stencil), e, kEtaFraction * p.thickness))
+      continue;
+    out.push_back(pair);
+  }
+  return out.size() > before;
+}
+
+std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v1, double h, bool repulsion) {
   Impl& s = *impl_;
   if (!x1.allFinite() || !v1.allFinite()) return std::nullopt;  // a blow-up: Simulation reports it next
   ++stats_.passes;
@@ -479,7 +515,7 @@ std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v
   s.dirty.assign(n / 3, 0);
   s.root.resize(n / 3);
   s.broadPhase();
-  s.repel(h, stats_);
+  s.repel(h, stats_, repulsion);
 
   std::optional<Failure> failure;
   bool all = true, clean = false;  // the first detection tests every pair: repulsion moved only some

@@ -14,6 +14,10 @@
 //      round finds no hit or zone_iterations rounds pass: then the pass fails.
 // Then x1 = x0 + h vbar and v1 += vbar - (x1 - x0) / h for the particles whose vbar changed; every other byte of x1 and
 // v1 is left as it was, so a step in which no two surfaces come within the thickness is unchanged.
+// An implicit integrator that carries the contacts in its solve (backward Euler: nearPairs below, a penalty on each
+// pair's gap with its Jacobian) skips stage 1: its step ends with the pairs at the thickness already, and impulses on
+// the touching particles alone would compress the springs behind them (the energy gain of docs/body-contact.md).
+// Stages 2 and 3 stay the guarantee that no surface passes through another.
 #pragma once
 #include <limits>
 #include <memory>
@@ -22,6 +26,7 @@
 #include <vector>
 
 #include "sim/collision/params.h"
+#include "sim/dynamics.h"
 #include "sim/types.h"
 
 namespace wobble {
@@ -62,7 +67,13 @@ class BodyCollisions {
   // Whether any pair of elements may collide at all: two bodies, or one with self-contact.
   static bool needed(const std::vector<Surface>& surfaces);
   // The pass over one step of size h from x0 to (x1, v1); see above. Nothing when the end is free of collisions.
-  std::optional<Failure> resolve(const VecX& x0, VecX& x1, VecX& v1, double h);
+  // repulsion: stage 1's impulses (false when the integrator's solve carried the contacts; the pairs are still
+  // counted).
+  std::optional<Failure> resolve(const VecX& x0, VecX& x1, VecX& v1, double h, bool repulsion = true);
+  // For an implicit solve (ForceJacobian::bodyContacts): appends to out the pairs of elements, not in out yet, whose
+  // gap, linearized at x0 along their nearest points' direction there, ends below 0 at x1 (candidates from the swept
+  // boxes of x0 to x1). In a fixed order; returns whether out grew.
+  bool nearPairs(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out);
   const Stats& stats() const { return stats_; }
 
  private:

@@ -19,7 +19,15 @@
 // likewise (B&W's constraints, here for collisions within the step): when the solved step would end a particle inside
 // a surface, that particle is constrained along the normal to its restitution bounce (or what keeps it out) and the
 // step is solved again, so the stiff springs pass the impulse to the body inside the implicit solve and no position
-// is moved behind the solve's back (ForceJacobian::impactConstraints, docs/energy.md). Options:
+// is moved behind the solve's back (ForceJacobian::impactConstraints, docs/energy.md). Contact between bodies
+// (ForceJacobian::bodyContacts, docs/body-contact.md) goes into the solve as well: every point-triangle and edge-edge
+// pair whose gap, linearized at the step's start, the solved step would close gets a stiff one-sided quadratic
+// penalty with its Jacobian (a stencil block of the matrix), the set of pressed pairs updated after each solve (an
+// active set), and Coulomb friction as a tangential damper sized from the pressed pair's normal force (lagged, as IPC
+// does: Li et al. 2020, "Incremental Potential Contact"). The penalty is convex, and backward Euler is the minimizer of
+// the incremental potential (Gast et al. 2015, "Optimization integrator for large time steps"), so an exact step never
+// gains energy through it; the pass after the step keeps only its collision impulses and impact zones (Bridson et al.
+// 2002), the guarantee that nothing passes through. Options:
 // cg_tolerance (relative residual |S (b - A dv)| / |S (b - A z)|, default in integrator.h), cg_error_fraction (below),
 // cg_preconditioner (integrator.h) and cg_max_iterations of each linear solve (a solve that hits the limit is used as
 // it stands, as Blender's cloth solver does; the achieved residual is in the stats); newton: after that first step,
@@ -61,6 +69,7 @@ class BackwardEuler final : public Integrator {
   }
 
   std::string_view name() const override { return "backward-euler"; }
+  bool solvesBodyContact() const override { return options_.body_contact_in_solve; }
 
   void step(const Dynamics& dynamics, double t, double h, VecX& x, VecX& v) override {
     const ForceJacobian* jacobian = dynamics.forceJacobian();
@@ -108,8 +117,23 @@ class BackwardEuler final : public Integrator {
       }
     });
     for (const ContactConstraint& c : contacts_) particle(dv_, c.particle) += h * c.normal_acceleration * c.normal;
+    // Contact between bodies: the pairs whose gap the free flight x0 + h (v0 + h a0) would close go into the first
+    // solve (a resting body's every step), the others as the solves find them.
+    pairs_.clear();
+    terms_.clear();
+    matrix_.stencils().clear();
+    rhs_saved_ = false;
+    end_x_.resize(x.size());
+    forEachChunk(n_, parallel_, [&](int begin, int end) {
+      for (int p = begin; p < end; ++p)
+        particle(end_x_, p) = particle(x, p) + h * (particle(v, p) + h * particle(f0_, p));
+    });
+    if (options_.body_contact_in_solve && jacobian->bodyContacts(x, end_x_, pairs_) &&
+        updatePairs(*jacobian, h, x, end_x_))
+      applyPairs(h, x, v, false);
     solve(rhs_, dv_, absolute);
     solveImpacts(*jacobian, t, h, x, v, absolute);
+    if (!pairs_.empty()) solveFriction(h, x, v, absolute);
 
     if (options_.newton) newton(*jacobian, t, h, x, v, mass);
 
@@ -135,9 +159,11 @@ class BackwardEuler final : public Integrator {
 
   // Impacts (contact_constraints.h): while the solved step ends a particle inside a surface, constrain it along the
   // normal to its bounce and solve again (warm-started), so the springs share its impulse with the body within the
-  // step; at most kImpactPasses more solves (what still ends inside is lifted by the step end's projection).
+  // step; likewise while it ends two bodies' surface elements within their thickness (ForceJacobian::bodyContacts:
+  // the pairs' penalty, addPairs). At most kImpactPasses more solves (what still ends inside is lifted by the step
+  // end's projection, what still ends too near is the post-step pass's).
   void solveImpacts(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v, double absolute) {
-    for (int pass = 0; pass < kImpactPasses; ++pass) {
+    for (int pass = 0; pass < (pairs_.empty() ? kImpactPasses : kBodyPasses); ++pass) {
       end_x_.resize(x.size());
       end_v_.resize(x.size());
       forEachChunk(n_, parallel_, [&](int begin, int end) {
@@ -146,15 +172,121 @@ class BackwardEuler final : public Integrator {
           particle(end_x_, p) = particle(x, p) + h * particle(end_v_, p);
         }
       });
-      if (!jacobian.impactConstraints(t, h, x, v, end_x_, end_v_, contacts_)) return;
-      ++stats_.impact_solves;
+      const bool impacts = jacobian.impactConstraints(t, h, x, v, end_x_, end_v_, contacts_);
+      const bool pairs = options_.body_contact_in_solve &&
+                         (jacobian.bodyContacts(x, end_x_, pairs_) || !pairs_.empty()) &&
+                         updatePairs(jacobian, h, x, end_x_);
+      if (!impacts && !pairs) return;
       history_ = 0;  // this step's dv carries impulses: not the smooth error's measure
-      for (const ContactConstraint& c : contacts_) {
-        filter_.constrain(c.particle, c.normal);
-        particle(dv_, c.particle) =
-            filter_.apply(c.particle, particle(dv_, c.particle)) + h * c.normal_acceleration * c.normal;
+      if (impacts) {
+        ++stats_.impact_solves;
+        for (const ContactConstraint& c : contacts_) {
+          filter_.constrain(c.particle, c.normal);
+          particle(dv_, c.particle) =
+              filter_.apply(c.particle, particle(dv_, c.particle)) + h * c.normal_acceleration * c.normal;
+        }
+      }
+      if (pairs) {
+        ++stats_.body_contact_solves;
+        applyPairs(h, x, v, false);
       }
       solve(rhs_, dv_, absolute);
+    }
+  }
+
+  // Contact between bodies inside the solve: each pair (ContactPair), with gap g(x) = n . sum w_i x_i - thickness
+  // linear in x over the step, has the one-sided penalty energy k min(0, g - g_rest)^2 / 2: convex, so backward Euler
+  // solved exactly with it never gains energy (docs/body-contact.md). The force at the step's end F_i = -k (g(x1) -
+  // g_rest) w_i n while the pair is pressed (active), its Jacobian -k w_i w_j n n^T: exact over the step, the system
+  // gains h^2 k u u^T (u: the w_i n) as a stencil block, the right-hand side h (F(x0) + h dF/dx v0) = -h k (g(x0) -
+  // g_rest + h n . sum w_i v0_i) w_i n. Which pairs are pressed is found by solving: active while the solved end has
+  // g(x1) < g_rest (an active set, updated after each solve; a pair pulled would be an attraction the one-sided
+  // energy does not have, and a source of energy). The stiffness k = kPenalty m / h^2 (m = 1 / sum w_i^2 / m_i, the
+  // pair's effective mass). g_rest is 0, or for a pair already within the thickness all but kRecovery of its overlap
+  // (a tenth a step, as Bridson 2002's repulsion): a pair that entered the thickness outside the solve is not pushed
+  // out at once with the energy of its whole overlap.
+  // Sets terms_ for new pairs and each pair's activity at the solved end x1; returns whether any changed.
+  bool updatePairs(const ForceJacobian& jacobian, double h, const VecX& x0, const VecX& x1) {
+    const VecX& inverse_mass = jacobian.inverseMass();
+    bool changed = false;
+    for (std::size_t k = terms_.size(); k < pairs_.size(); ++k) {
+      const ContactPair& c = pairs_[k];
+      double weight = 0;
+      for (int i = 0; i < 4; ++i) weight += c.w[i] * c.w[i] * inverse_mass[c.particle[i]];
+      const double stiffness = weight > 0 ? kPenalty / (weight * h * h) : 0;
+      terms_.push_back({stiffness, 0, std::min(0.0, c.gap(x0)) * (1 - kRecovery), false});
+    }
+    for (std::size_t k = 0; k < pairs_.size(); ++k) {
+      const bool active = terms_[k].stiffness > 0 && pairs_[k].gap(x1) < terms_[k].rest;
+      changed |= active != terms_[k].active;
+      terms_[k].active = active;
+    }
+    return changed;
+  }
+
+  // The right-hand side and stencils of the active pairs (with friction: their dampers too), from rhs_base_.
+  void applyPairs(double h, const VecX& x, const VecX& v, bool friction) {
+    history_ = 0;  // this step's dv carries contact: not the smooth error's measure
+    if (!rhs_saved_) rhs_base_ = rhs_;
+    rhs_saved_ = true;
+    rhs_ = rhs_base_;
+    matrix_.stencils().clear();
+    for (std::size_t k = 0; k < pairs_.size(); ++k) {
+      const ContactPair& c = pairs_[k];
+      const PairTerm& term = terms_[k];
+      if (!term.active) continue;
+      ++stats_.body_contact_pairs;
+      matrix_.stencils().push_back({c.particle, c.w, (h * h * term.stiffness) * Sym3::outer(c.normal)});
+      Vec3 force = -h * term.stiffness * (c.gap(x) - term.rest + h * c.normal.dot(c.relative(v))) * c.normal;
+      if (friction && term.damping > 0) {
+        const Eigen::Matrix3d tangential = Eigen::Matrix3d::Identity() - c.normal * c.normal.transpose();
+        matrix_.stencils().push_back({c.particle, c.w, Sym3::fromDense((h * term.damping) * tangential)});
+        force -= h * term.damping * (tangential * c.relative(v));
+      }
+      for (int i = 0; i < 4; ++i) particle(rhs_, c.particle[i]) += c.w[i] * force;
+    }
+  }
+
+  // Coulomb friction between bodies, once the pairs are found: each pair pressed at the solved step's end (normal force
+  // k (g_rest - g(x1))) gets a tangential damper F_i = -c w_i P sum w_j v_j (P = I - n n^T) of coefficient c = mu
+  // |normal force| / max(|P sum w_j v1_j|, kStickSpeed): Coulomb's force on the sliding speed just found, and below
+  // kStickSpeed a damper strong enough to hold the pair (static friction as a creep slower than kStickSpeed). Linear in
+  // v, so exact in the step and dissipative; one more solve with it.
+  void solveFriction(double h, const VecX& x, const VecX& v, double absolute) {
+    bool any = false;
+    for (std::size_t k = 0; k < pairs_.size(); ++k) {
+      const ContactPair& c = pairs_[k];
+      PairTerm& term = terms_[k];
+      term.damping = 0;
+      if (!(c.friction > 0) || !term.active) continue;
+      Vec3 x1 = Vec3::Zero(), v1 = Vec3::Zero();
+      for (int i = 0; i < 4; ++i) {
+        const Vec3 vi = particle(v, c.particle[i]) + particle(dv_, c.particle[i]);
+        v1 += c.w[i] * vi;
+        x1 += c.w[i] * (particle(x, c.particle[i]) + h * vi);
+      }
+      const double pressed = term.stiffness * std::max(0.0, term.rest + c.thickness - c.normal.dot(x1));
+      if (pressed == 0) continue;
+      const double slide = (v1 - c.normal.dot(v1) * c.normal).norm();
+      term.damping = c.friction * pressed / std::max(slide, kStickSpeed);
+      any = true;
+    }
+    if (!any) return;
+    ++stats_.body_contact_solves;
+    applyPairs(h, x, v, true);
+    solve(rhs_, dv_, absolute);
+  }
+
+  // f += the pairs' penalty and friction forces at (x1, v1) (Newton's residual).
+  void addPairForces(const VecX& x1, const VecX& v1, VecX& f) const {
+    for (std::size_t k = 0; k < pairs_.size(); ++k) {
+      const ContactPair& c = pairs_[k];
+      const Vec3 n = c.normal;
+      if (!terms_[k].active) continue;
+      Vec3 force = -terms_[k].stiffness * (c.gap(x1) - terms_[k].rest) * n;
+      const Vec3 u = c.relative(v1);
+      force -= terms_[k].damping * (u - n.dot(u) * n);
+      for (int i = 0; i < 4; ++i) particle(f, c.particle[i]) += c.w[i] * force;
     }
   }
 
@@ -209,6 +341,7 @@ class BackwardEuler final : public Integrator {
     x1_ = x + h * v1_;
     ++stats_.evaluations;
     jacobian.smoothForce(t + h, x1_, v1_, fs_);
+    addPairForces(x1_, v1_, fs_);
     r.resize(x.size());
     double worst = 0;
     for (int p = 0; p < n_; ++p) {
@@ -223,7 +356,7 @@ class BackwardEuler final : public Integrator {
   void newton(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v, const VecX& mass) {
     // The contact forces in F0, held fixed: Fc = F0 - Fs(x0, v0) (f0_ holds accelerations).
     ++stats_.evaluations;
-    jacobian.smoothForce(t, x, v, fs_);
+    jacobian.smoothForce(t, x, v, fs_);  // without the pairs' forces: those are in the residual's Fs
     fc_.resize(x.size());
     for (int p = 0; p < n_; ++p) particle(fc_, p) = filter_.apply(p, mass[p] * particle(f0_, p) - particle(fs_, p));
     double norm = residual(jacobian, t, h, x, v, dv_, mass, r_);
@@ -258,6 +391,23 @@ class BackwardEuler final : public Integrator {
   bool parallel_ = false;
   bool two_level_ = false;  // cg_preconditioner auto: the next solve's choice
   static constexpr int kImpactPasses = 4;
+  static constexpr int kBodyPasses = 8;  // ... when bodies touch
+  // The share of a pair's overlap of the thickness that its penalty removes in a step (updatePairs).
+  static constexpr double kRecovery = 0.1;
+  // The penalty's h^2 k over the pair's effective mass (addPairs); measured in docs/body-contact.md.
+  static constexpr double kPenalty = 100;
+  // m/s: below this sliding speed friction between bodies holds (solveFriction).
+  static constexpr double kStickSpeed = 1e-3;
+  struct PairTerm {
+    double stiffness;  // N/m of the penalty (0: a pair of pinned particles)
+    double damping;    // N s/m of friction (0 until solveFriction)
+    double rest;       // m: the gap the penalty holds (updatePairs)
+    bool active;       // pressed at the last solved end
+  };
+  std::vector<ContactPair> pairs_;  // this step's contact between bodies, in the order found
+  std::vector<PairTerm> terms_;     // the same order
+  VecX rhs_base_;                   // the right-hand side without them (saved at the first pair of a step)
+  bool rhs_saved_ = false;
   VecX f0_, kv_, rhs_, dv_;
   VecX end_x_, end_v_;  // the candidate step's end state, for impacts
   VecX previous_dv_;    // the step before's dv, for the error rule

@@ -33,6 +33,10 @@ struct IntegratorOptions {
   double cg_error_fraction = 0.1;
   int cg_max_iterations = 1000;
   CgPreconditioner cg_preconditioner = CgPreconditioner::Auto;
+  // backward-euler: contact between bodies inside the solve (a penalty on each near pair, docs/body-contact.md); false:
+  // left to the pass after the step, as for the explicit methods (for comparison: the benchmarks and the docs'
+  // figures).
+  bool body_contact_in_solve = true;
 };
 
 // Work counters for the studies. Every method counts steps and evaluations; the others stay 0 where meaningless.
@@ -51,6 +55,8 @@ struct IntegratorStats {
   long error_rule_stops = 0;        // backward-euler: solves that stopped by cg_error_fraction before cg_tolerance
   long pattern_setups = 0;          // backward-euler: matrices sized for a new Jacobian pattern (once per topology)
   long impact_solves = 0;           // backward-euler: extra solves with impact constraints (contact_constraints.h)
+  long body_contact_solves = 0;     // backward-euler: extra solves with contact between bodies (ContactPair)
+  long body_contact_pairs = 0;      // backward-euler: pairs of surface elements in those solves, all steps
 };
 
 class Integrator {
@@ -59,6 +65,9 @@ class Integrator {
   virtual std::string_view name() const = 0;
   // Advances x, v from time t to t + h.
   virtual void step(const Dynamics& dynamics, double t, double h, VecX& x, VecX& v) = 0;
+  // Whether step() keeps the surfaces of bodies apart itself (ForceJacobian::bodyContacts): then the pass after the
+  // step (sim/collision/body_collisions.h) only checks for collisions and leaves out its repulsion.
+  virtual bool solvesBodyContact() const { return false; }
   const IntegratorStats& stats() const { return stats_; }
 
  protected:

@@ -71,6 +71,9 @@ void PairBlockMatrix::diagonal(std::vector<Sym3>& out, bool parallel) const {
         addPairs(runs);
       },
       addPairs);
+  for (const StencilBlock& s : stencils_)
+    for (int i = 0; i < 4; ++i)
+      if (s.w[i] != 0) out[s.particle[i]] += (s.w[i] * s.w[i]) * s.block;
 }
 
 namespace {
@@ -142,7 +145,27 @@ void addTaskProducts(const PairSchedule& pattern, const BlockColumns<T> w, const
       [&](int begin, int end) { addPairProducts(a, b, w, xs, ys, begin, end); });
 }
 
+// y += the stencils' part of A x: u = B sum_j w_j x_j, y_i += w_i u (in double, rounded into T).
+template <class T>
+void addStencilProductsOf(const std::vector<StencilBlock>& stencils, const T* x, T* y) {
+  for (const StencilBlock& s : stencils) {
+    Vec3 d = Vec3::Zero();
+    for (int j = 0; j < 4; ++j)
+      if (s.w[j] != 0) d += s.w[j] * Vec3(x[3 * s.particle[j]], x[3 * s.particle[j] + 1], x[3 * s.particle[j] + 2]);
+    const Vec3 u = s.block * d;
+    for (int i = 0; i < 4; ++i)
+      if (s.w[i] != 0)
+        for (int k = 0; k < 3; ++k) y[3 * s.particle[i] + k] += T(s.w[i] * u[k]);
+  }
+}
+
 }  // namespace
+
+void PairBlockMatrix::addStencilProducts(const double* x, double* y) const { addStencilProductsOf(stencils_, x, y); }
+
+void SinglePairBlockMatrix::addStencilProducts(const float* x, float* y) const {
+  if (stencils_) addStencilProductsOf(*stencils_, x, y);
+}
 
 void PairBlockMatrix::multiplySelf(const double* x, double* y, int begin, int end) const {
   multiplySelfOf(self_.data(), x, y, begin, end);
@@ -164,6 +187,7 @@ void SinglePairBlockMatrix::reserve(const PairBlockMatrix& a) {
 
 void SinglePairBlockMatrix::assign(const PairBlockMatrix& a, bool parallel) {
   pattern_ = a.pattern_;
+  stencils_ = &a.stencils_;
   reserve(a);
   const int n = static_cast<int>(self_.size());
   const std::size_t pairs = pair_.size() / 4;

@@ -3,12 +3,23 @@
 // The pattern is the schedule's, fixed per topology; each step refills the values in place (symmetric 3x3 blocks;
 // the W_e = a_e I + w_e w_e^T by value in four arrays, so that the product reads a run of pairs contiguously).
 #pragma once
+#include <array>
 #include <vector>
 
 #include "sim/solver/pair_schedule.h"
 #include "sim/solver/sym3.h"
 
 namespace wobble {
+
+// A coupling outside the pattern, among up to four particles: it adds w_i w_j B to block (p_i, p_j) for every i, j
+// (B symmetric positive semidefinite), the Jacobian of a force along the relative position sum w_i x_i (contact
+// between bodies inside backward Euler's solve, sim/integrators/backward_euler.cpp). A weight of 0 leaves its particle
+// out.
+struct StencilBlock {
+  std::array<int, 4> particle;
+  std::array<double, 4> w;
+  Sym3 block;
+};
 
 class PairBlockMatrix {
  public:
@@ -29,7 +40,13 @@ class PairBlockMatrix {
   const std::vector<double>& self() const { return self_; }
   Sym3 pair(std::size_t e) const { return columns().get(e); }
 
-  // The diagonal blocks A_pp = self_p I + sum of W_e over the pairs at p (for block-Jacobi preconditioning).
+  // The stencil couplings (few, changing from step to step; empty unless bodies touch): kept until cleared, through
+  // every refill of self and pair.
+  std::vector<StencilBlock>& stencils() { return stencils_; }
+  const std::vector<StencilBlock>& stencils() const { return stencils_; }
+
+  // The diagonal blocks A_pp = self_p I + sum of W_e over the pairs at p, plus the stencils' w_i^2 B (for block-Jacobi
+  // preconditioning).
   void diagonal(std::vector<Sym3>& out, bool parallel) const;
   // y = A x (multiplyFused below, with nothing fused).
   void multiply(const VecX& x, VecX& y, bool parallel) const;
@@ -37,6 +54,8 @@ class PairBlockMatrix {
   void multiplySelf(const double* x, double* y, int begin, int end) const;
   // y += the pair blocks' part of A x over runs of pairs (a task of the schedule, after multiplySelf on its particles).
   void addPairProducts(const double* x, double* y, std::span<const PairRun> runs) const;
+  // y += the stencils' part of A x, in their order on one thread (they are few): after the rest of the product.
+  void addStencilProducts(const double* x, double* y) const;
 
  private:
   const PairSchedule* pattern_ = nullptr;
@@ -49,6 +68,7 @@ class PairBlockMatrix {
 
   std::vector<double> self_;
   std::vector<double> pair_;  // four arrays of pattern size (PairBlockColumns)
+  std::vector<StencilBlock> stencils_;
   friend class SinglePairBlockMatrix;
 };
 
@@ -63,16 +83,19 @@ class SinglePairBlockMatrix {
   const PairSchedule* pattern() const { return pattern_; }
   void multiplySelf(const float* x, float* y, int begin, int end) const;
   void addPairProducts(const float* x, float* y, std::span<const PairRun> runs) const;
+  void addStencilProducts(const float* x, float* y) const;
 
  private:
   const PairSchedule* pattern_ = nullptr;
   std::vector<float> self_, pair_;
+  const std::vector<StencilBlock>* stencils_ = nullptr;  // the double matrix's (assign)
 };
 
 // y = A x for either matrix, in one pass over the schedule (PairSchedule::runByBlocks): on each block of particles,
 // before(begin, end), then the self part, then the block's own pairs, all by one task; then the pairs between blocks.
 // before() is per-particle work that produces x there (the CG's direction update), fused into the product instead of
 // a loop and a wait of its own. The bytes are those of the unfused product: each particle's terms come in one order.
+// The stencils (if any) come last, on one thread.
 template <class Matrix, class T, class Before>
 void multiplyFused(const Matrix& a, const T* x, T* y, bool parallel, Before&& before) {
   a.pattern()->runByBlocks(
@@ -83,6 +106,7 @@ void multiplyFused(const Matrix& a, const T* x, T* y, bool parallel, Before&& be
         a.addPairProducts(x, y, runs);
       },
       [&](std::span<const PairRun> runs) { a.addPairProducts(x, y, runs); });
+  a.addStencilProducts(x, y);
 }
 
 }  // namespace wobble
