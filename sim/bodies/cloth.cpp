@@ -33,13 +33,7 @@ Body buildCloth(const std::string& name, const ClothParams& p) {
     throw std::length_error("cloth '" + name + "': " + std::to_string(p.nx) + " x " + std::to_string(p.ny) +
                             " particles are too many");
   const int count = p.nx * p.ny;
-  Body body;
-  body.name = name;
-  body.kind = "cloth";
-  body.x.resize(3 * count);
-  body.v.resize(3 * count);
-  body.mass = VecX::Constant(count, p.mass);
-  body.pinned.assign(count, false);
+  Body body = particleBody(name, "cloth", count, p.mass);
   body.drag = p.drag;
   for (int j = 0; j < p.ny; ++j)
     for (int i = 0; i < p.nx; ++i) {

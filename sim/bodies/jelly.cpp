@@ -67,13 +67,7 @@ Body buildJelly(const std::string& name, const JellyParams& p) {
   if (double(p.n) * p.n * p.n > double(kMaxBodyParticles))
     throw std::length_error("jelly '" + name + "': n = " + std::to_string(p.n) + " gives too many particles");
   const int n = p.n, count = n * n * n;
-  Body body;
-  body.name = name;
-  body.kind = "jelly";
-  body.x.resize(3 * count);
-  body.v.resize(3 * count);
-  body.mass = VecX::Constant(count, p.mass);
-  body.pinned.assign(count, false);
+  Body body = particleBody(name, "jelly", count, p.mass);
 
   const Eigen::Matrix3d rotation =
       Eigen::AngleAxisd(p.rotation_deg * EIGEN_PI / 180, p.rotation_axis.normalized()).toRotationMatrix();

@@ -5,6 +5,17 @@
 
 namespace wobble {
 
+Body particleBody(const std::string& name, const std::string& kind, int count, double mass) {
+  Body body;
+  body.name = name;
+  body.kind = kind;
+  body.x = VecX::Zero(3 * count);
+  body.v = VecX::Zero(3 * count);
+  body.mass = VecX::Constant(count, mass);
+  body.pinned.assign(count, false);
+  return body;
+}
+
 void addLatticeSprings(std::array<int, 3> dims, std::span<const LatticeOffset> offsets, const VecX& x, double ks,
                        double kd, Springs& springs) {
   const auto index = [&](int i, int j, int k) { return i + dims[0] * (j + dims[1] * k); };

@@ -6,9 +6,13 @@
 #include <span>
 #include <vector>
 
+#include "sim/body.h"
 #include "sim/springs.h"
 
 namespace wobble {
+
+// A body of count particles of mass each, all free, at rest at the origin: the builders then place and link them.
+Body particleBody(const std::string& name, const std::string& kind, int count, double mass);
 
 struct LatticeOffset {
   std::array<int, 3> d;

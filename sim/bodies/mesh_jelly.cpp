@@ -139,13 +139,7 @@ Body buildMeshJelly(const std::string& name, const ModelMesh& model, const MeshJ
     if (id == 0) id = count++;
     else id = -1;
 
-  Body body;
-  body.name = name;
-  body.kind = "jelly";
-  body.x.resize(3 * count);
-  body.v.resize(3 * count);
-  body.mass = VecX::Constant(count, p.mass);
-  body.pinned.assign(count, false);
+  Body body = particleBody(name, "jelly", count, p.mass);
   const Eigen::Matrix3d rotation = p.placement.rotation();
   for (int k = 0; k < dims[2]; ++k)
     for (int j = 0; j < dims[1]; ++j)
