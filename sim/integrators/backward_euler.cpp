@@ -90,6 +90,7 @@ class BackwardEuler final : public Integrator {
       contacts_.reserve(jacobian->mass().size());  // at most one per particle
       dv_.resize(0);                               // no warm start, no error estimate
       history_ = 0;
+      carried_.clear();  // their particles' numbers are another topology's
       const int n = static_cast<int>(jacobian->mass().size());
       sums_.reserve((n + particleChunk(n) - 1) / particleChunk(n));  // a sum per chunk (parallel.h)
       lightest_ = std::numeric_limits<double>::infinity();           // the lightest free particle's mass
@@ -117,25 +118,29 @@ class BackwardEuler final : public Integrator {
       }
     });
     for (const ContactConstraint& c : contacts_) particle(dv_, c.particle) += h * c.normal_acceleration * c.normal;
-    // Contact between bodies: the pairs whose gap the free flight x0 + h (v0 + h a0) would close go into the first
-    // solve (a resting body's every step), the others as the solves find them.
+    // Contact between bodies: the pairs near the predicted end x0 + h (v0 + dv), dv the warm start (the last step's
+    // velocity change); those the last step ended pressed (a resting body's every step) go active into the first
+    // solve, the others as the solves find them pressed. Not the explicit flight x0 + h (v0 + h a0): with stiff springs
+    // a0 is huge wherever they are stretched (2e5 m/s^2 in a crumpling cloth's folds), and that flight would close the
+    // gap of a hundred thousand pairs far apart, each a stencil in every solve.
     pairs_.clear();
     terms_.clear();
     matrix_.stencils().clear();
     rhs_saved_ = false;
     end_x_.resize(x.size());
     forEachChunk(n_, parallel_, [&](int begin, int end) {
-      for (int p = begin; p < end; ++p)
-        particle(end_x_, p) = particle(x, p) + h * (particle(v, p) + h * particle(f0_, p));
+      for (int p = begin; p < end; ++p) particle(end_x_, p) = particle(x, p) + h * (particle(v, p) + particle(dv_, p));
     });
+    first_update_ = true;
     if (options_.body_contact_in_solve && jacobian->bodyContacts(x, end_x_, pairs_) &&
         updatePairs(*jacobian, h, x, end_x_))
-      applyPairs(h, x, v, false);
+      applyPairs(h, x, v);
+    first_update_ = false;
     solve(rhs_, dv_, absolute);
     solveImpacts(*jacobian, t, h, x, v, absolute);
-    if (!pairs_.empty()) solveFriction(h, x, v, absolute);
 
     if (options_.newton) newton(*jacobian, t, h, x, v, mass);
+    carryPairs(h, x, v);
 
     forEachChunk(n_, parallel_, [&](int begin, int end) {
       for (int p = begin; p < end; ++p) {
@@ -188,7 +193,7 @@ class BackwardEuler final : public Integrator {
       }
       if (pairs) {
         ++stats_.body_contact_solves;
-        applyPairs(h, x, v, false);
+        applyPairs(h, x, v);
       }
       solve(rhs_, dv_, absolute);
     }
@@ -200,12 +205,13 @@ class BackwardEuler final : public Integrator {
   // g_rest) w_i n while the pair is pressed (active), its Jacobian -k w_i w_j n n^T: exact over the step, the system
   // gains h^2 k u u^T (u: the w_i n) as a stencil block, the right-hand side h (F(x0) + h dF/dx v0) = -h k (g(x0) -
   // g_rest + h n . sum w_i v0_i) w_i n. Which pairs are pressed is found by solving: active while the solved end has
-  // g(x1) < g_rest (an active set, updated after each solve; a pair pulled would be an attraction the one-sided
-  // energy does not have, and a source of energy). The stiffness k = kPenalty m / h^2 (m = 1 / sum w_i^2 / m_i, the
-  // pair's effective mass). g_rest is 0, or for a pair already within the thickness all but kRecovery of its overlap
-  // (a tenth a step, as Bridson 2002's repulsion): a pair that entered the thickness outside the solve is not pushed
-  // out at once with the energy of its whole overlap.
-  // Sets terms_ for new pairs and each pair's activity at the solved end x1; returns whether any changed.
+  // g(x1) < g_rest (an active set, from the last step's and updated after each solve; a pair pulled would be an
+  // attraction the one-sided energy does not have, and a source of energy: only within kActiveSlack of the rest gap
+  // does a pair keep its activity against the solved end). The stiffness k = kPenalty m / h^2 (m = 1 / sum w_i^2 / m_i,
+  // the pair's effective mass). g_rest is 0, or for a pair already within the thickness all but kRecovery of its
+  // overlap (a tenth a step, as Bridson 2002's repulsion): a pair that entered the thickness outside the solve is not
+  // pushed out at once with the energy of its whole overlap. Sets terms_ for new pairs and each pair's activity at the
+  // solved end x1; returns whether any changed.
   bool updatePairs(const ForceJacobian& jacobian, double h, const VecX& x0, const VecX& x1) {
     const VecX& inverse_mass = jacobian.inverseMass();
     bool changed = false;
@@ -214,18 +220,29 @@ class BackwardEuler final : public Integrator {
       double weight = 0;
       for (int i = 0; i < 4; ++i) weight += c.w[i] * c.w[i] * inverse_mass[c.particle[i]];
       const double stiffness = weight > 0 ? kPenalty / (weight * h * h) : 0;
-      terms_.push_back({stiffness, 0, std::min(0.0, c.gap(x0)) * (1 - kRecovery), false});
+      PairTerm term{stiffness, 0, std::min(0.0, c.gap(x0)) * (1 - kRecovery), false};
+      if (first_update_) {  // the last step's active set, and its friction, start this step's
+        const auto it = std::lower_bound(carried_.begin(), carried_.end(), CarriedPair{c.particle, 0});
+        if (it != carried_.end() && it->particle == c.particle && stiffness > 0) {
+          term.active = changed = true;
+          term.damping = it->damping;
+        }
+      }
+      terms_.push_back(term);
     }
+    if (first_update_) return changed;
     for (std::size_t k = 0; k < pairs_.size(); ++k) {
-      const bool active = terms_[k].stiffness > 0 && pairs_[k].gap(x1) < terms_[k].rest;
-      changed |= active != terms_[k].active;
+      const double past = pairs_[k].gap(x1) - terms_[k].rest;  // < 0: pressed
+      const bool active = terms_[k].stiffness > 0 && past < 0;
+      if (active == terms_[k].active || std::abs(past) < kActiveSlack * pairs_[k].thickness) continue;
+      changed = true;
       terms_[k].active = active;
     }
     return changed;
   }
 
   // The right-hand side and stencils of the active pairs (with friction: their dampers too), from rhs_base_.
-  void applyPairs(double h, const VecX& x, const VecX& v, bool friction) {
+  void applyPairs(double h, const VecX& x, const VecX& v) {
     history_ = 0;  // this step's dv carries contact: not the smooth error's measure
     if (!rhs_saved_) rhs_base_ = rhs_;
     rhs_saved_ = true;
@@ -236,45 +253,46 @@ class BackwardEuler final : public Integrator {
       const PairTerm& term = terms_[k];
       if (!term.active) continue;
       ++stats_.body_contact_pairs;
-      matrix_.stencils().push_back({c.particle, c.w, (h * h * term.stiffness) * Sym3::outer(c.normal)});
+      Sym3 block = (h * h * term.stiffness) * Sym3::outer(c.normal);
       Vec3 force = -h * term.stiffness * (c.gap(x) - term.rest + h * c.normal.dot(c.relative(v))) * c.normal;
-      if (friction && term.damping > 0) {
+      if (term.damping > 0) {
         const Eigen::Matrix3d tangential = Eigen::Matrix3d::Identity() - c.normal * c.normal.transpose();
-        matrix_.stencils().push_back({c.particle, c.w, Sym3::fromDense((h * term.damping) * tangential)});
+        block += Sym3::fromDense((h * term.damping) * tangential);
         force -= h * term.damping * (tangential * c.relative(v));
       }
+      matrix_.stencils().push_back({c.particle, c.w, block});
       for (int i = 0; i < 4; ++i) particle(rhs_, c.particle[i]) += c.w[i] * force;
     }
   }
 
-  // Coulomb friction between bodies, once the pairs are found: each pair pressed at the solved step's end (normal force
-  // k (g_rest - g(x1))) gets a tangential damper F_i = -c w_i P sum w_j v_j (P = I - n n^T) of coefficient c = mu
-  // |normal force| / max(|P sum w_j v1_j|, kStickSpeed): Coulomb's force on the sliding speed just found, and below
-  // kStickSpeed a damper strong enough to hold the pair (static friction as a creep slower than kStickSpeed). Linear in
-  // v, so exact in the step and dissipative; one more solve with it.
-  void solveFriction(double h, const VecX& x, const VecX& v, double absolute) {
-    bool any = false;
+  // Keeps the active pairs for the next step (updatePairs), each with its Coulomb friction: a pair pressed at the
+  // step's end (normal force k (g_rest - g(x1))) gets for the next step a tangential damper F_i = -c w_i P sum w_j v_j
+  // (P = I - n n^T) of coefficient c = mu |normal force| / max(|P sum w_j v1_j|, kStickSpeed): Coulomb's force on the
+  // sliding speed just found, and below kStickSpeed a damper strong enough to hold the pair (static friction as a
+  // creep slower than kStickSpeed). Linear in v, so exact in the step and dissipative. Lagged by a step, as IPC lags
+  // its friction (Li et al. 2020): a solve of its own, with every pair's stencil in it, would cost a step as much
+  // again.
+  void carryPairs(double h, const VecX& x, const VecX& v) {
+    carried_.clear();
     for (std::size_t k = 0; k < pairs_.size(); ++k) {
       const ContactPair& c = pairs_[k];
-      PairTerm& term = terms_[k];
-      term.damping = 0;
-      if (!(c.friction > 0) || !term.active) continue;
-      Vec3 x1 = Vec3::Zero(), v1 = Vec3::Zero();
-      for (int i = 0; i < 4; ++i) {
-        const Vec3 vi = particle(v, c.particle[i]) + particle(dv_, c.particle[i]);
-        v1 += c.w[i] * vi;
-        x1 += c.w[i] * (particle(x, c.particle[i]) + h * vi);
+      const PairTerm& term = terms_[k];
+      if (!term.active) continue;
+      double damping = 0;
+      if (c.friction > 0) {
+        Vec3 x1 = Vec3::Zero(), v1 = Vec3::Zero();
+        for (int i = 0; i < 4; ++i) {
+          const Vec3 vi = particle(v, c.particle[i]) + particle(dv_, c.particle[i]);
+          v1 += c.w[i] * vi;
+          x1 += c.w[i] * (particle(x, c.particle[i]) + h * vi);
+        }
+        const double pressed = term.stiffness * std::max(0.0, term.rest + c.thickness - c.normal.dot(x1));
+        const double slide = (v1 - c.normal.dot(v1) * c.normal).norm();
+        damping = c.friction * pressed / std::max(slide, kStickSpeed);
       }
-      const double pressed = term.stiffness * std::max(0.0, term.rest + c.thickness - c.normal.dot(x1));
-      if (pressed == 0) continue;
-      const double slide = (v1 - c.normal.dot(v1) * c.normal).norm();
-      term.damping = c.friction * pressed / std::max(slide, kStickSpeed);
-      any = true;
+      carried_.push_back({c.particle, damping});
     }
-    if (!any) return;
-    ++stats_.body_contact_solves;
-    applyPairs(h, x, v, true);
-    solve(rhs_, dv_, absolute);
+    std::sort(carried_.begin(), carried_.end());
   }
 
   // f += the pairs' penalty and friction forces at (x1, v1) (Newton's residual).
@@ -396,17 +414,28 @@ class BackwardEuler final : public Integrator {
   static constexpr double kRecovery = 0.1;
   // The penalty's h^2 k over the pair's effective mass (addPairs); measured in docs/body-contact.md.
   static constexpr double kPenalty = 100;
-  // m/s: below this sliding speed friction between bodies holds (solveFriction).
+  // A pair whose solved end is within this share of the thickness of its penalty's rest gap keeps its activity:
+  // without it, the last solves of a step flip a few hundred pairs by a fiftieth of the thickness each (measured on a
+  // crumpled 100 x 100 cloth: 8 solves a step instead of 2); what is left inside the thickness is the pass's.
+  static constexpr double kActiveSlack = 0.25;
+  // m/s: below this sliding speed friction between bodies holds (carryPairs).
   static constexpr double kStickSpeed = 1e-3;
   struct PairTerm {
     double stiffness;  // N/m of the penalty (0: a pair of pinned particles)
-    double damping;    // N s/m of friction (0 until solveFriction)
+    double damping;    // N s/m of friction (carried from the step before: carryPairs)
     double rest;       // m: the gap the penalty holds (updatePairs)
     bool active;       // pressed at the last solved end
   };
-  std::vector<ContactPair> pairs_;  // this step's contact between bodies, in the order found
-  std::vector<PairTerm> terms_;     // the same order
-  VecX rhs_base_;                   // the right-hand side without them (saved at the first pair of a step)
+  struct CarriedPair {
+    std::array<int, 4> particle;
+    double damping;
+    bool operator<(const CarriedPair& o) const { return particle < o.particle; }
+  };
+  std::vector<CarriedPair> carried_;  // the last step's active pairs, sorted
+  bool first_update_ = false;         // updatePairs on the step's first pairs
+  std::vector<ContactPair> pairs_;    // this step's contact between bodies, in the order found
+  std::vector<PairTerm> terms_;       // the same order
+  VecX rhs_base_;                     // the right-hand side without them (saved at the first pair of a step)
   bool rhs_saved_ = false;
   VecX f0_, kv_, rhs_, dv_;
   VecX end_x_, end_v_;  // the candidate step's end state, for impacts
