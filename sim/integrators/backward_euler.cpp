@@ -133,7 +133,11 @@ class BackwardEuler final : public Integrator {
       applyPairs(h, x, v, false);
     solve(rhs_, dv_, absolute);
     solveImpacts(*jacobian, t, h, x, v, absolute);
-    if (!pairs_.empty()) solveFriction(h, x, v, absolute);
+    if (!pairs_.empty()) {
+      solveFriction(h, x, v, absolute);
+      ++stats_.body_contact_steps;
+      stats_.body_contact_pairs_carried += long(pairs_.size());
+    }
 
     if (options_.newton) newton(*jacobian, t, h, x, v, mass);
 
@@ -188,6 +192,7 @@ class BackwardEuler final : public Integrator {
       }
       if (pairs) {
         ++stats_.body_contact_solves;
+        ++stats_.body_contact_active_set_solves;
         applyPairs(h, x, v, false);
       }
       solve(rhs_, dv_, absolute);
@@ -273,6 +278,7 @@ class BackwardEuler final : public Integrator {
     }
     if (!any) return;
     ++stats_.body_contact_solves;
+    ++stats_.body_contact_friction_solves;
     applyPairs(h, x, v, true);
     solve(rhs_, dv_, absolute);
   }
@@ -328,6 +334,7 @@ class BackwardEuler final : public Integrator {
                    : r.iterations > kTwoLevelIterations && n_ >= kTwoLevelParticles))
       two_level_ = !two_level;
     ++stats_.last_linear_solves;
+    ++stats_.linear_solves;
     stats_.last_cg_iterations += r.iterations;
     stats_.cg_iterations += r.iterations;
     stats_.last_cg_residual = std::max(stats_.last_cg_residual, r.relative_residual);
