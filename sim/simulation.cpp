@@ -50,7 +50,8 @@ std::optional<BlowUp> Simulation::advanceTo(double t_end) {
     system_.resolveCollisions(t_, x_, v_);
     if (collisions_)
       if (auto failure = collisions_->resolve(x_before_, x_, v_, h, !integrator_->solvesBodyContact()))
-        return BlowUp{std::string(integrator_->name()), steps_, t_, failure->particle, 0, failure->reason};
+        return BlowUp{
+            std::string(integrator_->name()), steps_, t_, failure->particle, 0, failure->reason, contactFix()};
     if (auto blow_up = check()) return blow_up;
     if (colliders) {
       const double work = system_.colliderWork(t0, h, x_before_, v_before_, x_, v_);
@@ -70,7 +71,8 @@ void Simulation::checkEnergy() {
       std::max(kEnergyGainRelative * (std::abs(energy_start_) + collider_work_unsigned_), lift_margin_);
   if (energy - energy_start_ - collider_work_ > margin)
     energy_gain_ =
-        EnergyGain{std::string(integrator_->name()), steps_, t_, energy_start_, energy, collider_work_, margin};
+        EnergyGain{std::string(integrator_->name()), steps_, t_, energy_start_, energy, collider_work_, margin,
+                   collisions_ && contactSolveOff()};
 }
 
 std::string EnergyGain::message(double dt) const {
@@ -83,7 +85,26 @@ std::string EnergyGain::message(double dt) const {
       << " times the start's; allowed " << margin << " J, docs/energy.md). Try a smaller time step (--dt " << dt / 4
       << ")";
   if (integrator != "backward-euler") out << ", backward Euler (--integrator backward-euler)";  // not what gained it
+  if (contact_solve_off) out << ", contact between bodies in the solve ([contact] in_solve = true)";
   out << ", or a lower restitution.";
+  return out.str();
+}
+
+bool Simulation::contactSolveOff() const {
+  return integratorTraits(integrator_->name()).body_contact_in_solve && !integrator_->solvesBodyContact();
+}
+
+// What of [contact] may resolve a failed contact step: more rounds, and for an integrator that can carry the contacts
+// in its solve but was told not to, the solve.
+std::string Simulation::contactFix() const {
+  const collision::Settings& s = system_.contactSettings();
+  std::ostringstream out;
+  const bool solve = contactSolveOff();
+  out << "a larger contact thickness, " << (solve ? "" : "or ")
+      << "more rounds in [contact] (now zone_iterations = " << s.zone_iterations
+      << ", ccd_iterations = " << s.ccd_iterations << ")";
+  if (solve)
+    out << ", or [contact] in_solve = true (" << integrator_->name() << " then keeps the bodies apart in its solve)";
   return out.str();
 }
 
@@ -101,8 +122,7 @@ std::string BlowUp::message(double dt) const {
   std::ostringstream out;
   if (!reason.empty()) {
     out << "contact between bodies failed: integrator " << integrator << ", step " << step << ", t = " << time
-        << " s: " << reason << ". Try a smaller time step (--dt " << dt / 4
-        << "), a larger contact thickness, or a larger [contact] zone_iterations.";
+        << " s: " << reason << ". Try a smaller time step (--dt " << dt / 4 << "), " << fix << ".";
     return out.str();
   }
   out << "the simulation blew up: integrator " << integrator << ", step " << step << ", t = " << time << " s: particle "

@@ -23,6 +23,7 @@ struct BlowUp {
   int particle;          // first offending particle
   double speed_squared;  // NaN when a value was NaN
   std::string reason;    // set when contact between bodies failed (then speed_squared is 0): what is left, where
+  std::string fix;       // ... and then what to try besides a smaller step (Simulation::contactFix)
   // One paragraph for the user: what happened, where, and what to try.
   std::string message(double dt) const;
 };
@@ -37,12 +38,13 @@ inline constexpr double kEnergyGainLift = 0.01;  // m: the colliders' default co
 
 struct EnergyGain {
   std::string integrator;
-  long step;             // 1-based index of the step at whose end the check failed
-  double time;           // simulated time there
-  double start;          // J, total energy at t = 0
-  double energy;         // J, total energy there
-  double collider_work;  // J, work done on the bodies by moving colliders up to there
-  double margin;         // J, the gain allowed
+  long step;               // 1-based index of the step at whose end the check failed
+  double time;             // simulated time there
+  double start;            // J, total energy at t = 0
+  double energy;           // J, total energy there
+  double collider_work;    // J, work done on the bodies by moving colliders up to there
+  double margin;           // J, the gain allowed
+  bool contact_solve_off;  // the integrator could carry contact between bodies in its solve, but was told not to
   double gained() const { return energy - start - collider_work; }
   // One paragraph for the user: what happened, where, and what to try.
   std::string message(double dt) const;
@@ -84,6 +86,9 @@ class Simulation {
 
  private:
   std::optional<BlowUp> check();
+  std::string contactFix() const;
+  // Whether the integrator could carry contact between bodies in its solve but was told not to ([contact] in_solve).
+  bool contactSolveOff() const;
   void checkEnergy();
 
   MassSpringSystem& system_;

@@ -65,15 +65,25 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
          {"cg_iterations", s.cg_iterations},
          {"cg_iterations_per_step", s.steps ? double(s.cg_iterations) / double(s.steps) : 0.0},
          {"max_relative_residual", s.max_cg_residual}};
-  if (const collision::Stats* c = sim.bodyContact())  // contact between bodies (sim/collision/body_collisions.h)
-    j["body_contact"] = {{"steps_checked", c->passes},
-                         {"contacts", c->contacts},
-                         {"ccd_hits", c->ccd_hits},
-                         {"failsafe_activations", c->zone_activations},
-                         {"impact_zone_rounds", c->zone_rounds},
-                         {"largest_impact_zone", c->largest_zone},
-                         {"min_distance_m", std::isfinite(c->min_distance) ? nlohmann::ordered_json(c->min_distance)
-                                                                           : nlohmann::ordered_json(nullptr)}};
+  if (const collision::Stats* c = sim.bodyContact()) {  // contact between bodies (sim/collision/body_collisions.h)
+    auto& b = j["body_contact"];
+    b = {{"steps_checked", c->passes},
+         {"contacts", c->contacts},
+         {"ccd_hits", c->ccd_hits},
+         {"failsafe_activations", c->zone_activations},
+         {"impact_zone_rounds", c->zone_rounds},
+         {"largest_impact_zone", c->largest_zone},
+         {"min_distance_m",
+          std::isfinite(c->min_distance) ? nlohmann::ordered_json(c->min_distance) : nlohmann::ordered_json(nullptr)},
+         {"in_solve", sim.integrator().solvesBodyContact()}};        // [contact] in_solve, as the integrator took it
+    if (integratorTraits(scene.integrator).body_contact_in_solve) {  // its solve's share (docs/body-contact.md)
+      const IntegratorStats& s = sim.integrator().stats();
+      b["pairs_in_solve"] = s.body_contact_pairs_carried;
+      b["steps_with_pairs_in_solve"] = s.body_contact_steps;
+      b["active_set_solves"] = s.body_contact_active_set_solves;
+      b["solves_per_step"] = s.steps ? double(s.linear_solves) / double(s.steps) : 0.0;
+    }
+  }
   j["interrupted"] = r.interrupted;
   j["blew_up"] = r.blow_up.has_value();
   if (r.blow_up)

@@ -99,11 +99,14 @@ ContactParams readContact(TableReader& r) {
   return c;
 }
 
-// [contact]: the caps of contact between bodies (sim/collision/params.h).
-collision::Settings readContactTable(TableReader r) {
+// [contact]: the caps of contact between bodies (sim/collision/params.h), and whether backward Euler carries the
+// contacts in its solve (IntegratorOptions::body_contact_in_solve; the other integrators have no solve to carry them
+// in and ignore the key, as they ignore [simulation]'s cg_ keys).
+collision::Settings readContactTable(TableReader r, IntegratorOptions& options) {
   collision::Settings s;
   s.ccd_iterations = r.integer("ccd_iterations", s.ccd_iterations, Range{0, 1000});
   s.zone_iterations = r.integer("zone_iterations", s.zone_iterations, Range{1, 10000});
+  options.body_contact_in_solve = r.boolean("in_solve", options.body_contact_in_solve);
   r.finish();
   return s;
 }
@@ -201,7 +204,8 @@ SceneFile loadScene(const fs::path& file, const std::vector<std::string>& overri
   readSimulation(root.child("simulation"), scene, gravity);
   scene.system = std::make_unique<MassSpringSystem>(gravity);
   readOutput(root.child("output"), scene);
-  if (root.table("contact")) scene.system->setContactSettings(readContactTable(root.child("contact")));
+  if (root.table("contact"))
+    scene.system->setContactSettings(readContactTable(root.child("contact"), scene.integrator_options));
   readGroup(root, "bodies", scene, readBody);
   readGroup(root, "colliders", scene, readCollider);
   readRenderTables(root, scene);

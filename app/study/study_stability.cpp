@@ -84,11 +84,11 @@ const char* toString(Outcome outcome) {
 }
 
 StabilityCell classifyCell(MassSpringSystem& system, const std::string& integrator, double dt, double duration,
-                           double strain_bound) {
+                           double strain_bound, const IntegratorOptions& options) {
   StabilityCell c;
   c.integrator = integrator;
   c.dt = dt;
-  Simulation sim(system, makeIntegrator(integrator), dt);
+  Simulation sim(system, makeIntegrator(integrator, options), dt);
   const long per_check = std::max(1L, std::lround(0.01 / dt));  // strain every ~0.01 s: it costs a force evaluation
   try {
     for (long k = 1;; ++k) {
@@ -144,12 +144,14 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
   result.dt = logSpaced(o.dt_min, o.dt_max, o.dt_points);
   const std::vector<std::string> bodies = bodyNames(base);
   std::vector<std::string> contact_bodies;
+  IntegratorOptions contact_options;  // the scene's [simulation] solver keys and [contact] in_solve
   if (!o.contact_scene.empty()) {
     result.contact_scene_file = o.contact_scene;
     result.contact_duration = o.contact_duration;
     const SceneFile contact = loadScene(o.contact_scene, {});
     result.contact_scene_name = contact.name;
     contact_bodies = bodyNames(contact);
+    contact_options = contact.integrator_options;
   }
 
   // Theory at every ks the study touches.
@@ -177,6 +179,7 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
     std::vector<double> dts;  // descending for grid rows
     bool user_case, contact_case;
     double duration;
+    IntegratorOptions options;
     std::unique_ptr<MassSpringSystem> system;
     std::vector<StabilityCell> cells;
   };
@@ -184,9 +187,25 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
   std::vector<double> descending(result.dt.rbegin(), result.dt.rend());
   for (const std::string& name : result.integrators) {
     for (double ks : result.ks)
-      items.push_back({name, ks, descending, false, false, o.duration, systemAt(o.scene, o.sets, bodies, ks), {}});
+      items.push_back({name,
+                       ks,
+                       descending,
+                       false,
+                       false,
+                       o.duration,
+                       base.integrator_options,
+                       systemAt(o.scene, o.sets, bodies, ks),
+                       {}});
     for (const auto& c : o.cases)
-      items.push_back({name, c[0], {c[1]}, true, false, o.duration, systemAt(o.scene, o.sets, bodies, c[0]), {}});
+      items.push_back({name,
+                       c[0],
+                       {c[1]},
+                       true,
+                       false,
+                       o.duration,
+                       base.integrator_options,
+                       systemAt(o.scene, o.sets, bodies, c[0]),
+                       {}});
     if (!o.contact_scene.empty())
       for (const auto& c : o.contact_cases)
         items.push_back({name,
@@ -195,6 +214,7 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
                          false,
                          true,
                          o.contact_duration,
+                         contact_options,
                          systemAt(o.contact_scene, {}, contact_bodies, c[0]),
                          {}});
   }
@@ -217,7 +237,7 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
           c.inferred = true;
           c.max_strain = c.final_strain = c.max_speed = kNaN;
         } else {
-          c = classifyCell(*item.system, item.integrator, dt, item.duration, o.strain_bound);
+          c = classifyCell(*item.system, item.integrator, dt, item.duration, o.strain_bound, item.options);
           if (o.infer && !item.user_case && !item.contact_case &&
               (c.outcome == Outcome::Stable || c.outcome == Outcome::LostShape))
             survived_above = c.outcome;

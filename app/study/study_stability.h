@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/integrators/integrator.h"
 #include "sim/system.h"
 
 namespace wobble {
@@ -82,9 +83,10 @@ struct StabilityResult {
   std::vector<std::string> notes;
 };
 
-// One cell on a system already built at that ks.
+// One cell on a system already built at that ks, the integrator with the scene's options (its [simulation] solver keys
+// and [contact] in_solve).
 StabilityCell classifyCell(MassSpringSystem& system, const std::string& integrator, double dt, double duration,
-                           double strain_bound);
+                           double strain_bound, const IntegratorOptions& options = {});
 
 // Throws InputError for bad options or scene input.
 StabilityResult runStabilityStudy(const StabilityOptions& options);

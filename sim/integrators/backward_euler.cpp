@@ -138,6 +138,10 @@ class BackwardEuler final : public Integrator {
     first_update_ = false;
     solve(rhs_, dv_, absolute);
     solveImpacts(*jacobian, t, h, x, v, absolute);
+    if (!pairs_.empty()) {
+      ++stats_.body_contact_steps;
+      stats_.body_contact_pairs_carried += long(pairs_.size());
+    }
 
     if (options_.newton) newton(*jacobian, t, h, x, v, mass);
     carryPairs(h, x, v);
@@ -193,6 +197,7 @@ class BackwardEuler final : public Integrator {
       }
       if (pairs) {
         ++stats_.body_contact_solves;
+        ++stats_.body_contact_active_set_solves;
         applyPairs(h, x, v);
       }
       solve(rhs_, dv_, absolute);
@@ -346,6 +351,7 @@ class BackwardEuler final : public Integrator {
                    : r.iterations > kTwoLevelIterations && n_ >= kTwoLevelParticles))
       two_level_ = !two_level;
     ++stats_.last_linear_solves;
+    ++stats_.linear_solves;
     stats_.last_cg_iterations += r.iterations;
     stats_.cg_iterations += r.iterations;
     stats_.last_cg_residual = std::max(stats_.last_cg_residual, r.relative_residual);

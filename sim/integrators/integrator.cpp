@@ -22,7 +22,9 @@ constexpr std::array kMethods{
     Method{"midpoint", makeMidpoint, {.order = 2}},
     Method{"rk4", makeRk4, {.order = 4}},
     Method{"rk45", makeRk45, {.order = 5, .adaptive = true}},
-    Method{"backward-euler", makeBackwardEuler, {.order = 1, .a_stable = true, .implicit = true}},
+    Method{"backward-euler",
+           makeBackwardEuler,
+           {.order = 1, .a_stable = true, .implicit = true, .body_contact_in_solve = true}},
 };
 
 static_assert(

@@ -57,6 +57,11 @@ struct IntegratorStats {
   long impact_solves = 0;           // backward-euler: extra solves with impact constraints (contact_constraints.h)
   long body_contact_solves = 0;     // backward-euler: extra solves with contact between bodies (ContactPair)
   long body_contact_pairs = 0;      // backward-euler: pairs of surface elements in those solves, all steps
+  // backward-euler, contact between bodies in the solve (run.json's body_contact, docs/body-contact.md):
+  long linear_solves = 0;                   // linear solves, all steps and causes
+  long body_contact_steps = 0;              // steps whose solve carried at least one pair
+  long body_contact_pairs_carried = 0;      // near pairs in a step's solve (pressed or released), summed over steps
+  long body_contact_active_set_solves = 0;  // extra solves because pairs joined or the pressed set changed
 };
 
 class Integrator {
@@ -81,6 +86,9 @@ struct IntegratorTraits {
   bool adaptive = false;  // chooses its own substeps: dt is only its largest step, tolerances set the accuracy
   bool a_stable = false;  // stable at any step on a damped linear oscillator: no fixed-step limit
   bool implicit = false;  // solves a linear system each step: assembles force Jacobians (memory, scene_limits.h)
+  // can carry contact between bodies inside its solve ([contact] in_solve, IntegratorOptions::body_contact_in_solve);
+  // the others always leave it to the pass after the step
+  bool body_contact_in_solve = false;
 };
 
 // The names makeIntegrator accepts, in the order the docs list them.

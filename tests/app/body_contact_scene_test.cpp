@@ -12,6 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands/run_command.h"
+#include "app/output/pc2.h"
+#include "app/output/pc2_writer.h"
 #include "app/scene/input_error.h"
 #include "tests/app/output_check.h"
 #include "tests/app/scratch_dir.h"
@@ -164,19 +166,81 @@ INSTANTIATE_TEST_SUITE_P(Shipped, Stack,
                            return name;
                          });
 
-class FailSafe : public testing::ScratchDir {};
+// run.json's counters of backward Euler's solve (docs/body-contact.md, Reported) on jelly_stack at 1/60 s for its first
+// second (the upper jelly lands at about 0.35 s): with the contacts in the solve it carried pairs, re-solved for the
+// active set and for friction; with [contact] in_solve = false the bodies touch all the same (the pass counts them)
+// but the solve carries nothing, and its solves are one a step plus the floor's impact solves, exactly.
+class ContactCounters : public testing::ScratchDir {};
 
-// A 3^3 jelly at 20 m/s onto another under backward Euler at 0.01 s: the jellies meet within one step, and with the
-// [contact] caps at their least (no rounds of collision impulses, one round of rigid impact zones) the pass cannot
-// resolve every collision. The run stops like a blow-up: exit 3, a message naming the integrator, the step, the time,
-// the colliding particles and what to try, run.json saying so, and every frame before the failing step kept. The
-// control: with the default caps the same scene runs to the end.
-// DISABLED: since backward Euler carries body contacts in its implicit solve, this scene no longer reaches the
-// fail-safe (the solve leaves the pass nothing to resolve), and the explicit integrators at steps large enough to
-// defeat the pass blow up or gain energy first. A configuration that reaches the fail-safe again is open work
-// (docs/body-contact.md, Limits). Run it with --gtest_also_run_disabled_tests to see the current behaviour.
-TEST_F(FailSafe, DISABLED_UnresolvedCollisionStopsTheRunWithExit3) {
-  const std::string scene = R"(
+TEST_F(ContactCounters, InSolveCountersFollowTheKey) {
+  for (const bool in_solve : {true, false}) {
+    const fs::path out = dir() / (in_solve ? "in_solve" : "pass_alone");
+    RunOptions o;
+    o.scene = testing::sourceDir() / "scenes" / "jelly_stack.toml";
+    o.out = out;
+    o.render.render = "none";
+    o.progress = false;
+    o.integrator = "backward-euler";
+    o.dt = 1.0 / 60;
+    o.stop_on_energy_gain = false;  // the pass alone gains energy at this step (Energy at the impacts)
+    o.sets = {"simulation.duration=1.0", "output.pc2=false", "output.obj=false"};
+    if (!in_solve) o.sets.push_back("contact.in_solve=false");
+    const RunReport r = runScene(o);
+    ASSERT_FALSE(r.blow_up) << r.blow_up_message;
+    // The pass alone gains energy here (docs/body-contact.md, Energy at the impacts), and the message says what to try.
+    EXPECT_EQ(r.energy_gain.has_value(), !in_solve);
+    if (r.energy_gain) EXPECT_NE(r.energy_gain_message.find("[contact] in_solve = true"), std::string::npos);
+    std::ifstream in(out / "run.json");
+    const auto j = nlohmann::json::parse(in);
+    const auto& c = j["body_contact"];
+    const long steps = j["steps"].get<long>(), impact_solves = j["linear_solver"]["impact_solves"].get<long>();
+    const long pairs = c["pairs_in_solve"].get<long>(), with_pairs = c["steps_with_pairs_in_solve"].get<long>(),
+               active = c["active_set_solves"].get<long>();
+    const double solves = c["solves_per_step"].get<double>() * double(steps);
+    EXPECT_EQ(c["in_solve"], in_solve);
+    EXPECT_GT(c["contacts"].get<long>() + c["ccd_hits"].get<long>(), 0) << "the bodies never touched";
+    if (in_solve) {
+      EXPECT_GT(with_pairs, 0);
+      EXPECT_GE(pairs, with_pairs);  // each such step carried at least one
+      EXPECT_LE(with_pairs, steps);
+      EXPECT_GT(active, 0);
+      // Every step solves once; an impact and an active-set change found together share one more solve.
+      EXPECT_GE(solves + 0.5, double(steps + std::max(impact_solves, active)));
+      EXPECT_LE(solves - 0.5, double(steps + impact_solves + active));
+    } else {
+      EXPECT_EQ(pairs, 0);
+      EXPECT_EQ(with_pairs, 0);
+      EXPECT_EQ(active, 0);
+      EXPECT_NEAR(solves, double(steps + impact_solves), 0.5);
+    }
+  }
+}
+
+// A fail-safe case: the [contact] table before the scene, and whether backward Euler carries the contacts in its solve.
+struct Caps {
+  const char* name;
+  const char* contact;
+  bool in_solve;
+};
+
+class Sandwich : public testing::ScratchDir {
+ protected:
+  // `wobble run FILE --render none --out DIR` on the scene with contact_table before it; returns the exit status and
+  // keeps what it said and its run.json.
+  int run(const std::string& name, const std::string& contact_table) {
+    const fs::path file = write(name + ".toml", contact_table + kScene), log = dir() / (name + ".log");
+    const int status =
+        testing::runWobble("run " + file.string() + " --render none --out " + (dir() / name).string(), log);
+    said = testing::slurpFile(log);
+    std::ifstream in(dir() / name / "run.json");
+    json = nlohmann::json::parse(in);
+    return status;
+  }
+  // A sandwich under backward Euler at 0.01 s, a frame a step: a 3^3 jelly resting on the floor, a light cloth 4 cm
+  // above it, and a smaller jelly falling onto the cloth at 20 m/s, which it reaches in the fifth step. A rigid impact
+  // zone of the falling jelly's face and the cloth under it moves on with most of the jelly's momentum, 20 cm in a
+  // step, and meets the lower jelly within the same step: one round of impact zones cannot end such a step clean.
+  static constexpr const char* kScene = R"(
 [simulation]
 integrator = "backward-euler"
 dt = 0.01
@@ -189,56 +253,108 @@ type = "jelly"
 n = 3
 size = 1.0
 center = [0.0, 0.52, 0.0]
+[bodies.sheet]
+type = "cloth"
+nx = 8
+ny = 8
+size = [1.2, 1.2]
+center = [0.0, 1.06, 0.0]
+mass = 0.05
+ks = 2000.0
+kd = 5.0
 [bodies.top]
 type = "jelly"
 n = 3
-size = 0.8
-center = [0.1, 1.6, 0.05]
-rotation_axis = [1.0, 0.3, 1.0]
-rotation_deg = 30.0
+size = 0.6
+center = [0.05, 2.2, -0.05]
 velocity = [0.0, -20.0, 0.0]
 [colliders.floor]
 type = "plane"
 )";
-  const fs::path capped = write("capped.toml", "[contact]\nccd_iterations = 0\nzone_iterations = 1\n" + scene),
-                 log = dir() / "log.txt", out = dir() / "out";
-  ASSERT_EQ(testing::runWobble("run " + capped.string() + " --render none --out " + out.string(), log), 3)
-      << testing::slurpFile(log);
-  const std::string said = testing::slurpFile(log);
+  std::string said;
+  nlohmann::json json;
+};
+
+class FailSafe : public Sandwich, public ::testing::WithParamInterface<Caps> {};
+
+// The fail-safe reached as a user reaches it: the pass's caps at their least in [contact] (no rounds of collision
+// impulses, one round of rigid impact zones), with backward Euler's contacts in its solve (the default) or left to the
+// pass alone (in_solve = false). The run stops like a blow-up: exit 3, a message naming the integrator, the step, the
+// time, what is left and what to try, run.json saying so, and every frame before the failing step kept (OBJ files and
+// point caches), each free of intersections by the independent test.
+TEST_P(FailSafe, UnresolvedCollisionStopsTheRunWithExit3) {
+  const Caps c = GetParam();
+  ASSERT_EQ(run("capped", c.contact), 3) << said;
   for (const char* part : {"contact between bodies failed", "integrator backward-euler", "step ",
-                           "t = ", "collision between body surfaces left after 1 round of rigid impact zones",
-                           "particle", "--dt 0.0025", "zone_iterations"})
+                           "t = ", "between body surfaces left after 1 round of rigid impact zones", "particle",
+                           "--dt 0.0025", "a larger contact thickness", "zone_iterations = 1", "ccd_iterations = 0"})
     EXPECT_NE(said.find(part), std::string::npos) << part << " missing from: " << said;
-  std::ifstream in(out / "run.json");
-  const auto j = nlohmann::json::parse(in);
-  EXPECT_EQ(j["blew_up"], true);
-  const long step = j["blow_up"]["step"].get<long>();
-  EXPECT_EQ(j["steps"].get<long>(), step);
-  EXPECT_NE(said.find(j["blow_up"]["message"].get<std::string>()), std::string::npos);
+  // The solve is suggested only where it was left out.
+  EXPECT_EQ(said.find("[contact] in_solve = true") != std::string::npos, !c.in_solve) << said;
+  EXPECT_EQ(json["blew_up"], true);
+  const long step = json["blow_up"]["step"].get<long>();
+  EXPECT_EQ(json["steps"].get<long>(), step);
+  EXPECT_NEAR(json["blow_up"]["time"].get<double>(), 0.01 * double(step), 1e-12);
+  EXPECT_NE(said.find(json["blow_up"]["message"].get<std::string>()), std::string::npos);
   EXPECT_NE(said.find("step " + std::to_string(step) + ", t = "), std::string::npos);
-  EXPECT_GT(j["body_contact"]["failsafe_activations"].get<long>(), 0);
-  // A frame a step (fps 100, dt 0.01): frame k holds t = (k - 1) dt, so frames 1 .. step were written before the
-  // failing step, and kept.
-  const int written = j["frames"]["written"].get<int>();
+  const auto& contact = json["body_contact"];
+  EXPECT_EQ(contact["in_solve"], c.in_solve);
+  EXPECT_EQ(contact["pairs_in_solve"].get<long>() > 0, c.in_solve);
+  EXPECT_EQ(contact["ccd_hits"].get<long>(), 0);  // no rounds of impulses: every collision went to impact zones
+  EXPECT_GT(contact["failsafe_activations"].get<long>(), 0);
+  EXPECT_GT(contact["largest_impact_zone"].get<int>(), 0);
+  // Frame k holds t = (k - 1) dt, so frames 1 .. step were written before the failing step, and kept, as OBJ files and
+  // in each body's point cache.
+  const int written = json["frames"]["written"].get<int>();
   EXPECT_EQ(written, step);
   EXPECT_GT(written, 3);
-  for (int f = 1; f <= written; ++f)
-    for (const char* body : {"base", "top"}) {
+  EXPECT_NE(said.find("wrote " + std::to_string(written) + " frame(s)"), std::string::npos) << said;
+  for (const char* body : {"base", "sheet", "top"}) {
+    for (int f = 1; f <= written + 1; ++f) {
       char name[32];
       std::snprintf(name, sizeof name, "%s_%04d.obj", body, f);
-      EXPECT_TRUE(fs::exists(out / "mesh" / name)) << name;
+      EXPECT_EQ(fs::exists(dir() / "capped" / "mesh" / name), f <= written) << name;
     }
-  // The control: the default caps resolve every collision of the same scene.
+    EXPECT_EQ(readPc2(Pc2Writer::path(dir() / "capped" / "mesh", body)).header.samples, written) << body;
+  }
+  // The kept frames, from the same run in this process: no two triangles intersect in any of them.
   RunOptions o;
-  o.scene = write("default.toml", scene);
-  o.out = dir() / "default";
+  o.scene = dir() / "capped.toml";
+  o.out = dir() / "again";
   o.render.render = "none";
   o.progress = false;
-  o.stop_on_energy_gain = false;
+  const SceneFile scene = loadRunScene(o);
+  testing::ParticleTriangles tris;
+  for (std::size_t b = 0; b < scene.system->bodies().size(); ++b)
+    testing::addSurface(tris, scene.system->bodies()[b].body.surface, scene.system->bodies()[b].first, int(b));
+  int frames = 0;
+  o.on_frame = [&](int frame, const VecX& x) {
+    ++frames;
+    EXPECT_EQ(testing::intersectingPairs(tris, x), 0) << "frame " << frame;
+  };
   const RunReport r = runScene(o);
-  EXPECT_FALSE(r.blow_up) << r.blow_up_message;
-  EXPECT_EQ(r.frames_written, 30);
+  ASSERT_TRUE(r.blow_up);
+  EXPECT_EQ(r.blow_up->step, step);
+  EXPECT_EQ(frames, written);
 }
+
+// The control: with the default [contact] settings the same scene runs to its end, without the fail-safe and without
+// an energy-gain stop.
+TEST_F(Sandwich, DefaultContactSettingsRunItToTheEnd) {
+  ASSERT_EQ(run("default", ""), 0) << said;
+  EXPECT_EQ(json["frames"]["written"].get<int>(), 30);
+  EXPECT_EQ(json["blew_up"], false);
+  EXPECT_EQ(json["gained_energy"], false);
+  EXPECT_EQ(json["body_contact"]["in_solve"], true);
+  EXPECT_GT(json["body_contact"]["pairs_in_solve"].get<long>(), 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Capped, FailSafe,
+    ::testing::Values(Caps{"in_solve", "[contact]\nccd_iterations = 0\nzone_iterations = 1\n", true},
+                      Caps{"pass_alone", "[contact]\nin_solve = false\nccd_iterations = 0\nzone_iterations = 1\n",
+                           false}),
+    [](const auto& info) { return std::string(info.param.name); });
 
 }  // namespace
 }  // namespace wobble

@@ -266,6 +266,21 @@ TEST(StabilityStudy, GainedEnergyIsAnOutcomeOfItsOwn) {
   EXPECT_EQ(classifyCell(steady, "rk4", 0.02, 1.0, 0.5).outcome, Outcome::Stable);
 }
 
+// The contact case's cause (docs/energy.md, "Contact that adds no energy"): jelly_stack at ks 1e5 under backward Euler
+// at 1/60 s for 1 s, with the scene's own options as the study passes them. With the contacts in the solve (the
+// default) the landing is stable; with [contact] in_solve = false the impulses of the pass after the step gain energy.
+TEST(StabilityStudy, ContactCaseTakesTheScenesInSolve) {
+  for (const bool in_solve : {true, false}) {
+    std::vector<std::string> sets = {"bodies.base.ks=1e5", "bodies.top.ks=1e5"};
+    if (!in_solve) sets.push_back("contact.in_solve=false");
+    SceneFile scene = loadScene(testing::sourceDir() / "scenes/jelly_stack.toml", sets);
+    ASSERT_EQ(scene.integrator_options.body_contact_in_solve, in_solve);
+    const StabilityCell c = classifyCell(*scene.system, "backward-euler", 1.0 / 60, 1.0, 0.5, scene.integrator_options);
+    EXPECT_EQ(c.outcome, in_solve ? Outcome::Stable : Outcome::GainedEnergy) << in_solve << " " << c.note;
+    if (in_solve) EXPECT_LT(c.max_strain, 0.05);
+  }
+}
+
 // The study run again on one thread gives the same cells as r.
 void expectSameOnOneThread(StabilityOptions o, const StabilityResult& r) {
   o.jobs = 1;
