@@ -211,8 +211,7 @@ class BackwardEuler final : public Integrator {
     bool changed = false;
     for (std::size_t k = terms_.size(); k < pairs_.size(); ++k) {
       const ContactPair& c = pairs_[k];
-      double weight = 0;
-      for (int i = 0; i < 4; ++i) weight += c.w[i] * c.w[i] * inverse_mass[c.particle[i]];
+      const double weight = c.stencil.inverseMass(inverse_mass);
       const double stiffness = weight > 0 ? kPenalty / (weight * h * h) : 0;
       terms_.push_back({stiffness, 0, std::min(0.0, c.gap(x0)) * (1 - kRecovery), false});
     }
@@ -236,14 +235,14 @@ class BackwardEuler final : public Integrator {
       const PairTerm& term = terms_[k];
       if (!term.active) continue;
       ++stats_.body_contact_pairs;
-      matrix_.stencils().push_back({c.particle, c.w, (h * h * term.stiffness) * Sym3::outer(c.normal)});
+      matrix_.stencils().push_back({c.stencil, (h * h * term.stiffness) * Sym3::outer(c.normal)});
       Vec3 force = -h * term.stiffness * (c.gap(x) - term.rest + h * c.normal.dot(c.relative(v))) * c.normal;
       if (friction && term.damping > 0) {
         const Eigen::Matrix3d tangential = Eigen::Matrix3d::Identity() - c.normal * c.normal.transpose();
-        matrix_.stencils().push_back({c.particle, c.w, Sym3::fromDense((h * term.damping) * tangential)});
+        matrix_.stencils().push_back({c.stencil, Sym3::fromDense((h * term.damping) * tangential)});
         force -= h * term.damping * (tangential * c.relative(v));
       }
-      for (int i = 0; i < 4; ++i) particle(rhs_, c.particle[i]) += c.w[i] * force;
+      c.stencil.spread(force, rhs_);
     }
   }
 
@@ -260,10 +259,11 @@ class BackwardEuler final : public Integrator {
       term.damping = 0;
       if (!(c.friction > 0) || !term.active) continue;
       Vec3 x1 = Vec3::Zero(), v1 = Vec3::Zero();
-      for (int i = 0; i < 4; ++i) {
-        const Vec3 vi = particle(v, c.particle[i]) + particle(dv_, c.particle[i]);
-        v1 += c.w[i] * vi;
-        x1 += c.w[i] * (particle(x, c.particle[i]) + h * vi);
+      const WeightedStencil& s = c.stencil;
+      for (int i = 0; i < s.size; ++i) {
+        const Vec3 vi = particle(v, s.particle[i]) + particle(dv_, s.particle[i]);
+        v1 += s.w[i] * vi;
+        x1 += s.w[i] * (particle(x, s.particle[i]) + h * vi);
       }
       const double pressed = term.stiffness * std::max(0.0, term.rest + c.thickness - c.normal.dot(x1));
       if (pressed == 0) continue;
@@ -286,7 +286,7 @@ class BackwardEuler final : public Integrator {
       Vec3 force = -terms_[k].stiffness * (c.gap(x1) - terms_[k].rest) * n;
       const Vec3 u = c.relative(v1);
       force -= terms_[k].damping * (u - n.dot(u) * n);
-      for (int i = 0; i < 4; ++i) particle(f, c.particle[i]) += c.w[i] * force;
+      c.stencil.spread(force, f);
     }
   }
 
