@@ -6,6 +6,7 @@
 
 #include <Eigen/SparseCore>
 
+#include "sim/solver/stencil.h"
 #include "sim/types.h"
 
 namespace wobble {
@@ -27,21 +28,19 @@ struct ContactConstraint {
 };
 
 // Two surface elements of bodies near each other in an implicit step (contact between bodies, docs/body-contact.md): a
-// point against a triangle or an edge against an edge, as a stencil of four particles with weights w such that sum w_i
-// x_i is the relative position (sim/collision/primitives.h). At the step's start their nearest points are along the
-// unit normal n (from the second element to the first); the pair's gap g(x) = n . sum w_i x_i - thickness, linear in
-// x over the step, is kept >= 0 by a stiff penalty inside backward Euler's solve (backward_euler.cpp).
+// point against a triangle or an edge against an edge, as a stencil of particles with weights w such that sum w_i x_i
+// is the relative position (sim/collision/primitives.h): four particles for surfaces over particles, up to 32 when
+// the elements' vertices are blends of particles (a mesh jelly's embedded surface, sim/solver/stencil.h). At the
+// step's start their nearest points are along the unit normal n (from the second element to the first); the pair's
+// gap g(x) = n . sum w_i x_i - thickness, linear in x over the step, is kept >= 0 by a stiff penalty inside backward
+// Euler's solve (backward_euler.cpp).
 struct ContactPair {
-  std::array<int, 4> particle;
-  std::array<double, 4> w;
+  std::array<int, 4> element;  // the pair's surface vertices in the pass that found it: its identity there
+  WeightedStencil stencil;
   Vec3 normal;
-  double thickness;                     // m
-  double friction;                      // Coulomb coefficient
-  Vec3 relative(const VecX& y) const {  // sum w_i y_i
-    Vec3 r = Vec3::Zero();
-    for (int i = 0; i < 4; ++i) r += w[i] * wobble::particle(y, particle[i]);
-    return r;
-  }
+  double thickness;                                              // m
+  double friction;                                               // Coulomb coefficient
+  Vec3 relative(const VecX& y) const { return stencil.sum(y); }  // sum w_i y_i
   double gap(const VecX& x) const { return normal.dot(relative(x)) - thickness; }
 };
 

@@ -121,6 +121,8 @@ void MassSpringSystem::resolveCollisions(double t, VecX& x, VecX& v) const {
 
 double MassSpringSystem::colliderWork(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
                                       const VecX& v1) const {
+  // Static colliders do no work: nothing to look up (the points' blends below cost as much as a force evaluation).
+  if (std::all_of(colliders_.begin(), colliders_.end(), [](const auto& c) { return c->isStatic(); })) return 0;
   // The surfaces' velocity, weighted by mass, at every particle that may have touched a collider during the step: at
   // either end within epsilon plus the distance it moves relative to the surface in a step (an implicit step's impact
   // leaves it bouncing above the surface at both ends). A static collider counts with velocity 0.

@@ -10,6 +10,7 @@ class BoxCollider final : public Collider {
   BoxCollider(std::string name, ContactParams contact, const Vec3& center, const Vec3& size);
   std::optional<SurfacePoint> query(double t, const Vec3& x) const override;
   std::optional<Eigen::AlignedBox3d> bounds(double t) const override;
+  bool isStatic() const override { return true; }
   const Vec3& center() const { return center_; }
   const Vec3& size() const { return size_; }
 

@@ -39,6 +39,9 @@ class Collider {
   // A box holding the solid at time t (one that moves on a repeating schedule: over its whole cycle), or nothing if it
   // is unbounded (a plane). Used to frame a camera around the action.
   virtual std::optional<Eigen::AlignedBox3d> bounds(double t) const = 0;
+  // Whether the surface stands still at every time (its velocity and acceleration 0 everywhere): then it does no work
+  // on the bodies, and MassSpringSystem::colliderWork skips it. The default (false) is always safe.
+  virtual bool isStatic() const { return false; }
 
   const std::string& name() const { return name_; }
   const ContactParams& contact() const { return contact_; }

@@ -22,6 +22,7 @@ class MeshCollider final : public Collider {
   ~MeshCollider() override;
   std::optional<SurfacePoint> query(double t, const Vec3& x) const override;
   std::optional<Eigen::AlignedBox3d> bounds(double t) const override;
+  bool isStatic() const override { return velocity_.isZero(0); }
   // Skips the point query for a particle farther than margin from the mesh's box: for a closed mesh, such a particle
   // is outside at a distance of at least that, so the answer is the default's; an open mesh (a plate) touches only
   // what comes within margin of its box, never a particle far behind its sheet.

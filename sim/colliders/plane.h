@@ -13,6 +13,7 @@ class PlaneCollider final : public Collider {
   std::optional<SurfacePoint> query(double t, const Vec3& x) const override;
   void near(double t, const VecX& x, double margin, std::vector<int>& out) const override;
   std::optional<Eigen::AlignedBox3d> bounds(double) const override { return std::nullopt; }  // infinite
+  bool isStatic() const override { return true; }
   const Vec3& point() const { return point_; }
   const Vec3& normal() const { return normal_; }
 

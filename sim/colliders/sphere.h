@@ -11,6 +11,7 @@ class SphereCollider final : public Collider {
   std::optional<SurfacePoint> query(double t, const Vec3& x) const override;
   void near(double t, const VecX& x, double margin, std::vector<int>& out) const override;
   std::optional<Eigen::AlignedBox3d> bounds(double t) const override;
+  bool isStatic() const override { return velocity_.isZero(0); }
   Vec3 center(double t) const { return center_ + t * velocity_; }
   double radius() const { return radius_; }
 

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <numeric>
+#include <span>
 #include <sstream>
 
 #include "sim/collision/broad_phase.h"
@@ -65,10 +66,19 @@ std::atomic<bool> motion_cull{true};
 void setBroadPhaseCulls(bool on) { motion_cull = on; }
 
 struct BodyCollisions::Impl {
-  // The surfaces over particles: triangles and edges in system particle indices, each with its body.
+  // The surfaces' vertices as nodes, each a weighted blend of particles (weights summing to 1): one particle of
+  // weight 1 for a surface over particles, a lattice cell's 8 particles for a mesh jelly's embedded surface
+  // (weighted_points.h). Node k's particles are node_particle[node_start[k] .. node_start[k + 1]). Every node is a
+  // vertex of the pass (vertex slot k is node k); triangles and edges are in node indices, each with its body. A
+  // node's trajectory over the step is the blend of its particles' straight trajectories, itself straight: the
+  // continuous test holds on it as on a particle's, and an impulse on it is handed to its particles by the weights.
+  std::vector<int> node_start{0}, node_particle;
+  std::vector<double> node_weight;
+  std::vector<int> particle_node_start, particle_nodes;  // per particle, the nodes over it (CSR)
+  std::vector<int> pass_particles;                       // every particle a node rides on, ascending
+  std::vector<double> node_inv_mass;                     // sum w^2 / m over a node's particles
   std::vector<std::array<int, 3>> triangles;
   std::vector<std::array<int, 2>> edges;
-  std::vector<int> vertices;  // particles on a surface, ascending
   std::vector<int> triangle_body, edge_body, vertex_body;
   std::vector<SurfaceParams> params;
   std::vector<double> stiffness;
@@ -79,47 +89,133 @@ struct BodyCollisions::Impl {
   bool cull = true;  // setBroadPhaseCulls, read once a broad phase
 
   // Per step
-  VecX xs;                           // the step's start positions
-  VecX vbar, vbar0, xe;              // trajectory velocity (changed and at the start), trajectory end
-  std::vector<char> changed, dirty;  // per particle: vbar changed this step; since the last detection
+  VecX xs;                     // the step's start positions
+  VecX vbar, vbar0, xe;        // trajectory velocity (changed and at the start), trajectory end
+  VecX nxs, nxe, nvbar;        // the same of the nodes (blends of the particles')
+  std::vector<char> changed;   // per particle: vbar changed this step
+  std::vector<char> dirty;     // per node: moved since the last detection
+  std::vector<int> node_mark;  // per node: the last impulse that refreshed it (refreshNodes)
+  int mark = 0;
   std::vector<Box> vertex_boxes, edge_boxes, triangle_boxes;
-  std::vector<char> vertex_moved, edge_moved, triangle_moved;  // per element: a particle of it is dirty
+  std::vector<char> vertex_moved, edge_moved, triangle_moved;  // per element: a node of it is dirty
   std::vector<std::pair<int, int>> vf, ee;                     // candidate pairs: (vertex slot, triangle), (edge, edge)
   UnionFind zones;
-  std::vector<int> root;  // zones.find of each surface particle, for the threads of a detection round
+  std::vector<int> root;  // zones.find of each pass particle, for the threads of a detection round
+
+  int nodeCount() const { return int(node_start.size()) - 1; }
 
   Impl(const std::vector<Surface>& surfaces, const VecX& inverse_mass, Settings s, bool threads)
       : inv_mass(inverse_mass), settings(s), parallel(threads) {
+    const int n = int(inverse_mass.size());
     for (std::size_t b = 0; b < surfaces.size(); ++b) {
       const Surface& surface = surfaces[b];
+      const SurfaceMesh& mesh = *surface.mesh;
       params.push_back(surface.params);
       stiffness.push_back(surface.stiffness);
-      // A surface embedded in a lattice (a mesh jelly) rides on its cells' particles, not on particles of its own:
-      // it is not a collision surface yet; its lattice meets the colliders (docs/mesh-bodies.md).
-      if (!surface.mesh->embedded.empty()) continue;
       max_thickness = std::max(max_thickness, surface.params.thickness);
+      // The body's nodes: the particles (or embedded points) its triangles use, ascending; a triangle with two
+      // corners on one is left out.
+      std::vector<std::array<int, 3>> body_triangles;
+      for (const auto& t : mesh.triangles) {
+        const std::array<int, 3> p{mesh.particle[t[0]], mesh.particle[t[1]], mesh.particle[t[2]]};
+        if (p[0] != p[1] && p[1] != p[2] && p[0] != p[2]) body_triangles.push_back(p);
+      }
+      std::vector<int> used;
+      for (const auto& t : body_triangles) used.insert(used.end(), t.begin(), t.end());
+      std::sort(used.begin(), used.end());
+      used.erase(std::unique(used.begin(), used.end()), used.end());
+      std::vector<int> node(used.empty() ? 0 : used.back() + 1, -1);
+      for (const int u : used) {
+        node[u] = nodeCount();
+        vertex_body.push_back(int(b));
+        if (mesh.embedded.empty()) {
+          node_particle.push_back(surface.first_particle + u);
+          node_weight.push_back(1.0);
+        } else {
+          const EmbeddedPoint& e = mesh.embedded[u];
+          for (int k = 0; k < 8; ++k)
+            if (e.weight[k] != 0) {
+              node_particle.push_back(surface.first_particle + e.particle[k]);
+              node_weight.push_back(e.weight[k]);
+            }
+        }
+        node_start.push_back(int(node_particle.size()));
+      }
       std::vector<std::array<int, 2>> body_edges;
-      std::vector<int> body_vertices;
-      for (const auto& t : surface.mesh->triangles) {
-        std::array<int, 3> p;
-        for (int k = 0; k < 3; ++k) p[k] = surface.first_particle + surface.mesh->particle[t[k]];
-        if (p[0] == p[1] || p[1] == p[2] || p[0] == p[2]) continue;
+      for (const auto& t : body_triangles) {
+        const std::array<int, 3> p{node[t[0]], node[t[1]], node[t[2]]};
         triangles.push_back(p);
         triangle_body.push_back(int(b));
-        for (int k = 0; k < 3; ++k) {
+        for (int k = 0; k < 3; ++k)
           body_edges.push_back({std::min(p[k], p[(k + 1) % 3]), std::max(p[k], p[(k + 1) % 3])});
-          body_vertices.push_back(p[k]);
-        }
       }
       std::sort(body_edges.begin(), body_edges.end());
       body_edges.erase(std::unique(body_edges.begin(), body_edges.end()), body_edges.end());
-      std::sort(body_vertices.begin(), body_vertices.end());
-      body_vertices.erase(std::unique(body_vertices.begin(), body_vertices.end()), body_vertices.end());
       edges.insert(edges.end(), body_edges.begin(), body_edges.end());
       edge_body.insert(edge_body.end(), body_edges.size(), int(b));
-      vertices.insert(vertices.end(), body_vertices.begin(), body_vertices.end());
-      vertex_body.insert(vertex_body.end(), body_vertices.size(), int(b));
     }
+    // Per particle its nodes, and the nodes' inverse masses.
+    particle_node_start.assign(n + 1, 0);
+    for (const int p : node_particle) ++particle_node_start[p + 1];
+    for (int p = 0; p < n; ++p) particle_node_start[p + 1] += particle_node_start[p];
+    particle_nodes.resize(node_particle.size());
+    std::vector<int> fill(particle_node_start.begin(), particle_node_start.end() - 1);
+    node_inv_mass.assign(nodeCount(), 0.0);
+    for (int k = 0; k < nodeCount(); ++k)
+      for (int j = node_start[k]; j < node_start[k + 1]; ++j) {
+        particle_nodes[fill[node_particle[j]]++] = k;
+        node_inv_mass[k] += node_weight[j] * node_weight[j] * inv_mass[node_particle[j]];
+      }
+    for (int p = 0; p < n; ++p)
+      if (particle_node_start[p + 1] > particle_node_start[p]) pass_particles.push_back(p);
+    node_mark.assign(nodeCount(), 0);
+  }
+
+  // Node k's blend of a flat per-particle vector s, into out (3 per node); a node of one particle of weight 1 copies.
+  void blendNode(const VecX& s, int k, VecX& out) const {
+    const int begin = node_start[k], end = node_start[k + 1];
+    if (end - begin == 1 && node_weight[begin] == 1) {
+      particle(out, k) = particle(s, node_particle[begin]);
+      return;
+    }
+    Vec3 sum = Vec3::Zero();
+    for (int j = begin; j < end; ++j) sum += node_weight[j] * particle(s, node_particle[j]);
+    particle(out, k) = sum;
+  }
+  void blendNodes(const VecX& s, VecX& out) const {
+    out.resize(3 * nodeCount());
+    forEachChunk(nodeCount(), parallel, [&](int begin, int end) {
+      for (int k = begin; k < end; ++k) blendNode(s, k, out);
+    });
+  }
+  // After particles' vbar and xe changed: their nodes' nvbar and nxe again, each node once, marked dirty.
+  template <class Particles>
+  void refreshNodes(const Particles& moved) {
+    ++mark;
+    for (const int p : moved)
+      for (int j = particle_node_start[p]; j < particle_node_start[p + 1]; ++j) {
+        const int k = particle_nodes[j];
+        if (node_mark[k] == mark) continue;
+        node_mark[k] = mark;
+        blendNode(vbar, k, nvbar);
+        blendNode(xe, k, nxe);
+        dirty[k] = 1;
+      }
+  }
+  // The particle of node k with the largest weight (for messages).
+  int mainParticle(int k) const {
+    int best = node_start[k];
+    for (int j = node_start[k]; j < node_start[k + 1]; ++j)
+      if (node_weight[j] > node_weight[best]) best = j;
+    return node_particle[best];
+  }
+  // The stencil of a pair over nodes with weights w (Stencil), over the nodes' particles: sum_i w_i sum_j W_ij x_j.
+  WeightedStencil expand(const Stencil& s, const std::array<double, 4>& w) const {
+    WeightedStencil out;
+    for (int i = 0; i < 4; ++i)
+      for (int j = node_start[s.vertex[i]]; j < node_start[s.vertex[i] + 1]; ++j)
+        out.add(node_particle[j], w[i] * node_weight[j]);
+    return out;
   }
 
   bool bodiesMeet(int a, int b) const { return a != b || params[a].self_contact; }
@@ -132,10 +228,10 @@ struct BodyCollisions::Impl {
     int a, b;
     if (kind == Primitive::PointTriangle) {
       const auto& t = triangles[second];
-      p.stencil.particle = {vertices[first], t[0], t[1], t[2]};
+      p.stencil.vertex = {first, t[0], t[1], t[2]};
       a = vertex_body[first], b = triangle_body[second];
     } else {
-      p.stencil.particle = {edges[first][0], edges[first][1], edges[second][0], edges[second][1]};
+      p.stencil.vertex = {edges[first][0], edges[first][1], edges[second][0], edges[second][1]};
       a = edge_body[first], b = edge_body[second];
     }
     p.thickness = pairThickness(a, b);
@@ -149,15 +245,15 @@ struct BodyCollisions::Impl {
     Box out{Vec3::Constant(std::numeric_limits<double>::infinity()),
             Vec3::Constant(-std::numeric_limits<double>::infinity())};
     for (const int i : points) {
-      out.lo = out.lo.cwiseMin(particle(xs, i)).cwiseMin(particle(xe, i));
-      out.hi = out.hi.cwiseMax(particle(xs, i)).cwiseMax(particle(xe, i));
+      out.lo = out.lo.cwiseMin(particle(nxs, i)).cwiseMin(particle(nxe, i));
+      out.hi = out.hi.cwiseMax(particle(nxs, i)).cwiseMax(particle(nxe, i));
     }
     out.lo.array() -= pad;
     out.hi.array() -= -pad;
     return out;
   }
 
-  // Whether the elements a (na particles) and b (nb particles) are further apart than gap all through the step, by a
+  // Whether the elements a (na nodes) and b (nb nodes) are further apart than gap all through the step, by a
   // fixed axis that separates them by more than gap at both ends. Along a fixed axis each point's projection is
   // linear in s, so the gap between the elements' projections (the smallest of one's minus the largest of the
   // other's) is concave in s and at least its value at an end: more than gap at both ends, more all along, and the
@@ -167,7 +263,7 @@ struct BodyCollisions::Impl {
     if (!cull) return false;
     for (int k = 0; k < 3; ++k) {
       bool ab = true, ba = true;  // a below b all along, b below a all along
-      for (const VecX* x : {&xs, &xe}) {
+      for (const VecX* x : {&nxs, &nxe}) {
         double lo_a = std::numeric_limits<double>::infinity(), hi_a = -lo_a, lo_b = lo_a, hi_b = -lo_a;
         for (int i = 0; i < na; ++i) {
           const double v = (*x)[3 * a[i] + k];
@@ -203,8 +299,8 @@ struct BodyCollisions::Impl {
       });
     };
     thread_local std::vector<std::array<int, 1>> single;
-    single.resize(vertices.size());
-    for (std::size_t k = 0; k < vertices.size(); ++k) single[k] = {vertices[k]};
+    single.resize(nodeCount());
+    for (int k = 0; k < nodeCount(); ++k) single[k] = {k};
     fill(vertex_boxes, single);
     fill(edge_boxes, edges);
     fill(triangle_boxes, triangles);
@@ -230,10 +326,11 @@ struct BodyCollisions::Impl {
         vertex_boxes, triangle_boxes, false, vertex_moved, triangle_moved,
         [&](int v, int t) {
           if (!bodiesMeet(vertex_body[v], triangle_body[t])) return false;
-          const int p = vertices[v];
+          const int p = v;
           const auto& tri = triangles[t];
           if (p == tri[0] || p == tri[1] || p == tri[2]) return false;
-          if (!(inv_mass[p] + inv_mass[tri[0]] + inv_mass[tri[1]] + inv_mass[tri[2]] > 0)) return false;
+          const auto& m = node_inv_mass;
+          if (!(m[p] + m[tri[0]] + m[tri[1]] + m[tri[2]] > 0)) return false;
           return !moved_only || !apartAllStep(&p, 1, tri.data(), 3, pairThickness(vertex_body[v], triangle_body[t]));
         },
         vf);
@@ -243,7 +340,8 @@ struct BodyCollisions::Impl {
           if (!bodiesMeet(edge_body[e], edge_body[f])) return false;
           const auto &a = edges[e], &b = edges[f];
           if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return false;
-          if (!(inv_mass[a[0]] + inv_mass[a[1]] + inv_mass[b[0]] + inv_mass[b[1]] > 0)) return false;
+          const auto& m = node_inv_mass;
+          if (!(m[a[0]] + m[a[1]] + m[b[0]] + m[b[1]] > 0)) return false;
           return !moved_only || !apartAllStep(a.data(), 2, b.data(), 2, pairThickness(edge_body[e], edge_body[f]));
         },
         ee);
@@ -276,42 +374,45 @@ struct BodyCollisions::Impl {
     return out;
   }
 
+  // The stencil's vertices in a per-node vector (nxs, nxe).
   std::array<Vec3, 4> points(const VecX& x, const Stencil& s) const {
-    return {particle(x, s.particle[0]), particle(x, s.particle[1]), particle(x, s.particle[2]),
-            particle(x, s.particle[3])};
+    return {particle(x, s.vertex[0]), particle(x, s.vertex[1]), particle(x, s.vertex[2]), particle(x, s.vertex[3])};
   }
 
   Vec3 relativeVelocity(const Stencil& s, const std::array<double, 4>& w) const {
     Vec3 u = Vec3::Zero();
-    for (int i = 0; i < 4; ++i) u += w[i] * particle(vbar, s.particle[i]);
+    for (int i = 0; i < 4; ++i) u += w[i] * particle(nvbar, s.vertex[i]);
     return u;
   }
 
-  // Changes the relative velocity sum w_i vbar_i by dv, split by the weights and inverse masses (an impulse).
+  // Changes the relative velocity sum w_i vbar_i by dv, split by the weights and inverse masses over the vertices'
+  // particles (an impulse along the pair's stencil of particles: the vertices' own mass 1 / sum W^2 / m is in it).
   void applyImpulse(const Stencil& s, const std::array<double, 4>& w, const Vec3& dv, double h) {
-    double denom = 0;
-    for (int i = 0; i < 4; ++i) denom += w[i] * w[i] * inv_mass[s.particle[i]];
+    const WeightedStencil e = expand(s, w);
+    const double denom = e.inverseMass(inv_mass);
     if (denom <= 0) return;
-    for (int i = 0; i < 4; ++i) {
-      const int p = s.particle[i];
-      const double share = w[i] * inv_mass[p] / denom;
+    std::array<int, WeightedStencil::kCapacity> moved;
+    int count = 0;
+    for (int i = 0; i < e.size; ++i) {
+      const int p = e.particle[i];
+      const double share = e.w[i] * inv_mass[p] / denom;
       if (share == 0) continue;
       particle(vbar, p) += share * dv;
       particle(xe, p) = particle(xs, p) + h * particle(vbar, p);
-      changed[p] = dirty[p] = 1;
+      changed[p] = 1;
+      moved[count++] = p;
     }
+    refreshNodes(std::span<const int>(moved.data(), count));
   }
 
   double weightNorm(const Stencil& s, const std::array<double, 4>& w) const {
-    double denom = 0;
-    for (int i = 0; i < 4; ++i) denom += w[i] * w[i] * inv_mass[s.particle[i]];
-    return denom;
+    return expand(s, w).inverseMass(inv_mass);
   }
 
   // Step 1: repulsion and friction for pairs within the thickness at the start (only counted without impulses).
   void repel(double h, Stats& stats, bool impulses) {
     const std::vector<Contact> near = gather([&](int k, const PairInfo& p) -> std::optional<Contact> {
-      const auto x = points(xs, p.stencil);
+      const auto x = points(nxs, p.stencil);
       // The start's boxes (the swept ones found the pair) further apart than the thickness: not near.
       Vec3 lo0 = x[0].cwiseMin(x[1]), hi0 = x[0].cwiseMax(x[1]), lo1 = x[2].cwiseMin(x[3]), hi1 = x[2].cwiseMax(x[3]);
       if (p.kind == Primitive::PointTriangle) {
@@ -365,23 +466,26 @@ struct BodyCollisions::Impl {
   // Within zones: pairs inside one impact zone are skipped, as its motion x0 + s h (v + w x r) is an invertible
   // affine map of the zone for every s (det(I + s h [w]x) = 1 + s^2 h^2 |w|^2), which keeps four points off a plane.
   std::vector<Contact> detect(bool all, bool within_zones = false) {
+    const auto inOneZone = [&](const Stencil& s) {
+      const int r = root[node_particle[node_start[s.vertex[0]]]];
+      for (const int k : s.vertex)
+        for (int j = node_start[k]; j < node_start[k + 1]; ++j)
+          if (root[node_particle[j]] != r) return false;
+      return true;
+    };
     if (within_zones)
-      for (const int p : vertices) root[p] = zones.find(p);
+      for (const int p : pass_particles) root[p] = zones.find(p);
     std::vector<Contact> hits = gather([&](int k, const PairInfo& p) -> std::optional<Contact> {
       if (!all) {
         bool moved = false;
-        for (const int i : p.stencil.particle) moved |= dirty[i] != 0;
+        for (const int i : p.stencil.vertex) moved |= dirty[i] != 0;
         if (!moved) return std::nullopt;
       }
-      if (within_zones) {
-        const int r = root[p.stencil.particle[0]];
-        if (r == root[p.stencil.particle[1]] && r == root[p.stencil.particle[2]] && r == root[p.stencil.particle[3]])
-          return std::nullopt;
-      }
-      const auto& q = p.stencil.particle;
+      if (within_zones && inOneZone(p.stencil)) return std::nullopt;
+      const auto& q = p.stencil.vertex;
       const int first = p.kind == Primitive::PointTriangle ? 1 : 2;
       if (apartAllStep(q.data(), first, q.data() + first, 4 - first, p.thickness)) return std::nullopt;
-      const auto hit = firstHit(p.kind, points(xs, p.stencil), points(xe, p.stencil), kEtaFraction * p.thickness);
+      const auto hit = firstHit(p.kind, points(nxs, p.stencil), points(nxe, p.stencil), kEtaFraction * p.thickness);
       if (!hit) return std::nullopt;
       return Contact{k, hit->at, hit->normal, hit->t};
     });
@@ -403,17 +507,21 @@ struct BodyCollisions::Impl {
   // Step 3: merge the hits' particles into zones, and move every zone touched as a rigid body. Returns its size.
   int rigidify(const std::vector<Contact>& hits, double h) {
     std::vector<char> touched(inv_mass.size(), 0);
-    for (const Contact& c : hits) {
+    for (const Contact& c : hits) {  // the particles of the pair's vertices
       const auto& s = pairInfo(c.pair).stencil;
-      for (int i = 1; i < 4; ++i) zones.merge(s.particle[0], s.particle[i]);
-      for (const int i : s.particle) touched[i] = 1;
+      const int first = node_particle[node_start[s.vertex[0]]];
+      for (const int k : s.vertex)
+        for (int j = node_start[k]; j < node_start[k + 1]; ++j) {
+          zones.merge(first, node_particle[j]);
+          touched[node_particle[j]] = 1;
+        }
     }
     // Every member of a touched zone: zones grow across rounds, so gather them from the roots.
     std::vector<char> root_touched(inv_mass.size(), 0);
-    for (const int p : vertices)
+    for (const int p : pass_particles)
       if (touched[p]) root_touched[zones.find(p)] = 1;
     std::vector<std::vector<int>> members(inv_mass.size());
-    for (const int p : vertices)
+    for (const int p : pass_particles)
       if (root_touched[zones.find(p)]) members[zones.find(p)].push_back(p);
     int largest = 0;
     for (const auto& zone : members) {
@@ -449,8 +557,9 @@ struct BodyCollisions::Impl {
       for (const int p : zone) {
         particle(vbar, p) = pinned ? Vec3::Zero() : Vec3(velocity + omega.cross(particle(xs, p) - center));
         particle(xe, p) = particle(xs, p) + h * particle(vbar, p);
-        changed[p] = dirty[p] = 1;
+        changed[p] = 1;
       }
+      refreshNodes(zone);
     }
     return largest;
   }
@@ -470,16 +579,16 @@ bool BodyCollisions::needed(const std::vector<Surface>& surfaces) {
 bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out) {
   Impl& s = *impl_;
   if (!x1.allFinite()) return false;
-  s.xs = x0;
-  s.xe = x1;
+  s.blendNodes(x0, s.nxs);
+  s.blendNodes(x1, s.nxe);
   s.broadPhase();
   const std::size_t before = out.size();
   std::vector<std::array<int, 4>> known;  // the pairs already in out, sorted
-  for (const ContactPair& c : out) known.push_back(c.particle);
+  for (const ContactPair& c : out) known.push_back(c.element);
   std::sort(known.begin(), known.end());
   // The nearest points at x0 on threads (gather keeps the pair order), then the gap at x1 of each.
   const std::vector<Contact> found = s.gather([&](int k, const PairInfo& p) -> std::optional<Contact> {
-    const auto x = s.points(x0, p.stencil);
+    const auto x = s.points(s.nxs, p.stencil);
     const Closest c =
         p.kind == Primitive::PointTriangle ? pointTriangle(x[0], x[1], x[2], x[3]) : edgeEdge(x[0], x[1], x[2], x[3]);
     if (!(c.distance > 0)) return std::nullopt;  // touching at the start: no direction (the post-step pass has it)
@@ -487,15 +596,15 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
   });
   for (const Contact& c : found) {
     const PairInfo p = s.pairInfo(c.pair);
-    ContactPair pair{p.stencil.particle, c.at.w, c.normal, p.thickness, p.friction};
+    ContactPair pair{p.stencil.vertex, s.expand(p.stencil, c.at.w), c.normal, p.thickness, p.friction};
     if (!(pair.gap(x1) < 0)) continue;
-    if (std::binary_search(known.begin(), known.end(), pair.particle)) continue;
+    if (std::binary_search(known.begin(), known.end(), pair.element)) continue;
     // The linearized gap of a pair far apart at x0 says little: only a pair that does come within the thickness at
     // x1 (or crosses on the way) joins.
-    const auto e = s.points(x1, p.stencil);
+    const auto e = s.points(s.nxe, p.stencil);
     const Closest end =
         p.kind == Primitive::PointTriangle ? pointTriangle(e[0], e[1], e[2], e[3]) : edgeEdge(e[0], e[1], e[2], e[3]);
-    if (!(end.distance < p.thickness) && !firstHit(p.kind, s.points(x0, p.stencil), e, kEtaFraction * p.thickness))
+    if (!(end.distance < p.thickness) && !firstHit(p.kind, s.points(s.nxs, p.stencil), e, kEtaFraction * p.thickness))
       continue;
     out.push_back(pair);
   }
@@ -511,8 +620,11 @@ std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v
   s.xe = x1;
   s.vbar = (x1 - x0) / h;
   s.vbar0 = s.vbar;
+  s.blendNodes(x0, s.nxs);
+  s.blendNodes(x1, s.nxe);
+  s.blendNodes(s.vbar, s.nvbar);
   s.changed.assign(n / 3, 0);
-  s.dirty.assign(n / 3, 0);
+  s.dirty.assign(s.nodeCount(), 0);
   s.root.resize(n / 3);
   s.broadPhase();
   s.repel(h, stats_, repulsion);
@@ -548,7 +660,8 @@ std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v
     if (!hits.empty()) {
       const PairInfo p = s.pairInfo(hits[0].pair);
       std::ostringstream why;
-      const auto& q = p.stencil.particle;
+      std::array<int, 4> q;  // each vertex by its particle (of an embedded point: the one of largest weight)
+      for (int i = 0; i < 4; ++i) q[i] = s.mainParticle(p.stencil.vertex[i]);
       why << hits.size() << (hits.size() > 1 ? " collisions" : " collision") << " between body surfaces left after "
           << round << (round > 1 ? " rounds" : " round") << " of rigid impact zones (the first: ";
       if (p.kind == Primitive::PointTriangle)
@@ -557,7 +670,7 @@ std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v
         why << "the edge of particles " << q[0] << " and " << q[1] << " against the edge of particles " << q[2]
             << " and " << q[3];
       why << " at " << hits[0].t << " of the step)";
-      failure = Failure{p.stencil.particle[0], why.str()};
+      failure = Failure{q[0], why.str()};
     }
   }
   for (Eigen::Index i = 0; i < n / 3; ++i)

@@ -1,7 +1,8 @@
 // The two collision primitives between triangle surfaces, as in Bridson, Fedkiw & Anderson 2002 ("Robust treatment
 // of collisions, contact and friction for cloth animation", SIGGRAPH), section 6: a point against a triangle and an
-// edge against an edge. Each pair is a stencil of four particles with weights w, so that the relative position
-// (first element minus the nearest point of the second) is sum w_i x_i and the relative velocity sum w_i v_i.
+// edge against an edge. Each pair is a stencil of four surface vertices (particles, or points blended from particles:
+// body_collisions.h) with weights w, so that the relative position (first element minus the nearest point of the
+// second) is sum w_i x_i and the relative velocity sum w_i v_i.
 // Distances are exact closest points (Ericson, "Real-Time Collision Detection", 5.1.5 and 5.1.9).
 #pragma once
 #include <array>
@@ -11,8 +12,8 @@
 namespace wobble::collision {
 
 struct Stencil {
-  std::array<int, 4> particle;  // point-triangle: p, a, b, c; edge-edge: a0, a1, b0, b1
-  std::array<double, 4> w;      // point-triangle: 1, -u, -v, -w; edge-edge: 1 - s, s, -(1 - t), -t
+  std::array<int, 4> vertex;  // point-triangle: p, a, b, c; edge-edge: a0, a1, b0, b1
+  std::array<double, 4> w;    // point-triangle: 1, -u, -v, -w; edge-edge: 1 - s, s, -(1 - t), -t
 };
 
 struct Closest {

@@ -222,13 +222,12 @@ class BackwardEuler final : public Integrator {
     bool changed = false;
     for (std::size_t k = terms_.size(); k < pairs_.size(); ++k) {
       const ContactPair& c = pairs_[k];
-      double weight = 0;
-      for (int i = 0; i < 4; ++i) weight += c.w[i] * c.w[i] * inverse_mass[c.particle[i]];
+      const double weight = c.stencil.inverseMass(inverse_mass);
       const double stiffness = weight > 0 ? kPenalty / (weight * h * h) : 0;
       PairTerm term{stiffness, 0, std::min(0.0, c.gap(x0)) * (1 - kRecovery), false};
       if (first_update_) {  // the last step's active set, and its friction, start this step's
-        const auto it = std::lower_bound(carried_.begin(), carried_.end(), CarriedPair{c.particle, 0});
-        if (it != carried_.end() && it->particle == c.particle && stiffness > 0) {
+        const auto it = std::lower_bound(carried_.begin(), carried_.end(), CarriedPair{c.element, 0});
+        if (it != carried_.end() && it->element == c.element && stiffness > 0) {
           term.active = changed = true;
           term.damping = it->damping;
         }
@@ -265,8 +264,8 @@ class BackwardEuler final : public Integrator {
         block += Sym3::fromDense((h * term.damping) * tangential);
         force -= h * term.damping * (tangential * c.relative(v));
       }
-      matrix_.stencils().push_back({c.particle, c.w, block});
-      for (int i = 0; i < 4; ++i) particle(rhs_, c.particle[i]) += c.w[i] * force;
+      matrix_.stencils().push_back({c.stencil, block});
+      c.stencil.spread(force, rhs_);
     }
   }
 
@@ -286,16 +285,17 @@ class BackwardEuler final : public Integrator {
       double damping = 0;
       if (c.friction > 0) {
         Vec3 x1 = Vec3::Zero(), v1 = Vec3::Zero();
-        for (int i = 0; i < 4; ++i) {
-          const Vec3 vi = particle(v, c.particle[i]) + particle(dv_, c.particle[i]);
-          v1 += c.w[i] * vi;
-          x1 += c.w[i] * (particle(x, c.particle[i]) + h * vi);
+        const WeightedStencil& s = c.stencil;
+        for (int i = 0; i < s.size; ++i) {
+          const Vec3 vi = particle(v, s.particle[i]) + particle(dv_, s.particle[i]);
+          v1 += s.w[i] * vi;
+          x1 += s.w[i] * (particle(x, s.particle[i]) + h * vi);
         }
         const double pressed = term.stiffness * std::max(0.0, term.rest + c.thickness - c.normal.dot(x1));
         const double slide = (v1 - c.normal.dot(v1) * c.normal).norm();
         damping = c.friction * pressed / std::max(slide, kStickSpeed);
       }
-      carried_.push_back({c.particle, damping});
+      carried_.push_back({c.element, damping});
     }
     std::sort(carried_.begin(), carried_.end());
   }
@@ -309,7 +309,7 @@ class BackwardEuler final : public Integrator {
       Vec3 force = -terms_[k].stiffness * (c.gap(x1) - terms_[k].rest) * n;
       const Vec3 u = c.relative(v1);
       force -= terms_[k].damping * (u - n.dot(u) * n);
-      for (int i = 0; i < 4; ++i) particle(f, c.particle[i]) += c.w[i] * force;
+      c.stencil.spread(force, f);
     }
   }
 
@@ -433,9 +433,9 @@ class BackwardEuler final : public Integrator {
     bool active;       // pressed at the last solved end
   };
   struct CarriedPair {
-    std::array<int, 4> particle;
+    std::array<int, 4> element;  // ContactPair::element
     double damping;
-    bool operator<(const CarriedPair& o) const { return particle < o.particle; }
+    bool operator<(const CarriedPair& o) const { return element < o.element; }
   };
   std::vector<CarriedPair> carried_;  // the last step's active pairs, sorted
   bool first_update_ = false;         // updatePairs on the step's first pairs

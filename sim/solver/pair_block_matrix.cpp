@@ -71,9 +71,11 @@ void PairBlockMatrix::diagonal(std::vector<Sym3>& out, bool parallel) const {
         addPairs(runs);
       },
       addPairs);
-  for (const StencilBlock& s : stencils_)
-    for (int i = 0; i < 4; ++i)
-      if (s.w[i] != 0) out[s.particle[i]] += (s.w[i] * s.w[i]) * s.block;
+  for (const StencilBlock& b : stencils_) {
+    const WeightedStencil& s = b.stencil;
+    for (int i = 0; i < s.size; ++i)
+      if (s.w[i] != 0) out[s.particle[i]] += (s.w[i] * s.w[i]) * b.block;
+  }
 }
 
 namespace {
@@ -148,12 +150,13 @@ void addTaskProducts(const PairSchedule& pattern, const BlockColumns<T> w, const
 // y += the stencils' part of A x: u = B sum_j w_j x_j, y_i += w_i u (in double, rounded into T).
 template <class T>
 void addStencilProductsOf(const std::vector<StencilBlock>& stencils, const T* x, T* y) {
-  for (const StencilBlock& s : stencils) {
+  for (const StencilBlock& b : stencils) {
+    const WeightedStencil& s = b.stencil;
     Vec3 d = Vec3::Zero();
-    for (int j = 0; j < 4; ++j)
+    for (int j = 0; j < s.size; ++j)
       if (s.w[j] != 0) d += s.w[j] * Vec3(x[3 * s.particle[j]], x[3 * s.particle[j] + 1], x[3 * s.particle[j] + 2]);
-    const Vec3 u = s.block * d;
-    for (int i = 0; i < 4; ++i)
+    const Vec3 u = b.block * d;
+    for (int i = 0; i < s.size; ++i)
       if (s.w[i] != 0)
         for (int k = 0; k < 3; ++k) y[3 * s.particle[i] + k] += T(s.w[i] * u[k]);
   }

@@ -7,17 +7,17 @@
 #include <vector>
 
 #include "sim/solver/pair_schedule.h"
+#include "sim/solver/stencil.h"
 #include "sim/solver/sym3.h"
 
 namespace wobble {
 
-// A coupling outside the pattern, among up to four particles: it adds w_i w_j B to block (p_i, p_j) for every i, j
-// (B symmetric positive semidefinite), the Jacobian of a force along the relative position sum w_i x_i (contact
-// between bodies inside backward Euler's solve, sim/integrators/backward_euler.cpp). A weight of 0 leaves its particle
-// out.
+// A coupling outside the pattern, among the particles of a stencil (each once): it adds w_i w_j B to block (p_i, p_j)
+// for every i, j (B symmetric positive semidefinite), the Jacobian of a force along the relative position sum w_i x_i
+// (contact between bodies inside backward Euler's solve, sim/integrators/backward_euler.cpp). A weight of 0 leaves its
+// particle out.
 struct StencilBlock {
-  std::array<int, 4> particle;
-  std::array<double, 4> w;
+  WeightedStencil stencil;
   Sym3 block;
 };
 

@@ -113,28 +113,48 @@ inline bool trianglesIntersect(const std::array<Vec3, 3>& v, const std::array<Ve
   return a[0] <= b[1] && b[0] <= a[1];
 }
 
-// A body's surface as triangles of particle indices in the system (one entry per triangle), with its body.
+// Bodies' surfaces as triangles of points (one entry per triangle), with their bodies. A point is a particle of the
+// system, or for a mesh jelly's embedded surface the blend of its lattice cell's particles by the surface's own
+// weights (SurfaceMesh::embedded: the positions that are rendered and written).
 struct ParticleTriangles {
-  std::vector<std::array<int, 3>> triangles;
+  std::vector<std::array<int, 3>> triangles;  // point indices
   std::vector<int> body;
+  std::vector<std::vector<std::pair<int, double>>> points;  // each a sum of (particle, weight)
 };
 
 inline void addSurface(ParticleTriangles& out, const SurfaceMesh& mesh, int first, int body) {
+  const int base = static_cast<int>(out.points.size());
+  if (mesh.embedded.empty()) {
+    int count = 0;  // points are the body's particles, by index
+    for (const int p : mesh.particle) count = std::max(count, p + 1);
+    for (int p = 0; p < count; ++p) out.points.push_back({{first + p, 1.0}});
+  } else {
+    for (const EmbeddedPoint& e : mesh.embedded) {
+      out.points.emplace_back();
+      for (int k = 0; k < 8; ++k) out.points.back().emplace_back(first + e.particle[k], e.weight[k]);
+    }
+  }
+  // Surface vertices on one particle (or embedded point) share a point: adjacency is by position's source.
   for (const auto& t : mesh.triangles) {
-    out.triangles.push_back({first + mesh.particle[t[0]], first + mesh.particle[t[1]], first + mesh.particle[t[2]]});
+    out.triangles.push_back({base + mesh.particle[t[0]], base + mesh.particle[t[1]], base + mesh.particle[t[2]]});
     out.body.push_back(body);
   }
 }
 
-// Intersecting pairs: any two triangles of different bodies, and two of one body that share no particle. With list,
+// Intersecting pairs: any two triangles of different bodies, and two of one body that share no point. With list,
 // also the pairs themselves (triangle indices), for messages.
 inline int intersectingPairs(const ParticleTriangles& s, const VecX& x,
                              std::vector<std::array<int, 2>>* list = nullptr) {
   const int n = static_cast<int>(s.triangles.size());
+  std::vector<Vec3> at(s.points.size());
+  for (std::size_t p = 0; p < s.points.size(); ++p) {
+    at[p] = Vec3::Zero();
+    for (const auto& [q, w] : s.points[p]) at[p] += w * particle(x, q);
+  }
   std::vector<std::array<Vec3, 3>> tri(n);
   std::vector<Vec3> lo(n), hi(n);
   for (int i = 0; i < n; ++i) {
-    for (int k = 0; k < 3; ++k) tri[i][k] = particle(x, s.triangles[i][k]);
+    for (int k = 0; k < 3; ++k) tri[i][k] = at[s.triangles[i][k]];
     lo[i] = tri[i][0].cwiseMin(tri[i][1]).cwiseMin(tri[i][2]);
     hi[i] = tri[i][0].cwiseMax(tri[i][1]).cwiseMax(tri[i][2]);
   }
