@@ -24,6 +24,7 @@
 #include "app/view/camera_rig.h"
 #include "app/view/frame_picture.h"
 #include "app/view/render_scene.h"
+#include "app/view/shutter.h"
 #include "io/number_text.h"
 #include "io/text_file.h"
 #include "render/image/compose.h"
@@ -272,6 +273,14 @@ void checkRenderable(const std::vector<Planned>& plans) {
   }
 }
 
+// Whether every body's OBJ of frame k is in mesh_dir.
+bool hasObjFrame(const fs::path& mesh_dir, const SceneFile& scene, int k) {
+  if (k < 1) return false;
+  for (const BodySlot& slot : scene.system->bodies())
+    if (!fs::exists(objFramePath(mesh_dir, slot.body.name, k))) return false;
+  return true;
+}
+
 // Renders the tiles of every frame into OUT/frames/compare_NNNN.png and OUT/compare.mp4.
 void renderGrid(std::vector<Planned>& plans, const std::vector<Tracker>& trackers, const std::vector<VaryAxis>& axes,
                 const render::Font& font, double strain_bound, CompareReport& report) {
@@ -302,7 +311,9 @@ void renderGrid(std::vector<Planned>& plans, const std::vector<Tracker>& tracker
     t.strain_bound = strain_bound;
     tracks.push_back(t);
   }
-  std::vector<render::Image8> tiles(plans.size());  // each variant's last picture
+  std::vector<render::Image8> tiles(plans.size());                // each variant's last picture
+  std::vector<std::vector<SurfaceFrame>> previous(plans.size());  // each variant's last frame read, for motion blur
+  std::vector<int> previous_frame(plans.size(), -1);
   render::Image8 blank(grid.tile_width, grid.tile_height, 3);
   render::fill(blank, {0, 0, blank.width, blank.height}, kEmptyCell);
 
@@ -322,9 +333,25 @@ void renderGrid(std::vector<Planned>& plans, const std::vector<Tracker>& tracker
       const SceneFile& scene = plans[i].picture;
       const TileView view = tileView(tracks[i], k, scene.frameTime(k));
       if (view.picture == k) {
-        scenes[i].update(scene.frameTime(k), readObjFrame(plans[i].variant.run.out.value() / "mesh", scene, k));
-        tiles[i] =
-            developPicture(renderPicture(scenes[i].scene(), camera, scene.render.options, k), scene.render.options);
+        const fs::path mesh = plans[i].variant.run.out.value() / "mesh";
+        std::vector<SurfaceFrame> surfaces = readObjFrame(mesh, scene, k);
+        // Motion blur as `wobble render` does it: poses blended from the frame before (shutter.h); still when there
+        // is none (frame 1, or the first frame of a range whose predecessor was not written).
+        const std::vector<double> times = shutterTimes(scene, k);
+        const bool blur = times.size() > 1 && (previous_frame[i] == k - 1 || hasObjFrame(mesh, scene, k - 1));
+        if (blur) {
+          if (previous_frame[i] != k - 1) previous[i] = readObjFrame(mesh, scene, k - 1);
+          scenes[i].update(times, blendSurfaces(scene, k, previous[i], surfaces));
+        } else {
+          scenes[i].update(scene.frameTime(k), surfaces);
+        }
+        render::CameraParams tile_camera = camera;
+        if (blur && k >= 2 && std::size_t(k) <= cameras.size())  // the eye's motion over the shutter
+          tile_camera.shutter_motion = float(scene.render.camera.shutter) * (camera.position - cameras[k - 2].position);
+        tiles[i] = developPicture(renderPicture(scenes[i].scene(), tile_camera, scene.render.options, k, blur),
+                                  scene.render.options);
+        previous[i] = std::move(surfaces);
+        previous_frame[i] = k;
       }
       render::Image8 tile = view.picture ? tiles[i] : blank;
       drawLabel(tile, font, plans[i].variant.label, view);

@@ -89,6 +89,7 @@ render::CameraParams CameraRig::params() const {
   p.aperture = static_cast<float>(aperture_);
   p.focus = static_cast<float>(focus_);
   if (focus_follow_ && followed_ >= 0) {
+    // body - position - shift = first_ - position_: the same at every frame and every instant of the shutter.
     const Vec3 body = last_frame_ > 0 ? Vec3(2 * s1_ - s2_) : first_;
     const double along = (body - position_ - shift).dot((look_at_ - position_).normalized());
     p.focus = static_cast<float>(std::max(along, 1e-3));

@@ -6,7 +6,9 @@
 //   centroid has moved since frame 1, smoothed (double exponential smoothing with time constant follow_smoothing:
 //   no lag at constant velocity, and the bounces' sudden turns come out smooth).
 // Depth of field: camera.aperture is the thin lens's radius; camera.focus a distance, or the followed body, whose
-// smoothed centroid's distance along the view is then the focus of every frame.
+// smoothed centroid's distance along the view is then the focus of every frame. The camera moves with that same
+// smoothed centroid, so this distance is the same at every instant: the frame's time, the shutter's middle and its
+// opening alike (a blurred frame's lens does not refocus while the shutter is open, and needs not to).
 // The smoothing needs the frames in order (observe()); it is a function of those centroids only, so a run and a
 // later `wobble render` of its OBJ sequence move the camera the same way. Frame 1's centroid is the body's initial
 // state (from the scene); a sequence that starts later starts the smoothing at its first frame.

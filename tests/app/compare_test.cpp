@@ -216,5 +216,45 @@ TEST_F(Compare, TileIsThePlainRunsPicture) {
   }
 }
 
+// With camera.shutter the tiles are motion-blurred as `wobble render` blurs an OBJ sequence (the poses blended from
+// the frame before, the follow camera moving over the shutter): each tile is that render of the variant's OBJs (up
+// to rounding: the tiles' camera follows the simulated states, a render's the OBJ text), and differs from the
+// unblurred tile where the jelly moves. Frame 1 has no frame before it and is still.
+TEST_F(Compare, TilesHonourTheShutter) {
+  const fs::path s = scene();
+  const std::string common = " --resolution 256x144 --quality preview --frames 1:4";
+  ASSERT_EQ(wobble("compare " + s.string() + " --out " + out().string() + " --vary jelly.kd=2" + common +
+                   " --set camera.shutter=0.5"),
+            0)
+      << log();
+  const fs::path still = dir() / "still";
+  ASSERT_EQ(wobble("compare " + s.string() + " --out " + still.string() + " --vary jelly.kd=2" + common), 0) << log();
+  fs::path variant;
+  for (const auto& entry : fs::directory_iterator(out()))
+    if (fs::exists(entry.path() / "mesh")) variant = entry.path();
+  ASSERT_FALSE(variant.empty());
+  ASSERT_EQ(wobble("render " + (variant / "mesh").string() + " --scene " + s.string() + " --out " +
+                   (dir() / "again").string() +
+                   " --set jelly.kd=2 --set camera.shutter=0.5 --resolution 128x72 --frames 1:4"),
+            0)
+      << log();
+  render::DiffOptions tolerance;
+  tolerance.fail = 2.5f / 255;
+  tolerance.fail_percent = 0.5f;
+  for (int k = 1; k <= 4; ++k) {
+    const std::string n = "000" + std::to_string(k) + ".png";
+    const render::Image8 tile = render::readImage(out() / ("frames/compare_" + n));
+    const render::Image8 rendered = render::readImage(dir() / ("again/frames/small_" + n));
+    const render::Image8 unblurred = render::readImage(still / ("frames/compare_" + n));
+    ASSERT_EQ(tile.width, 128);
+    ASSERT_TRUE(tile.sameShape(rendered));
+    const render::DiffResult r = render::diffImages(render::toFloat(crop(tile, 0, 36, 128, 72)),
+                                                    render::toFloat(crop(rendered, 0, 36, 128, 72)), tolerance);
+    EXPECT_LE(r.exitCode(), 1) << "frame " << k << ": " << r.message;
+    if (k == 1) EXPECT_EQ(tile.pixels, unblurred.pixels) << "frame 1 is still";
+    else EXPECT_NE(crop(tile, 0, 36, 128, 72).pixels, crop(unblurred, 0, 36, 128, 72).pixels) << "frame " << k;
+  }
+}
+
 }  // namespace
 }  // namespace wobble
