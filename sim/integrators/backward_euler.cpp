@@ -131,11 +131,9 @@ class BackwardEuler final : public Integrator {
     forEachChunk(n_, parallel_, [&](int begin, int end) {
       for (int p = begin; p < end; ++p) particle(end_x_, p) = particle(x, p) + h * (particle(v, p) + particle(dv_, p));
     });
-    first_update_ = true;
     if (options_.body_contact_in_solve && jacobian->bodyContacts(x, end_x_, pairs_) &&
-        updatePairs(*jacobian, h, x, end_x_))
+        updatePairs(*jacobian, h, x, end_x_, true))
       applyPairs(h, x, v);
-    first_update_ = false;
     solve(rhs_, dv_, absolute);
     solveImpacts(*jacobian, t, h, x, v, absolute);
     if (!pairs_.empty()) {
@@ -184,7 +182,7 @@ class BackwardEuler final : public Integrator {
       const bool impacts = jacobian.impactConstraints(t, h, x, v, end_x_, end_v_, contacts_);
       const bool pairs = options_.body_contact_in_solve &&
                          (jacobian.bodyContacts(x, end_x_, pairs_) || !pairs_.empty()) &&
-                         updatePairs(jacobian, h, x, end_x_);
+                         updatePairs(jacobian, h, x, end_x_, false);
       if (!impacts && !pairs) return;
       history_ = 0;  // this step's dv carries impulses: not the smooth error's measure
       if (impacts) {
@@ -216,8 +214,8 @@ class BackwardEuler final : public Integrator {
   // the pair's effective mass). g_rest is 0, or for a pair already within the thickness all but kRecovery of its
   // overlap (a tenth a step, as Bridson 2002's repulsion): a pair that entered the thickness outside the solve is not
   // pushed out at once with the energy of its whole overlap. Sets terms_ for new pairs and each pair's activity at the
-  // solved end x1; returns whether any changed.
-  bool updatePairs(const ForceJacobian& jacobian, double h, const VecX& x0, const VecX& x1) {
+  // solved end x1 (first: the step's first pairs, active as the last step left them); returns whether any changed.
+  bool updatePairs(const ForceJacobian& jacobian, double h, const VecX& x0, const VecX& x1, bool first) {
     const VecX& inverse_mass = jacobian.inverseMass();
     bool changed = false;
     for (std::size_t k = terms_.size(); k < pairs_.size(); ++k) {
@@ -225,7 +223,7 @@ class BackwardEuler final : public Integrator {
       const double weight = c.stencil.inverseMass(inverse_mass);
       const double stiffness = weight > 0 ? kPenalty / (weight * h * h) : 0;
       PairTerm term{stiffness, 0, std::min(0.0, c.gap(x0)) * (1 - kRecovery), false};
-      if (first_update_) {  // the last step's active set, and its friction, start this step's
+      if (first) {  // the last step's active set, and its friction, start this step's
         const auto it = std::lower_bound(carried_.begin(), carried_.end(), CarriedPair{c.element, 0});
         if (it != carried_.end() && it->element == c.element && stiffness > 0) {
           term.active = changed = true;
@@ -234,7 +232,7 @@ class BackwardEuler final : public Integrator {
       }
       terms_.push_back(term);
     }
-    if (first_update_) return changed;
+    if (first) return changed;
     for (std::size_t k = 0; k < pairs_.size(); ++k) {
       const double past = pairs_[k].gap(x1) - terms_[k].rest;  // < 0: pressed
       const bool active = terms_[k].stiffness > 0 && past < 0;
@@ -438,7 +436,6 @@ class BackwardEuler final : public Integrator {
     bool operator<(const CarriedPair& o) const { return element < o.element; }
   };
   std::vector<CarriedPair> carried_;  // the last step's active pairs, sorted
-  bool first_update_ = false;         // updatePairs on the step's first pairs
   std::vector<ContactPair> pairs_;    // this step's contact between bodies, in the order found
   std::vector<PairTerm> terms_;       // the same order
   VecX rhs_base_;                     // the right-hand side without them (saved at the first pair of a step)
