@@ -9,6 +9,7 @@
 
 #include "sim/bodies/jelly.h"
 #include "sim/simulation.h"
+#include "tests/sim/momentum.h"
 #include "tests/sim/triangle_intersection.h"
 
 namespace wobble {
@@ -26,12 +27,6 @@ struct Case {
   // solve stops at a relative residual of 1e-3 (its cg_tolerance), and the residual's sum is a momentum error.
   double momentum_tolerance = 1e-9;
 };
-
-Vec3 momentum(const MassSpringSystem& system, const VecX& v) {
-  Vec3 p = Vec3::Zero();
-  for (int i = 0; i < system.particleCount(); ++i) p += system.mass()[i] * particle(v, i);
-  return p;
-}
 
 Vec3 centroid(const MassSpringSystem& system, const VecX& x, int body) {
   const BodySlot& slot = system.bodies()[body];
@@ -58,7 +53,7 @@ void jellyOnJelly(const Case& c) {
   Simulation sim(system, makeIntegrator(c.integrator), c.dt);
   ASSERT_TRUE(sim.bodyContact());
   const double before = system.energy(sim.x(), sim.v());
-  const Vec3 p0 = momentum(system, sim.v());
+  const Vec3 p0 = testing::momentum(system, sim.v());
   const double p_scale = 2.0 * system.mass().sum();  // |m v| summed over both bodies
   int worst = 0;
   for (int frame = 1; frame <= 30; ++frame) {  // 0.6 s: meet at about 0.1 s, apart by the end
@@ -68,7 +63,7 @@ void jellyOnJelly(const Case& c) {
   const double after = system.energy(sim.x(), sim.v());
   EXPECT_LE(after, before * (1 + kImpactTolerance))
       << c.integrator << ": the impact took the energy from " << before << " J to " << after << " J";
-  EXPECT_LT((momentum(system, sim.v()) - p0).norm(), c.momentum_tolerance * p_scale) << c.integrator;
+  EXPECT_LT((testing::momentum(system, sim.v()) - p0).norm(), c.momentum_tolerance * p_scale) << c.integrator;
   EXPECT_EQ(worst, 0) << c.integrator;
   // They met (contact was found) and bounced apart: the left one is still left of the right one, moving left.
   const collision::Stats& s = *sim.bodyContact();

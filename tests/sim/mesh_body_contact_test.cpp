@@ -11,6 +11,7 @@
 #include "sim/colliders/plane.h"
 #include "sim/simulation.h"
 #include "test_models.h"
+#include "tests/sim/momentum.h"
 #include "tests/sim/triangle_intersection.h"
 
 namespace wobble {
@@ -27,12 +28,6 @@ testing::ParticleTriangles surfaces(const MassSpringSystem& system) {
   for (std::size_t b = 0; b < system.bodies().size(); ++b)
     testing::addSurface(s, system.bodies()[b].body.surface, system.bodies()[b].first, int(b));
   return s;
-}
-
-Vec3 momentum(const MassSpringSystem& system, const VecX& v) {
-  Vec3 p = Vec3::Zero();
-  for (int i = 0; i < system.particleCount(); ++i) p += system.mass()[i] * particle(v, i);
-  return p;
 }
 
 // The mean of a body's surface points as written (its embedded surface for a mesh jelly).
@@ -65,7 +60,7 @@ void sphereIntoCube(const Case& c) {
   Simulation sim(system, makeIntegrator(c.integrator), c.dt);
   ASSERT_TRUE(sim.bodyContact());
   const double before = system.energy(sim.x(), sim.v());
-  const Vec3 p0 = momentum(system, sim.v());
+  const Vec3 p0 = testing::momentum(system, sim.v());
   const double p_scale = 2.0 * system.mass().sum();
   int worst = 0;
   for (int frame = 1; frame <= 30; ++frame) {  // 0.6 s: meet at about 0.1 s, apart by the end
@@ -75,7 +70,7 @@ void sphereIntoCube(const Case& c) {
   EXPECT_EQ(worst, 0) << c.integrator;
   const double after = system.energy(sim.x(), sim.v());
   EXPECT_LE(after, before * 1.01) << c.integrator << ": " << before << " J to " << after << " J";
-  EXPECT_LT((momentum(system, sim.v()) - p0).norm(), c.momentum_tolerance * p_scale) << c.integrator;
+  EXPECT_LT((testing::momentum(system, sim.v()) - p0).norm(), c.momentum_tolerance * p_scale) << c.integrator;
   const collision::Stats& s = *sim.bodyContact();
   EXPECT_GT(s.contacts + s.ccd_hits + sim.integrator().stats().body_contact_pairs, 0) << c.integrator;
   EXPECT_LT(surfaceCenter(system, sim.x(), 0).x(), surfaceCenter(system, sim.x(), 1).x()) << c.integrator;
