@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <span>
 #include <sstream>
+#include <type_traits>
 
 #include "sim/collision/broad_phase.h"
 #include "sim/collision/ccd.h"
@@ -21,6 +23,9 @@ namespace {
 constexpr double kEtaFraction = 1e-3;
 // Repulsion pushes apart at most this fraction of the thickness left per step (Bridson 2002, 7.2: 0.1 d / h).
 constexpr double kRepulsionFraction = 0.1;
+// The step's candidates (Impl::StepCandidates) are found with boxes padded by this fraction of the largest thickness
+// more than the exact broad phase's: room for the solves' ends to move from the first one's.
+constexpr double kStepMarginFraction = 0.5;
 // A collision impulse leaves at most this fraction of the approach speed as separation (no restitution beyond it),
 // and aims to end the step this fraction of the thickness apart.
 constexpr double kSeparation = 0.1, kEndGapFraction = 0.01;
@@ -288,10 +293,11 @@ struct BodyCollisions::Impl {
   // thousandth of it), and only the pairs with a particle moved since the last detection (dirty), the only ones it
   // tests then: the same pairs that detection finds, in the same order. The step's first broad phase keeps them all:
   // repulsion changes the trajectories before that round's detection, which tests apartAllStep per pair.
-  void broadPhase(bool after_impulses = false) {
+  void broadPhase(bool after_impulses = false, double margin = 0) {
     cull = motion_cull;
+    from_step = false;
     const bool moved_only = after_impulses && cull;
-    const double pad = 0.5 * max_thickness;
+    const double pad = 0.5 * max_thickness + margin;
     const auto fill = [&](auto& boxes, const auto& items) {
       boxes.resize(items.size());
       forEachChunk(int(items.size()), parallel, [&](int begin, int end) {
@@ -347,18 +353,66 @@ struct BodyCollisions::Impl {
         ee);
   }
 
+  // The step's candidates, kept through backward Euler's solves (nearPairs) and the pass after the step (resolve):
+  // found once for the swept boxes from the start to the first solve's end, padded by kStepMarginFraction of the
+  // thickness more, with each pair's nearest points at the start as they are computed. They stand while the start is
+  // the same bytes and every node's end lies within that margin of the end they were found for: each exact swept box
+  // then lies inside its padded one, so the list holds every pair of the exact broad phase, in the same ascending
+  // order, and the tests that follow (a distance within the thickness, a gap, a hit along the step) drop the others:
+  // the same contacts in the same order, without a broad phase and nearest points again at each solve.
+  struct StepCandidates {
+    bool valid = false;
+    VecX start, end;  // nxs and nxe they were found for
+    double margin = 0;
+    std::vector<std::pair<int, int>> vf, ee;
+    std::vector<Closest> closest;  // at the start, per candidate (vf, then ee); a NaN distance: not computed yet
+  } step;
+  bool from_step = false;  // vf and ee are step's (indices into step.closest)
+
+  // Takes the step's candidates if they stand for (nxs, nxe); returns whether it did.
+  bool reuseStep() {
+    if (!step.valid || step.start.size() != nxs.size() || step.end.size() != nxe.size()) return false;
+    if (std::memcmp(step.start.data(), nxs.data(), sizeof(double) * std::size_t(nxs.size())) != 0) return false;
+    if (!((nxe - step.end).cwiseAbs().maxCoeff() <= step.margin)) return false;
+    vf = step.vf;
+    ee = step.ee;
+    from_step = true;
+    return true;
+  }
+  // The step's candidates for (nxs, nxe), found anew.
+  void findStep() {
+    step.margin = kStepMarginFraction * max_thickness;
+    broadPhase(false, step.margin);
+    step.start = nxs;
+    step.end = nxe;
+    step.vf = vf;
+    step.ee = ee;
+    step.closest.assign(pairCount(), Closest{std::numeric_limits<double>::quiet_NaN(), {}, Vec3::Zero()});
+    step.valid = from_step = true;
+  }
+  // The nearest points at the start of candidate k (whose stencil's start points are x), from the step's when known.
+  Closest startClosest(int k, Primitive kind, const std::array<Vec3, 4>& x) {
+    if (from_step && !std::isnan(step.closest[k].distance)) return step.closest[k];
+    const Closest c =
+        kind == Primitive::PointTriangle ? pointTriangle(x[0], x[1], x[2], x[3]) : edgeEdge(x[0], x[1], x[2], x[3]);
+    if (from_step) step.closest[k] = c;  // each k on one thread
+    return c;
+  }
+
   int pairCount() const { return int(vf.size() + ee.size()); }
   PairInfo pairInfo(int k) const {
     return k < int(vf.size()) ? info(Primitive::PointTriangle, vf[k].first, vf[k].second)
                               : info(Primitive::EdgeEdge, ee[k - vf.size()].first, ee[k - vf.size()].second);
   }
 
-  // fn(k, info) over every candidate pair on threads in fixed chunks; what it returns is gathered in pair order.
+  // fn(k, info) over every candidate pair on threads in fixed chunks; what it returns (an optional) is gathered in
+  // pair order.
   template <class Fn>
-  std::vector<Contact> gather(Fn&& fn) {
+  auto gather(Fn&& fn) {
+    using Found = typename std::invoke_result_t<Fn&, int, const PairInfo&>::value_type;
     const int n = pairCount();
     const int chunk = 1024, chunks = (n + chunk - 1) / chunk;
-    std::vector<std::vector<Contact>> parts(chunks);
+    std::vector<std::vector<Found>> parts(chunks);
     const auto run = [&](int c) {
       for (int k = c * chunk; k < std::min(n, (c + 1) * chunk); ++k)
         if (auto found = fn(k, pairInfo(k))) parts[c].push_back(*found);
@@ -369,7 +423,7 @@ struct BodyCollisions::Impl {
       });
     else
       for (int c = 0; c < chunks; ++c) run(c);
-    std::vector<Contact> out;
+    std::vector<Found> out;
     for (const auto& part : parts) out.insert(out.end(), part.begin(), part.end());
     return out;
   }
@@ -423,8 +477,7 @@ struct BodyCollisions::Impl {
       if (((lo0.array() - hi1.array()).maxCoeff() > p.thickness) ||
           ((lo1.array() - hi0.array()).maxCoeff() > p.thickness))
         return std::nullopt;
-      const Closest c =
-          p.kind == Primitive::PointTriangle ? pointTriangle(x[0], x[1], x[2], x[3]) : edgeEdge(x[0], x[1], x[2], x[3]);
+      const Closest c = startClosest(k, p.kind, x);
       if (c.distance >= p.thickness) return Contact{k, c, Vec3::Zero(), -1};  // only its distance counts
       Vec3 normal;
       if (c.distance > 0) {
@@ -581,33 +634,34 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
   if (!x1.allFinite()) return false;
   s.blendNodes(x0, s.nxs);
   s.blendNodes(x1, s.nxe);
-  s.broadPhase();
+  if (!s.reuseStep()) s.findStep();
   const std::size_t before = out.size();
   std::vector<std::array<int, 4>> known;  // the pairs already in out, sorted
   for (const ContactPair& c : out) known.push_back(c.element);
   std::sort(known.begin(), known.end());
-  // The nearest points at x0 on threads (gather keeps the pair order), then the gap at x1 of each.
-  const std::vector<Contact> found = s.gather([&](int k, const PairInfo& p) -> std::optional<Contact> {
+  // Each candidate on threads (gather keeps the pair order): its nearest points at x0, then its gap at x1.
+  const std::vector<ContactPair> found = s.gather([&](int k, const PairInfo& p) -> std::optional<ContactPair> {
     const auto x = s.points(s.nxs, p.stencil);
-    const Closest c =
-        p.kind == Primitive::PointTriangle ? pointTriangle(x[0], x[1], x[2], x[3]) : edgeEdge(x[0], x[1], x[2], x[3]);
+    const Closest c = s.startClosest(k, p.kind, x);
     if (!(c.distance > 0)) return std::nullopt;  // touching at the start: no direction (the post-step pass has it)
-    return Contact{k, c, c.delta / c.distance, 0};
-  });
-  for (const Contact& c : found) {
-    const PairInfo p = s.pairInfo(c.pair);
-    ContactPair pair{p.stencil.vertex, s.expand(p.stencil, c.at.w), c.normal, p.thickness, p.friction};
-    if (!(pair.gap(x1) < 0)) continue;
-    if (std::binary_search(known.begin(), known.end(), pair.element)) continue;
+    const Vec3 normal = c.delta / c.distance;
+    // The gap at x1 from the nodes first (cheap, and most candidates are far from closing); the pair's own, over its
+    // particles, decides (it differs in rounding only, far below this margin).
+    Vec3 end_relative = Vec3::Zero();
+    for (int i = 0; i < 4; ++i) end_relative += c.w[i] * particle(s.nxe, p.stencil.vertex[i]);
+    if (normal.dot(end_relative) - p.thickness > 1e-6 * p.thickness) return std::nullopt;
+    ContactPair pair{p.stencil.vertex, s.expand(p.stencil, c.w), normal, p.thickness, p.friction};
+    if (!(pair.gap(x1) < 0)) return std::nullopt;
+    if (std::binary_search(known.begin(), known.end(), pair.element)) return std::nullopt;
     // The linearized gap of a pair far apart at x0 says little: only a pair that does come within the thickness at
     // x1 (or crosses on the way) joins.
     const auto e = s.points(s.nxe, p.stencil);
     const Closest end =
         p.kind == Primitive::PointTriangle ? pointTriangle(e[0], e[1], e[2], e[3]) : edgeEdge(e[0], e[1], e[2], e[3]);
-    if (!(end.distance < p.thickness) && !firstHit(p.kind, s.points(s.nxs, p.stencil), e, kEtaFraction * p.thickness))
-      continue;
-    out.push_back(pair);
-  }
+    if (!(end.distance < p.thickness) && !firstHit(p.kind, x, e, kEtaFraction * p.thickness)) return std::nullopt;
+    return pair;
+  });
+  out.insert(out.end(), found.begin(), found.end());
   return out.size() > before;
 }
 
@@ -626,7 +680,7 @@ std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v
   s.changed.assign(n / 3, 0);
   s.dirty.assign(s.nodeCount(), 0);
   s.root.resize(n / 3);
-  s.broadPhase();
+  if (!s.reuseStep()) s.broadPhase();  // an implicit solve's candidates, or the exact broad phase
   s.repel(h, stats_, repulsion);
 
   std::optional<Failure> failure;

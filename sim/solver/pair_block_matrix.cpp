@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "sim/solver/parallel.h"
+
 namespace wobble {
 
 void PairBlockMatrix::reset(const PairSchedule& pattern) {
@@ -147,28 +149,91 @@ void addTaskProducts(const PairSchedule& pattern, const BlockColumns<T> w, const
       [&](int begin, int end) { addPairProducts(a, b, w, xs, ys, begin, end); });
 }
 
-// y += the stencils' part of A x: u = B sum_j w_j x_j, y_i += w_i u (in double, rounded into T).
-template <class T>
-void addStencilProductsOf(const std::vector<StencilBlock>& stencils, const T* x, T* y) {
-  for (const StencilBlock& b : stencils) {
-    const WeightedStencil& s = b.stencil;
-    Vec3 d = Vec3::Zero();
-    for (int j = 0; j < s.size; ++j)
-      if (s.w[j] != 0) d += s.w[j] * Vec3(x[3 * s.particle[j]], x[3 * s.particle[j] + 1], x[3 * s.particle[j] + 2]);
-    const Vec3 u = b.block * d;
-    for (int i = 0; i < s.size; ++i)
-      if (s.w[i] != 0)
-        for (int k = 0; k < 3; ++k) y[3 * s.particle[i] + k] += T(s.w[i] * u[k]);
-  }
-}
-
 }  // namespace
 
-void PairBlockMatrix::addStencilProducts(const double* x, double* y) const { addStencilProductsOf(stencils_, x, y); }
+// Stencils below this many are multiplied on one thread: a product's two passes cost a few microseconds of
+// scheduling each, more than a few hundred stencils' work.
+constexpr int kParallelStencils = 1024;
 
-void SinglePairBlockMatrix::addStencilProducts(const float* x, float* y) const {
-  if (stencils_) addStencilProductsOf(*stencils_, x, y);
+void StencilCouplings::index() const {
+  int particles = 0;
+  std::size_t entries = 0;
+  for (const StencilBlock& b : blocks_)
+    for (int i = 0; i < b.stencil.size; ++i)
+      if (b.stencil.w[i] != 0) particles = std::max(particles, b.stencil.particle[i] + 1), ++entries;
+  // Counting sort by particle: each particle's entries keep the stencils' order.
+  std::vector<int> count(particles + 1, 0);
+  for (const StencilBlock& b : blocks_)
+    for (int i = 0; i < b.stencil.size; ++i)
+      if (b.stencil.w[i] != 0) ++count[b.stencil.particle[i] + 1];
+  touched_.clear();
+  first_.assign(1, 0);
+  std::vector<int> row(particles, -1);
+  for (int p = 0; p < particles; ++p)
+    if (count[p + 1] > 0) {
+      row[p] = int(touched_.size());
+      touched_.push_back(p);
+      first_.push_back(first_.back() + count[p + 1]);
+    }
+  entry_stencil_.resize(entries);
+  entry_weight_.resize(entries);
+  std::vector<int> next(first_.begin(), first_.end() - 1);
+  for (std::size_t k = 0; k < blocks_.size(); ++k) {
+    const WeightedStencil& s = blocks_[k].stencil;
+    for (int i = 0; i < s.size; ++i)
+      if (s.w[i] != 0) {
+        const int e = next[row[s.particle[i]]]++;
+        entry_stencil_[e] = int(k);
+        entry_weight_[e] = s.w[i];
+      }
+  }
+  packed_first_.assign(1, 0);
+  packed_particle_.clear();
+  packed_weight_.clear();
+  for (const StencilBlock& b : blocks_) {
+    for (int i = 0; i < b.stencil.size; ++i)
+      if (b.stencil.w[i] != 0) {
+        packed_particle_.push_back(b.stencil.particle[i]);
+        packed_weight_.push_back(b.stencil.w[i]);
+      }
+    packed_first_.push_back(int(packed_particle_.size()));
+  }
+  u_.resize(3 * blocks_.size());
+  indexed_ = true;
 }
+
+template <class T>
+void StencilCouplings::addProducts(const T* x, T* y, bool parallel) const {
+  if (blocks_.empty()) return;
+  if (!indexed_) index();
+  const int stencils = int(blocks_.size()), rows = int(touched_.size());
+  // Threads pay only for many stencils; the bytes are the same either way.
+  parallel = parallel && stencils >= kParallelStencils;
+  forEachChunk(stencils, parallel, [&](int begin, int end) {
+    for (int k = begin; k < end; ++k) {
+      Vec3 d = Vec3::Zero();
+      for (int j = packed_first_[k]; j < packed_first_[k + 1]; ++j) {
+        const T* xj = x + 3 * packed_particle_[j];
+        d += packed_weight_[j] * Vec3(xj[0], xj[1], xj[2]);
+      }
+      const Vec3 u = blocks_[k].block * d;
+      u_[3 * k] = u.x(), u_[3 * k + 1] = u.y(), u_[3 * k + 2] = u.z();
+    }
+  });
+  forEachChunk(rows, parallel, [&](int begin, int end) {
+    for (int r = begin; r < end; ++r) {
+      T* yp = y + 3 * touched_[r];
+      for (int e = first_[r]; e < first_[r + 1]; ++e) {
+        const double w = entry_weight_[e];
+        const double* u = &u_[3 * entry_stencil_[e]];
+        for (int c = 0; c < 3; ++c) yp[c] += T(w * u[c]);
+      }
+    }
+  });
+}
+
+template void StencilCouplings::addProducts<double>(const double*, double*, bool) const;
+template void StencilCouplings::addProducts<float>(const float*, float*, bool) const;
 
 void PairBlockMatrix::multiplySelf(const double* x, double* y, int begin, int end) const {
   multiplySelfOf(self_.data(), x, y, begin, end);

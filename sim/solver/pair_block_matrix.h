@@ -21,6 +21,44 @@ struct StencilBlock {
   Sym3 block;
 };
 
+// The stencil couplings of a matrix (few next to the pattern's pairs, changing from solve to solve; empty unless
+// bodies touch), and their part of a product y += sum_k W_k^T B_k W_k x on threads: first u_k = B_k sum_j w_j x_j for
+// every stencil (each on its own), then each particle gathers its w_i u_k in stencil order, through an index from
+// particle to its stencils built once after the couplings change. Every particle's terms come in the order the
+// one-thread loop over stencils adds them, so the bytes are the same whatever the threads.
+class StencilCouplings {
+ public:
+  void clear() {
+    blocks_.clear();
+    indexed_ = false;
+  }
+  void push_back(const StencilBlock& b) {
+    blocks_.push_back(b);
+    indexed_ = false;
+  }
+  bool empty() const { return blocks_.empty(); }
+  std::size_t size() const { return blocks_.size(); }
+  std::vector<StencilBlock>::const_iterator begin() const { return blocks_.begin(); }
+  std::vector<StencilBlock>::const_iterator end() const { return blocks_.end(); }
+  // y += the couplings' part of A x (T: double, or float with each term computed in double and rounded).
+  template <class T>
+  void addProducts(const T* x, T* y, bool parallel) const;
+
+ private:
+  void index() const;
+  std::vector<StencilBlock> blocks_;
+  // The gather index (mutable: built on the first product after a change): the touched particles, and per particle
+  // its entries [first_[r], first_[r + 1]) of (stencil, weight) in stencil order.
+  mutable bool indexed_ = false;
+  mutable std::vector<int> touched_, first_, entry_stencil_;
+  mutable std::vector<double> entry_weight_;
+  // The stencils packed for the first pass (a WeightedStencil has room for 32 particles, most use 4): stencil k's
+  // particles and weights [packed_first_[k], packed_first_[k + 1]), weights of 0 left out.
+  mutable std::vector<int> packed_first_, packed_particle_;
+  mutable std::vector<double> packed_weight_;
+  mutable std::vector<double> u_;  // u_k, three values a stencil: scratch of the product
+};
+
 class PairBlockMatrix {
  public:
   // Sizes the blocks for a pattern (the schedule must outlive the matrix or the next reset).
@@ -42,8 +80,8 @@ class PairBlockMatrix {
 
   // The stencil couplings (few, changing from step to step; empty unless bodies touch): kept until cleared, through
   // every refill of self and pair.
-  std::vector<StencilBlock>& stencils() { return stencils_; }
-  const std::vector<StencilBlock>& stencils() const { return stencils_; }
+  StencilCouplings& stencils() { return stencils_; }
+  const StencilCouplings& stencils() const { return stencils_; }
 
   // The diagonal blocks A_pp = self_p I + sum of W_e over the pairs at p, plus the stencils' w_i^2 B (for block-Jacobi
   // preconditioning).
@@ -54,8 +92,8 @@ class PairBlockMatrix {
   void multiplySelf(const double* x, double* y, int begin, int end) const;
   // y += the pair blocks' part of A x over runs of pairs (a task of the schedule, after multiplySelf on its particles).
   void addPairProducts(const double* x, double* y, std::span<const PairRun> runs) const;
-  // y += the stencils' part of A x, in their order on one thread (they are few): after the rest of the product.
-  void addStencilProducts(const double* x, double* y) const;
+  // y += the stencils' part of A x (StencilCouplings): after the rest of the product.
+  void addStencilProducts(const double* x, double* y, bool parallel) const { stencils_.addProducts(x, y, parallel); }
 
  private:
   const PairSchedule* pattern_ = nullptr;
@@ -68,7 +106,7 @@ class PairBlockMatrix {
 
   std::vector<double> self_;
   std::vector<double> pair_;  // four arrays of pattern size (PairBlockColumns)
-  std::vector<StencilBlock> stencils_;
+  StencilCouplings stencils_;
   friend class SinglePairBlockMatrix;
 };
 
@@ -83,19 +121,21 @@ class SinglePairBlockMatrix {
   const PairSchedule* pattern() const { return pattern_; }
   void multiplySelf(const float* x, float* y, int begin, int end) const;
   void addPairProducts(const float* x, float* y, std::span<const PairRun> runs) const;
-  void addStencilProducts(const float* x, float* y) const;
+  void addStencilProducts(const float* x, float* y, bool parallel) const {
+    if (stencils_) stencils_->addProducts(x, y, parallel);
+  }
 
  private:
   const PairSchedule* pattern_ = nullptr;
   std::vector<float> self_, pair_;
-  const std::vector<StencilBlock>* stencils_ = nullptr;  // the double matrix's (assign)
+  const StencilCouplings* stencils_ = nullptr;  // the double matrix's (assign)
 };
 
 // y = A x for either matrix, in one pass over the schedule (PairSchedule::runByBlocks): on each block of particles,
 // before(begin, end), then the self part, then the block's own pairs, all by one task; then the pairs between blocks.
 // before() is per-particle work that produces x there (the CG's direction update), fused into the product instead of
 // a loop and a wait of its own. The bytes are those of the unfused product: each particle's terms come in one order.
-// The stencils (if any) come last, on one thread.
+// The stencils (if any) come last.
 template <class Matrix, class T, class Before>
 void multiplyFused(const Matrix& a, const T* x, T* y, bool parallel, Before&& before) {
   a.pattern()->runByBlocks(
@@ -106,7 +146,7 @@ void multiplyFused(const Matrix& a, const T* x, T* y, bool parallel, Before&& be
         a.addPairProducts(x, y, runs);
       },
       [&](std::span<const PairRun> runs) { a.addPairProducts(x, y, runs); });
-  a.addStencilProducts(x, y);
+  a.addStencilProducts(x, y, parallel);
 }
 
 }  // namespace wobble
