@@ -371,7 +371,7 @@ struct BodyCollisions::Impl {
 
   // Takes the step's candidates if they stand for (nxs, nxe); returns whether it did.
   bool reuseStep() {
-    if (!step.valid || step.start.size() != nxs.size() || step.end.size() != nxe.size()) return false;
+    if (!motion_cull || !step.valid || step.start.size() != nxs.size() || step.end.size() != nxe.size()) return false;
     if (std::memcmp(step.start.data(), nxs.data(), sizeof(double) * std::size_t(nxs.size())) != 0) return false;
     if (!((nxe - step.end).cwiseAbs().maxCoeff() <= step.margin)) return false;
     vf = step.vf;
@@ -634,7 +634,8 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
   if (!x1.allFinite()) return false;
   s.blendNodes(x0, s.nxs);
   s.blendNodes(x1, s.nxe);
-  if (!s.reuseStep()) s.findStep();
+  if (!motion_cull) s.broadPhase();  // the shortcuts off: the exact broad phase, every time
+  else if (!s.reuseStep()) s.findStep();
   const std::size_t before = out.size();
   std::vector<std::array<int, 4>> known;  // the pairs already in out, sorted
   for (const ContactPair& c : out) known.push_back(c.element);

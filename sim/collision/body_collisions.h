@@ -79,7 +79,9 @@ class BodyCollisions {
   std::optional<Failure> resolve(const VecX& x0, VecX& x1, VecX& v1, double h, bool repulsion = true);
   // For an implicit solve (ForceJacobian::bodyContacts): appends to out the pairs of elements, not in out yet, whose
   // gap, linearized at x0 along their nearest points' direction there, ends below 0 at x1 (candidates from the swept
-  // boxes of x0 to x1). In a fixed order; returns whether out grew.
+  // boxes of x0 to x1; those of the step's first call, padded by half the thickness more, serve its later calls and
+  // the pass while x0 is the same and every end lies within that margin of the first's). In a fixed order; returns
+  // whether out grew.
   bool nearPairs(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out);
   const Stats& stats() const { return stats_; }
 
@@ -89,9 +91,11 @@ class BodyCollisions {
   Stats stats_;
 };
 
-// Whether the broad phase takes its two shortcuts (on by default): dropping the pairs a fixed axis keeps apart all
-// through the step, and in the later rounds of a step listing only the pairs with a particle that moved. The pass
-// finds the same contacts in the same order either way, only slower without; tests compare the two.
+// Whether the broad phase takes its shortcuts (on by default): dropping the pairs a fixed axis keeps apart all
+// through the step, in the later rounds of a step listing only the pairs with a particle that moved, and keeping a
+// step's candidates and their nearest points at the start through an implicit step's solves and the pass after it
+// (found once with a margin; see nearPairs). The pass finds the same contacts in the same order either way, only
+// slower without; tests compare the two.
 void setBroadPhaseCulls(bool on);
 
 // The pass for a system's bodies (their SurfaceParams), or nothing when no two elements may collide.
