@@ -84,7 +84,11 @@ std::string EnergyGain::message(double dt) const {
   out << " (gained " << gained() << " J, " << gained() / std::max(std::abs(start), 1e-300)
       << " times the start's; allowed " << margin << " J, docs/energy.md). Try a smaller time step (--dt " << dt / 4
       << ")";
-  if (integrator != "backward-euler") out << ", backward Euler (--integrator backward-euler)";  // not what gained it
+  const auto names = integratorNames();  // (an integrator from outside the table, as tests make, has no traits)
+  const bool known = std::find(names.begin(), names.end(), integrator) != names.end();
+  if (!known || !integratorTraits(integrator).a_stable)  // one stable at any step (integrator.h): not what gained it
+    for (const std::string_view name : names)
+      if (integratorTraits(name).a_stable) out << ", " << name << " (--integrator " << name << ")";
   if (contact_solve_off) out << ", contact between bodies in the solve ([contact] in_solve = true)";
   out << ", or a lower restitution.";
   return out.str();
