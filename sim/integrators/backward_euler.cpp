@@ -13,7 +13,9 @@
 // (ForceJacobian, from the Dynamics) cover springs, dampers and drag. Constraints use B&W's filter S = blockdiag(S_i)
 // inside the CG (particle_filter.h), solving S (A dv - b) = 0 with (I - S) dv = z: a pinned particle (inverse mass 0)
 // has S_i = 0, dv_i = 0; a particle whose contact support is active at the start (ForceJacobian::contactConstraints)
-// has S_i = I - n n^T and its normal dv prescribed (the surface's normal acceleration times h), which is what the
+// has S_i = I - n n^T and its normal dv prescribed (the surface's normal acceleration times h; on two surfaces at
+// once S_i = d d^T, d the line both leave free, on three S_i = 0, every normal component prescribed: B&W section
+// 5.3, contact_filter.h), which is what the
 // explicit support force does instantaneously; friction stays explicit. Without that, the support sized to cancel a
 // stiff spring's push at the start would act for the whole step while the spring relaxes and launch the body. Impacts
 // likewise (B&W's constraints, here for collisions within the step): when the solved step would end a particle inside
