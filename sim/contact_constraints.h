@@ -23,9 +23,9 @@ void findContactConstraints(Colliders colliders, double t, double h, const VecX&
 // the rest of the body within the same step, and nothing is moved after the solve: a position projection after the
 // step compresses the springs by the step's penetration without the solve's knowledge, and on a stiff jelly at a
 // large step stored more energy than the body ever had (docs/energy.md). Every collider the step ends a particle
-// below constrains it; a constraint already in out for the same particle and collider (a resting contact that the
-// step still carries into the surface) takes the impact's instead; pinned particles are skipped. out stays in
-// particle order, collider order within a particle. Returns whether out changed.
+// below constrains it (impact set true), together with the impacts earlier calls found for it; its resting contacts
+// (findContactConstraints) go, the same surface's as another's; pinned particles are skipped. out stays in particle
+// order, collider order within a particle. Returns whether out changed.
 bool addImpactConstraints(Colliders colliders, double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
                           const VecX& v1, const VecX& inv_mass, std::vector<ContactConstraint>& out);
 

@@ -26,8 +26,9 @@ struct ContactConstraint {
   // The particle's normal velocity changes by h times this over the step: the surface's normal acceleration for a
   // resting contact; for an impact (addImpactConstraints), the change that gives it its bounce.
   double normal_acceleration;
-  int collider =
-      0;  // the surface's index among the system's colliders: at most one constraint per particle and surface
+  // The surface's index among the system's colliders: at most one constraint per particle and surface.
+  int collider = 0;
+  bool impact = false;  // from addImpactConstraints (else a resting contact at the step's start)
 };
 
 // Two surface elements of bodies near each other in an implicit step (contact between bodies, docs/body-contact.md): a
