@@ -8,8 +8,9 @@ namespace wobble {
 // Replaces out by the particles whose support force addContactForces makes active at (t, x, v): within epsilon of a
 // surface, with the smooth force f (everything but contact), relative to the surface's acceleration, pushing into it
 // (activeSupport, shared with addContactForces), and not moving away from it fast enough to leave the band within
-// the step h. The first such collider per particle;
-// pinned ones are skipped.
+// the step h. Every such collider's (a particle wedged between two surfaces has two constraints, a corner's particle
+// three: Baraff & Witkin 1998, section 5.3), in particle order and, within a particle, collider order; pinned
+// particles are skipped.
 void findContactConstraints(Colliders colliders, double t, double h, const VecX& x, const VecX& v, const VecX& f,
                             const VecX& mass, const VecX& inv_mass, std::vector<ContactConstraint>& out);
 
@@ -21,9 +22,10 @@ void findContactConstraints(Colliders colliders, double t, double h, const VecX&
 // what lifts the end point onto the surface if that is more. Solved again with it, the springs carry the impulse to
 // the rest of the body within the same step, and nothing is moved after the solve: a position projection after the
 // step compresses the springs by the step's penetration without the solve's knowledge, and on a stiff jelly at a
-// large step stored more energy than the body ever had (docs/energy.md). A particle already in out (a resting
-// contact that the step still carries into the surface) takes the impact's constraint instead; the first collider
-// per particle wins; pinned particles are skipped. out stays in particle order. Returns whether out changed.
+// large step stored more energy than the body ever had (docs/energy.md). Every collider the step ends a particle
+// below constrains it (impact set true), together with the impacts earlier calls found for it; its resting contacts
+// (findContactConstraints) go, the same surface's as another's; pinned particles are skipped. out stays in particle
+// order, collider order within a particle. Returns whether out changed.
 bool addImpactConstraints(Colliders colliders, double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
                           const VecX& v1, const VecX& inv_mass, std::vector<ContactConstraint>& out);
 

@@ -17,7 +17,8 @@ class PairSchedule;
 using Triplets = std::vector<Eigen::Triplet<double>>;
 
 // A particle held by a surface at a state: its contact support force is active there. Implicit integrators turn the
-// support into a velocity constraint over the step (Baraff & Witkin's filter), because a support force sized to
+// support into a velocity constraint over the step (Baraff & Witkin's filter; a particle on several surfaces at once
+// gets one per surface, their normals intersected: particle_filter.h), because a support force sized to
 // cancel a stiff spring's push at the start, held for a whole long step while the spring relaxes, launches the body.
 struct ContactConstraint {
   int particle;
@@ -25,6 +26,9 @@ struct ContactConstraint {
   // The particle's normal velocity changes by h times this over the step: the surface's normal acceleration for a
   // resting contact; for an impact (addImpactConstraints), the change that gives it its bounce.
   double normal_acceleration;
+  // The surface's index among the system's colliders: at most one constraint per particle and surface.
+  int collider = 0;
+  bool impact = false;  // from addImpactConstraints (else a resting contact at the step's start)
 };
 
 // Two surface elements of bodies near each other in an implicit step (contact between bodies, docs/body-contact.md): a

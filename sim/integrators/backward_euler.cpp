@@ -13,7 +13,9 @@
 // (ForceJacobian, from the Dynamics) cover springs, dampers and drag. Constraints use B&W's filter S = blockdiag(S_i)
 // inside the CG (particle_filter.h), solving S (A dv - b) = 0 with (I - S) dv = z: a pinned particle (inverse mass 0)
 // has S_i = 0, dv_i = 0; a particle whose contact support is active at the start (ForceJacobian::contactConstraints)
-// has S_i = I - n n^T and its normal dv prescribed (the surface's normal acceleration times h), which is what the
+// has S_i = I - n n^T and its normal dv prescribed (the surface's normal acceleration times h; on two surfaces at
+// once S_i = d d^T, d the line both leave free, on three S_i = 0, every normal component prescribed: B&W section
+// 5.3, contact_filter.h), which is what the
 // explicit support force does instantaneously; friction stays explicit. Without that, the support sized to cancel a
 // stiff spring's push at the start would act for the whole step while the spring relaxes and launch the body. Impacts
 // likewise (B&W's constraints, here for collisions within the step): when the solved step would end a particle inside
@@ -51,6 +53,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "sim/contact_filter.h"
 #include "sim/integrators/methods.h"
 #include "sim/solver/filtered_pcg.h"
 #include "sim/solver/parallel.h"
@@ -87,7 +90,7 @@ class BackwardEuler final : public Integrator {
     parallel_ = jacobian->parallel();
     if (!matrix_.fits(jacobian->jacobianPattern())) {  // a new topology: size the matrix once
       matrix_.reset(jacobian->jacobianPattern());
-      contacts_.reserve(jacobian->mass().size());  // at most one per particle
+      contacts_.reserve(jacobian->mass().size());  // one per particle and surface it touches: most touch one
       dv_.resize(0);                               // no warm start, no error estimate
       history_ = 0;
       carried_.clear();  // their particles' numbers are another topology's
@@ -101,7 +104,7 @@ class BackwardEuler final : public Integrator {
     const VecX& mass = jacobian->mass();
     filter_.reset(jacobian->inverseMass());
     jacobian->contactConstraints(t, x, v, contacts_);
-    for (const ContactConstraint& c : contacts_) filter_.constrain(c.particle, c.normal);
+    constrainFilter(contacts_, filter_);
 
     // F0 = M a0: every force, contact included, at the start state.
     ++stats_.evaluations;
@@ -117,7 +120,7 @@ class BackwardEuler final : public Integrator {
         particle(dv_, p) = filter_.apply(p, particle(dv_, p));
       }
     });
-    for (const ContactConstraint& c : contacts_) particle(dv_, c.particle) += h * c.normal_acceleration * c.normal;
+    addPrescribedChange(contacts_, filter_, h, dv_);
     // Contact between bodies: the pairs near the predicted end x0 + h (v0 + dv), dv the warm start (the last step's
     // velocity change); those the last step ended pressed (a resting body's every step) go active into the first
     // solve, the others as the solves find them pressed. Not the explicit flight x0 + h (v0 + h a0): with stiff springs
@@ -187,11 +190,11 @@ class BackwardEuler final : public Integrator {
       history_ = 0;  // this step's dv carries impulses: not the smooth error's measure
       if (impacts) {
         ++stats_.impact_solves;
-        for (const ContactConstraint& c : contacts_) {
-          filter_.constrain(c.particle, c.normal);
-          particle(dv_, c.particle) =
-              filter_.apply(c.particle, particle(dv_, c.particle)) + h * c.normal_acceleration * c.normal;
-        }
+        filter_.reset(jacobian.inverseMass());  // afresh: an impact replaces a resting contact's constraint
+        constrainFilter(contacts_, filter_);
+        for (const ContactConstraint& c : contacts_)
+          particle(dv_, c.particle) = filter_.apply(c.particle, particle(dv_, c.particle));
+        addPrescribedChange(contacts_, filter_, h, dv_);
       }
       if (pairs) {
         ++stats_.body_contact_solves;

@@ -15,17 +15,6 @@
 namespace wobble {
 namespace {
 
-Eigen::Matrix3d filterMatrix(const ParticleFilter& s, int p) {
-  switch (s.kind(p)) {
-    case ParticleFilter::Free:
-      return Eigen::Matrix3d::Identity();
-    case ParticleFilter::Held:
-      return Eigen::Matrix3d::Zero();
-    default:
-      return Eigen::Matrix3d::Identity() - s.normal(p) * s.normal(p).transpose();
-  }
-}
-
 // m += sign b.
 void add(Eigen::Matrix3d& m, const Sym3& b, double sign) {
   m(0, 0) += sign * b.xx, m(1, 1) += sign * b.yy, m(2, 2) += sign * b.zz;
@@ -131,7 +120,7 @@ void CoarseCorrection::setUp(const PairBlockMatrix& a, const ParticleFilter& s, 
     if (!filtered(p)) {
       add(blocks_[aggregate_[p]], Sym3::identity(a.self()[p]), 1);
     } else if (s.kind(p) != ParticleFilter::Held) {
-      const Eigen::Matrix3d sp = filterMatrix(s, p);
+      const Eigen::Matrix3d sp = s.matrix(p);
       blocks_[aggregate_[p]] += a.self()[p] * (sp * sp);
     }
   }
@@ -150,7 +139,7 @@ void CoarseCorrection::setUp(const PairBlockMatrix& a, const ParticleFilter& s, 
       continue;
     }
     const Eigen::Matrix3d w = a.pair(e).dense();
-    const Eigen::Matrix3d sa = filterMatrix(s, pa_e), sb = filterMatrix(s, pb_e);
+    const Eigen::Matrix3d sa = s.matrix(pa_e), sb = s.matrix(pb_e);
     const Eigen::Matrix3d ab = sa * w * sb;
     if (block < 0) {
       blocks_[aggregate_[pa_e]] += sa * w * sa + sb * w * sb - ab - ab.transpose();
@@ -162,13 +151,13 @@ void CoarseCorrection::setUp(const PairBlockMatrix& a, const ParticleFilter& s, 
     blocks_[block] -= pair_flipped_[e] ? Eigen::Matrix3d(ab.transpose()) : ab;
     blocks_[block + 1] -= pair_flipped_[e] ? ab : Eigen::Matrix3d(ab.transpose());
   }
-  // An aggregate whose particles are all held, or all constrained along one normal, has coarse directions that S
-  // removes (Z^T S Z, the Gram matrix of its three columns, is singular there; so are its rows and columns of the
-  // matrix): the identity there keeps the matrix invertible and leaves those directions at 0.
+  // An aggregate whose particles are all held, or all constrained along one normal or one line, has coarse directions
+  // that S removes (Z^T S Z, the Gram matrix of its three columns, is singular there; so are its rows and columns of
+  // the matrix): the identity there keeps the matrix invertible and leaves those directions at 0.
   for (int i = 0; i < aggregates_; ++i) gram_[i] = Eigen::Matrix3d::Identity() * size_[i];
   bool any = false;
   for (int p = 0; p < n; ++p)
-    if (filtered(p)) gram_[aggregate_[p]] += filterMatrix(s, p) - Eigen::Matrix3d::Identity(), any = true;
+    if (filtered(p)) gram_[aggregate_[p]] += s.matrix(p) - Eigen::Matrix3d::Identity(), any = true;
   for (int i = 0; any && i < aggregates_; ++i) {
     if (gram_[i].trace() > 3 * size_[i] - 0.5) continue;  // every particle free
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(gram_[i]);

@@ -32,6 +32,10 @@ void FilteredPcg::setUpPreconditioner(const PairBlockMatrix& a, const ParticleFi
         const Eigen::Matrix3d proj = Eigen::Matrix3d::Identity() - Sym3::outer(s.normal(p)).dense();
         const Eigen::Matrix3d filtered = proj * diagonal_[p].dense() * proj + Sym3::outer(s.normal(p)).dense();
         inverse = Sym3::fromDense(proj * filtered.inverse() * proj);
+      } else if (s.kind(p) == ParticleFilter::Line) {
+        // S (S D S + I - S)^-1 S with S = d d^T: S D S = (d . D d) S, so the inverse on the line is S / (d . D d).
+        const Vec3 d = s.direction(p);
+        inverse = (1 / d.dot(diagonal_[p] * d)) * Sym3::outer(d);
       }
       storeBlock(inverse, double_.inverse.data() + 6 * p);
     }

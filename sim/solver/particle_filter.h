@@ -1,5 +1,11 @@
-// Baraff & Witkin's constraint filter, one 3x3 block per particle: S_p = I for a free particle, 0 for a held one
-// (pinned), I - n n^T for one constrained along a normal n (a contact: its velocity change along n is prescribed).
+// Baraff & Witkin's constraint filter (1998, "Large Steps in Cloth Simulation", section 5.3), one 3x3 block per
+// particle: S_p = I for a free particle, 0 for a held one, I - n n^T for one constrained along a normal n (a contact:
+// its velocity change along n is prescribed), d d^T for one constrained along two independent normals n1, n2 (two
+// contacts at once: only d = n1 x n2 / |n1 x n2|, the line both surfaces leave free, is left), 0 for three or more
+// independent normals. S_p is the orthogonal projection onto the directions every one of the particle's normals
+// leaves free: symmetric, idempotent, S_p n_i = 0. Normals within kParallel of the span of the ones before count as
+// one of them (their constraint is the same to that accuracy, and a near-singular pair would make the prescribed
+// part ill-conditioned: contact_constraints.h).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -10,29 +16,41 @@ namespace wobble {
 
 class ParticleFilter {
  public:
-  enum Kind : std::uint8_t { Free, Held, Normal };
+  enum Kind : std::uint8_t { Free, Held, Normal, Line };
+  // |n1 x n2| (the sine of their angle) below which a second normal counts as the first, and |d . n3| (the sine of
+  // n3's angle to the plane of n1 and n2) below which a third counts as in their span.
+  static constexpr double kParallel = 0.05;
 
   // Every particle free, except those with inverse mass 0: held.
   void reset(const VecX& inverse_mass);
+  // Constrains p along the unit normal as well as along what it was constrained along before (the intersection).
   void constrain(int p, const Vec3& normal) {
-    constrained_ += kind_[p] != Normal;
+    if (kind_[p] != Free) return intersect(p, normal);
+    ++constrained_;
     kind_[p] = Normal;
-    particle(normal_, p) = normal;
+    particle(direction_, p) = normal;
   }
   Kind kind(int p) const { return Kind(kind_[p]); }
-  Vec3 normal(int p) const { return particle(normal_, p); }
+  Vec3 normal(int p) const { return particle(direction_, p); }     // Normal: the constrained direction
+  Vec3 direction(int p) const { return particle(direction_, p); }  // Line: the free direction d
   bool anyConstrained() const { return constrained_ > 0; }
+  // S_p as a matrix.
+  Eigen::Matrix3d matrix(int p) const;
 
   Vec3 apply(int p, const Vec3& y) const {
     switch (kind_[p]) {
       case Free:
         return y;
-      case Held:
-        return Vec3::Zero();
-      default: {
-        const Vec3 n = particle(normal_, p);
+      case Normal: {
+        const Vec3 n = particle(direction_, p);
         return y - n.dot(y) * n;
       }
+      case Line: {
+        const Vec3 d = particle(direction_, p);
+        return d.dot(y) * d;
+      }
+      default:
+        return Vec3::Zero();
     }
   }
   void apply(VecX& y, int begin, int end) const {
@@ -42,8 +60,10 @@ class ParticleFilter {
   Vec3 removed(int p, const Vec3& y) const { return y - apply(p, y); }
 
  private:
+  void intersect(int p, const Vec3& normal);
+
   std::vector<std::uint8_t> kind_;
-  VecX normal_;
+  VecX direction_;  // Normal: n; Line: d
   int constrained_ = 0;
 };
 

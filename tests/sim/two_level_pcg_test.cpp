@@ -12,10 +12,10 @@
 #include <tbb/global_control.h>
 
 #include "sim/bodies/cloth.h"
-#include "sim/solver/filtered_pcg.h"
 #include "sim/integrators/integrator.h"
-#include "sim/solver/parallel.h"
 #include "sim/simulation.h"
+#include "sim/solver/filtered_pcg.h"
+#include "sim/solver/parallel.h"
 #include "tests/sim/cloth_on_sphere.h"
 #include "tests/sim/stiff_cloth.h"
 
@@ -31,7 +31,9 @@ struct SmallSystem {
   VecX b, z;
 };
 
-std::unique_ptr<SmallSystem> smallSystem() {
+// several: besides, particles on two surfaces at once (a line left free) and on three (held), among them a whole
+// row of the cloth, so that some aggregates have only a line of them free (particle_filter.h).
+std::unique_ptr<SmallSystem> smallSystem(bool several = false) {
   auto out = std::make_unique<SmallSystem>();
   ClothParams p;
   p.nx = p.ny = 12;
@@ -54,6 +56,20 @@ std::unique_ptr<SmallSystem> smallSystem() {
     const Vec3 dir = Vec3(0.3, 1, -0.2).normalized();
     out->s.constrain(i, dir);
     particle(out->z, i) = 0.1 * dir;
+  }
+  if (several) {
+    const Vec3 n1 = Vec3(0.3, 1, -0.2).normalized(), n2 = Vec3(1, 0.2, 0.4).normalized();
+    for (int i = 24; i < 48; ++i) {  // two rows: a line along n1 x n2
+      out->s.constrain(i, n1);
+      out->s.constrain(i, n2);
+      particle(out->z, i) = 0.1 * n1 - 0.05 * n2;
+    }
+    for (int i : {14, 90, 91}) {  // three surfaces: held (14 was on n1's already)
+      out->s.constrain(i, n1);
+      out->s.constrain(i, n2);
+      out->s.constrain(i, Vec3::UnitZ());
+      particle(out->z, i) = Vec3(0.02, -0.03, 0.01);
+    }
   }
   out->b.resize(3 * n);
   for (int i = 0; i < 3 * n; ++i) out->b[i] = normal(random);
@@ -82,22 +98,35 @@ Eigen::MatrixXd filterMatrix(const ParticleFilter& s, int n) {
   return f;
 }
 
-TEST(TwoLevelPcg, MatchesADenseSolveOfTheFilteredSystem) {
-  const auto sys = smallSystem();
-  const int n = sys->system.particleCount();
+// The filtered PCG, with and without the coarse level, against a dense solve of the filtered system.
+void expectDenseSolve(const SmallSystem& sys) {
+  const int n = sys.system.particleCount();
   // The oracle: x = z + y, y in S's range, S (A (z + y) - b) = 0, i.e. (S A S + I - S) y = S (b - A z).
-  const Eigen::MatrixXd a = dense(sys->a), s = filterMatrix(sys->s, n);
+  const Eigen::MatrixXd a = dense(sys.a), s = filterMatrix(sys.s, n);
   const Eigen::MatrixXd i = Eigen::MatrixXd::Identity(3 * n, 3 * n);
-  const VecX y = (s * a * s + i - s).ldlt().solve(s * (sys->b - a * sys->z));
-  const VecX expected = sys->z + s * y;
+  const VecX y = (s * a * s + i - s).ldlt().solve(s * (sys.b - a * sys.z));
+  const VecX expected = sys.z + s * y;
   for (const bool two_level : {false, true}) {
     FilteredPcg pcg;
-    VecX x = sys->z;
-    const PcgResult r = pcg.solve(sys->a, sys->s, sys->b, x, 1e-12, 1000, false, two_level);
+    VecX x = sys.z;
+    const PcgResult r = pcg.solve(sys.a, sys.s, sys.b, x, 1e-12, 1000, false, two_level);
     EXPECT_LE(r.relative_residual, 1e-12);
     EXPECT_LT((x - expected).norm(), 1e-9 * expected.norm()) << "two_level " << two_level;
     EXPECT_GT(r.iterations, 1);
+    EXPECT_LT(((i - s) * (x - sys.z)).norm(), 1e-15);  // the prescribed part kept
   }
+}
+
+TEST(TwoLevelPcg, MatchesADenseSolveOfTheFilteredSystem) { expectDenseSolve(*smallSystem()); }
+
+// The same with particles on two and three surfaces at once: block-Jacobi's filtered blocks and the coarse level's
+// filtered matrix of a line's and a held particle's filter.
+TEST(TwoLevelPcg, MatchesADenseSolveWithParticlesOnSeveralSurfaces) {
+  const auto sys = smallSystem(true);
+  ASSERT_EQ(sys->s.kind(30), ParticleFilter::Line);
+  ASSERT_EQ(sys->s.kind(90), ParticleFilter::Held);
+  ASSERT_EQ(sys->s.kind(14), ParticleFilter::Held);
+  expectDenseSolve(*sys);
 }
 
 // Tolerances from kSingleTolerance up iterate in float (iterative refinement) once a solve has taken
