@@ -83,20 +83,44 @@ void resolveCollisions(Colliders colliders, double t, VecX& x, VecX& v, const Ve
   }
 }
 
+void nearPoints(const Collider& collider, double t, const WeightedPoints& points, const VecX& x,
+                std::span<const Eigen::AlignedBox3d> cells, double margin, std::vector<int>& out, VecX& at) {
+  thread_local std::vector<char> cell_near;
+  thread_local std::vector<int> kept;  // indices into out
+  out.clear();
+  out.reserve(points.size());                                       // once
+  if (at.size() < 3 * points.size()) at.resize(3 * points.size());  // once
+  cell_near.resize(cells.size());
+  bool any = false;
+  for (std::size_t c = 0; c < cells.size(); ++c) any |= (cell_near[c] = collider.mayBeNear(t, cells[c], margin));
+  if (!any) return;
+  for (int p = 0; p < points.size(); ++p)
+    if (cell_near[points.cell(p)]) out.push_back(p);
+  points.blendSome(x, out, at);
+  collider.near(t, at.head(3 * Eigen::Index(out.size())), margin, kept);
+  for (std::size_t j = 0; j < kept.size(); ++j) {  // kept[j] >= j: moved forward in place
+    out[j] = out[kept[j]];
+    particle(at, Eigen::Index(j)) = particle(at, kept[j]);
+  }
+  out.resize(kept.size());
+}
+
 void addContactForces(Colliders colliders, const WeightedPoints& points, double t, const VecX& x, const VecX& v,
                       const VecX& inv_mass, double stick_time, VecX& f) {
-  if (points.empty()) return;
-  thread_local VecX at;  // the points' positions
-  points.blendAll(x, at);
-  std::vector<int>& near = nearScratch();
+  if (points.empty() || colliders.empty()) return;
+  thread_local VecX at;  // the near points' positions
+  thread_local std::vector<Eigen::AlignedBox3d> cells;
+  thread_local std::vector<int> near;
+  points.cellBounds(x, cells);
   // Point by point (Gauss-Seidel): a point sees the support its neighbours in the same cell already have.
   for (const auto& collider : colliders) {
-    collider->near(t, at, collider->contact().epsilon, near);
-    for (const int p : near) {
+    nearPoints(*collider, t, points, x, cells, collider->contact().epsilon, near, at);
+    for (std::size_t j = 0; j < near.size(); ++j) {
+      const int p = near[j];
       if (points[p].inverse_mass == 0) continue;
       const double m = 1 / points[p].inverse_mass;
       const Vec3 fp = m * points.acceleration(f, inv_mass, p);
-      const auto s = activeSupport(*collider, t, particle(at, p), fp, m);
+      const auto s = activeSupport(*collider, t, particle(at, Eigen::Index(j)), fp, m);
       if (!s) continue;
       points.spread(p, supportForce(*s, collider->contact(), fp, points.blend(v, p), m, stick_time), f);
     }
@@ -107,11 +131,12 @@ void resolveCollisions(Colliders colliders, const WeightedPoints& points, double
                        const VecX& inv_mass) {
   if (points.empty()) return;
   thread_local VecX at;
-  std::vector<int>& near = nearScratch();
+  thread_local std::vector<Eigen::AlignedBox3d> cells;
+  thread_local std::vector<int> near;
   for (const auto& collider : colliders) {
     const ContactParams& c = collider->contact();
-    points.blendAll(x, at);
-    collider->near(t, at, c.epsilon, near);
+    points.cellBounds(x, cells);  // where the colliders before this one left the points
+    nearPoints(*collider, t, points, x, cells, c.epsilon, near, at);
     for (const int p : near) {
       if (points[p].inverse_mass == 0) continue;
       const auto s = collider->query(t, points.blend(x, p));  // where the points before it left it

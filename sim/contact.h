@@ -13,6 +13,7 @@
 #pragma once
 #include <memory>
 #include <span>
+#include <vector>
 
 #include "sim/colliders/collider.h"
 #include "sim/weighted_points.h"
@@ -38,5 +39,13 @@ void addContactForces(Colliders colliders, const WeightedPoints& points, double 
                       const VecX& inv_mass, double stick_time, VecX& f);
 void resolveCollisions(Colliders colliders, const WeightedPoints& points, double t, VecX& x, VecX& v,
                        const VecX& inv_mass);
+
+// The points whose blend of x collider.near(t, ., margin) keeps, in index order, into out, and their positions into
+// at (particle(at, j) is point out[j]'s; at grows to fit and is never shrunk, so a step allocates nothing); cells is
+// points.cellBounds(x). Only the points of the cells whose box the collider may be near (Collider::mayBeNear) are
+// blended and asked: a point of any other cell lies in a box near() keeps nothing of, so the list is the one near()
+// gives on every point's blend, at the cost of the few cells by the collider.
+void nearPoints(const Collider& collider, double t, const WeightedPoints& points, const VecX& x,
+                std::span<const Eigen::AlignedBox3d> cells, double margin, std::vector<int>& out, VecX& at);
 
 }  // namespace wobble
