@@ -135,12 +135,10 @@ double MassSpringSystem::colliderWork(double t, double h, const VecX& x0, const 
   // The particles colliders meet, then the embedded points (those of the cells near the collider, contact.h's
   // nearPoints), each with its mass.
   thread_local VecX point_x, point_v;  // the near points' positions and velocities
-  thread_local std::vector<Eigen::AlignedBox3d> cells0, cells1;
-  if (!points_.empty()) {
-    points_.cellBounds(x0, cells0);
-    points_.cellBounds(x1, cells1);
-  }
-  using End = std::tuple<double, const VecX*, const VecX*, const std::vector<Eigen::AlignedBox3d>*>;
+  thread_local CellBoxes cells0, cells1;
+  cells0.clear();
+  cells1.clear();
+  using End = std::tuple<double, const VecX*, const VecX*, CellBoxes*>;
   for (const auto& collider : colliders_)
     for (const auto& [time, x, v, cells] : {End{t, &x0, &v0, &cells0}, End{t + h, &x1, &v1, &cells1}}) {
       const double epsilon = collider->contact().epsilon, margin = epsilon + 2 * reach;  // the surface moves too

@@ -23,8 +23,9 @@ void WeightedPoints::add(const std::array<int, 8>& particle, const std::array<do
   }
   points_.push_back(w);
   const auto [it, added] = cell_index_.try_emplace(w.particle, cellCount());
-  if (added) cells_.push_back(w.particle);
+  if (added) cells_.push_back(w.particle), cell_points_.emplace_back();
   cell_of_.push_back(it->second);
+  cell_points_[it->second].push_back(size() - 1);
 }
 
 namespace {

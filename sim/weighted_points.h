@@ -39,6 +39,9 @@ class WeightedPoints {
   // The distinct particle sets the points ride on, and the one point p rides on.
   int cellCount() const { return static_cast<int>(cells_.size()); }
   int cell(int p) const { return cell_of_[p]; }
+  const std::array<int, 8>& cellParticles(int c) const { return cells_[c]; }
+  // The points riding on cell c, ascending.
+  std::span<const int> cellPoints(int c) const { return cell_points_[c]; }
   bool empty() const { return points_.empty(); }
   const WeightedPoint& operator[](int p) const { return points_[p]; }
 
@@ -47,6 +50,13 @@ class WeightedPoints {
     const WeightedPoint& w = points_[p];
     Vec3 sum = Vec3::Zero();
     for (int k = 0; k < 8; ++k) sum += w.weight[k] * particle(s, w.particle[k]);
+    return sum;
+  }
+  // sum_k w_k s_k of a vector s of one value per particle.
+  double blendValue(const VecX& s, int p) const {
+    const WeightedPoint& w = points_[p];
+    double sum = 0;
+    for (int k = 0; k < 8; ++k) sum += w.weight[k] * s[w.particle[k]];
     return sum;
   }
   // Every point's blend of s, 3 per point (resized).
@@ -69,6 +79,7 @@ class WeightedPoints {
   std::vector<WeightedPoint> points_;
   std::vector<std::array<int, 8>> cells_;  // the particles of each cell, as the first point on it listed them
   std::vector<int> cell_of_;               // per point
+  std::vector<std::vector<int>> cell_points_;
   std::map<std::array<int, 8>, int> cell_index_;
 };
 

@@ -25,6 +25,11 @@ struct SurfacePoint {
   Vec3 acceleration;  // of the surface at that point
 };
 
+// A half-space's boundary plane: what a plane collider's near() tests, normal.dot(x - point) < margin.
+struct HalfSpace {
+  Vec3 point, normal;
+};
+
 class Collider {
  public:
   Collider(std::string name, ContactParams contact) : name_(std::move(name)), contact_(contact) {}
@@ -40,6 +45,10 @@ class Collider {
   // with slack for round-off). Contact asks it for each cell of an embedded surface before it blends the cell's
   // points (contact.h, nearPoints). The default (true) is always safe; colliders override it with a box test.
   virtual bool mayBeNear(double t, const Eigen::AlignedBox3d& box, double margin) const;
+  // For a collider whose near(t, ., margin) keeps exactly the x with normal.dot(x - point) < margin (a plane): that
+  // half-space. Contact then bounds an embedded surface's points by blending that one number per particle instead of
+  // boxes (contact.h, nearPoints). Nothing, the default, for every other surface.
+  virtual std::optional<HalfSpace> halfSpace(double) const { return std::nullopt; }
 
   // A box holding the solid at time t (one that moves on a repeating schedule: over its whole cycle), or nothing if it
   // is unbounded (a plane). Used to frame a camera around the action.

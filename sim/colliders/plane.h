@@ -13,6 +13,7 @@ class PlaneCollider final : public Collider {
   std::optional<SurfacePoint> query(double t, const Vec3& x) const override;
   void near(double t, const StateRef& x, double margin, std::vector<int>& out) const override;
   bool mayBeNear(double t, const Eigen::AlignedBox3d& box, double margin) const override;
+  std::optional<HalfSpace> halfSpace(double) const override { return HalfSpace{point_, normal_}; }
   std::optional<Eigen::AlignedBox3d> bounds(double) const override { return std::nullopt; }  // infinite
   bool isStatic() const override { return true; }
   const Vec3& point() const { return point_; }

@@ -152,7 +152,8 @@ TEST(NearCells, FilteredContactIsExactlyEveryPointBlended) {
         EXPECT_TRUE(boxes[points.cell(p)].contains(particle(all, p))) << collider.name();
       }
       VecX at;
-      nearPoints(collider, t, points, x, boxes, collider.contact().epsilon, listed, at);
+      CellBoxes cell_boxes;
+      nearPoints(collider, t, points, x, cell_boxes, collider.contact().epsilon, listed, at);
       EXPECT_EQ(listed, near) << collider.name() << " at t = " << t;
       for (const auto& box : boxes) asked_cells += collider.mayBeNear(t, box, collider.contact().epsilon);
       cells += points.cellCount();
