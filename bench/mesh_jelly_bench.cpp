@@ -6,6 +6,9 @@
 //   BM_Step/kind:             one step of a jelly resting on the floor, rk4 at 1 ms: the sphere at cells 16
 //                             (/1: its surface's 10,226 points meet the floor) against a cube jelly of about as many
 //                             particles (/0: its 6 faces' particles meet the floor);
+//   BM_Tremor/kind/steps:     not a timing: a jelly resting on the floor under backward Euler at 1/60 s (/1) or
+//                             1/240 s (/4), the largest frame-to-frame movement of a surface vertex over the last
+//                             second of five (millimetres), the sphere at cells 8 (kind 1) against a cube jelly (0);
 //   BM_Overhang:              not a timing: how far the lattice reaches beyond the surface it carries, at rest and at
 //                             most while the sphere (cells 8) strikes a 30-degree slope at 5 m/s (counters, metres).
 // Run: build/mesh_jelly_bench (taskset -c 0,1 for two cores).
@@ -19,6 +22,7 @@
 #include "sim/bodies/mesh_jelly.h"
 #include "sim/colliders/mesh.h"
 #include "sim/colliders/plane.h"
+#include "sim/contact.h"
 #include "sim/simulation.h"
 #include "tests/sim/test_models.h"
 
@@ -75,7 +79,22 @@ void BM_Step(benchmark::State& state) {
   for (auto _ : state)
     if (sim.advanceTo(sim.time() + dt)) state.SkipWithError("the run stopped");
   state.counters["particles"] = system.particleCount();
-  state.counters["contact_points"] = mesh ? system.embeddedPoints().size() : 0;
+  state.counters["springs"] = double(system.springs().size());
+  const WeightedPoints& points = system.embeddedPoints();
+  state.counters["contact_points"] = points.size();
+  if (points.empty()) return;
+  // At the last state: the points of the cells the floor may be near (blended), and those near it (asked).
+  std::vector<Eigen::AlignedBox3d> boxes;
+  points.cellBounds(sim.x(), boxes);
+  const Collider& floor = *system.colliders()[0];
+  double in_boxes = 0;
+  for (int p = 0; p < points.size(); ++p) in_boxes += floor.mayBeNear(sim.time(), boxes[points.cell(p)], 0.01);
+  std::vector<int> near;
+  VecX at;
+  CellBoxes cells;
+  nearPoints(floor, sim.time(), points, sim.x(), cells, 0.01, near, at);
+  state.counters["points_in_near_boxes"] = in_boxes;
+  state.counters["near_points"] = double(near.size());
 }
 
 // The largest signed distance of a lattice particle outside the embedded surface (the surface as a mesh collider:
@@ -116,11 +135,47 @@ void BM_Overhang(benchmark::State& state) {
   state.counters["impact_m"] = impact;
 }
 
+// The largest frame-to-frame movement (at 60 frames a second) of any surface vertex over the last of 5 s, a jelly
+// resting on the floor under backward Euler at steps/frame steps a frame: the sphere at cells 8 (/1) against a cube
+// jelly of about as many particles (/0).
+void BM_Tremor(benchmark::State& state) {
+  const bool mesh = state.range(0) != 0;
+  const int steps = int(state.range(1));
+  MeshJellyParams p{.cells = 8, .ks = 1400, .kd = 50};
+  p.placement.center = Vec3(0, 0.55, 0);
+  Body sphere = buildMeshJelly("sphere", testing::uvSphere(0.5, 24, 48), p);
+  const int n = int(std::lround(std::cbrt(double(sphere.particleCount()))));
+  Body body = mesh ? std::move(sphere)
+                   : buildJelly("cube", {.n = n, .size = 1, .ks = 1400, .kd = 50, .center = Vec3(0, 0.55, 0)});
+  const SurfaceMesh surface = body.surface;
+  double most = 0;
+  for (auto _ : state) {
+    MassSpringSystem system;
+    system.addBody(body);
+    system.addCollider(
+        std::make_unique<PlaneCollider>("floor", ContactParams{0.3, 0.5, 0.01}, Vec3::Zero(), Vec3::UnitY()));
+    Simulation sim(system, makeIntegrator("backward-euler"), 1.0 / (60 * steps));
+    if (sim.advanceTo(4.0)) state.SkipWithError("the settling blew up");
+    SurfaceFrame last = evaluateSurface(surface, sim.x(), 0);
+    most = 0;
+    for (int frame = 241; frame <= 300; ++frame) {
+      if (sim.advanceTo(frame / 60.0)) state.SkipWithError("the run stopped");
+      SurfaceFrame now = evaluateSurface(surface, sim.x(), 0);
+      for (std::size_t v = 0; v < now.positions.size(); ++v)
+        most = std::max(most, double((now.positions[v] - last.positions[v]).norm()));
+      last = std::move(now);
+    }
+  }
+  state.counters["particles"] = body.particleCount();
+  state.counters["tremor_mm"] = 1000 * most;
+}
+
 BENCHMARK(BM_LatticeFill)->Arg(8)->Arg(16)->Arg(32)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_BuildMeshJelly)->Arg(8)->Arg(16)->Arg(32)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_EmbeddedSurface)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Step)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Overhang)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Tremor)->ArgsProduct({{0, 1}, {1, 4}})->Iterations(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace wobble

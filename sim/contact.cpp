@@ -1,5 +1,6 @@
 #include "sim/contact.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -83,20 +84,71 @@ void resolveCollisions(Colliders colliders, double t, VecX& x, VecX& v, const Ve
   }
 }
 
+namespace {
+
+// nearPoints' candidates for a half-space: the points whose blended distance is within reach of the plane.
+void halfSpaceCandidates(const HalfSpace& half, const WeightedPoints& points, const VecX& x, double margin,
+                         std::vector<int>& out) {
+  thread_local VecX d;  // each particle's distance, as near() computes it
+  const Eigen::Index n = x.size() / 3;
+  if (d.size() != n) d.resize(n);  // once
+  for (Eigen::Index i = 0; i < n; ++i) d[i] = half.normal.dot(particle(x, i) - half.point);
+  const double reach = margin + roundOffSlack(x.cwiseAbs().maxCoeff() + half.point.cwiseAbs().maxCoeff());
+  for (int c = 0; c < points.cellCount(); ++c) {
+    const std::array<int, 8>& k = points.cellParticles(c);
+    if (std::min({d[k[0]], d[k[1]], d[k[2]], d[k[3]], d[k[4]], d[k[5]], d[k[6]], d[k[7]]}) >= reach) continue;
+    for (const int p : points.cellPoints(c))
+      if (points.blendValue(d, p) < reach) out.push_back(p);
+  }
+  std::sort(out.begin(), out.end());  // cell by cell: back to index order
+}
+
+}  // namespace
+
+void nearPoints(const Collider& collider, double t, const WeightedPoints& points, const VecX& x, CellBoxes& cells,
+                double margin, std::vector<int>& out, VecX& at) {
+  thread_local std::vector<char> cell_near;
+  thread_local std::vector<int> kept;  // indices into out
+  out.clear();
+  out.reserve(points.size());                                       // once
+  if (at.size() < 3 * points.size()) at.resize(3 * points.size());  // once
+  if (const auto half = collider.halfSpace(t)) {
+    halfSpaceCandidates(*half, points, x, margin, out);
+  } else {
+    const std::vector<Eigen::AlignedBox3d>& boxes = cells.of(points, x);
+    cell_near.resize(points.cellCount());
+    bool any = false;
+    for (int c = 0; c < points.cellCount(); ++c) any |= (cell_near[c] = collider.mayBeNear(t, boxes[c], margin));
+    if (any)
+      for (int p = 0; p < points.size(); ++p)
+        if (cell_near[points.cell(p)]) out.push_back(p);
+  }
+  if (out.empty()) return;
+  points.blendSome(x, out, at);
+  collider.near(t, at.head(3 * Eigen::Index(out.size())), margin, kept);
+  for (std::size_t j = 0; j < kept.size(); ++j) {  // kept[j] >= j: moved forward in place
+    out[j] = out[kept[j]];
+    particle(at, Eigen::Index(j)) = particle(at, kept[j]);
+  }
+  out.resize(kept.size());
+}
+
 void addContactForces(Colliders colliders, const WeightedPoints& points, double t, const VecX& x, const VecX& v,
                       const VecX& inv_mass, double stick_time, VecX& f) {
-  if (points.empty()) return;
-  thread_local VecX at;  // the points' positions
-  points.blendAll(x, at);
-  std::vector<int>& near = nearScratch();
+  if (points.empty() || colliders.empty()) return;
+  thread_local VecX at;  // the near points' positions
+  thread_local CellBoxes cells;
+  thread_local std::vector<int> near;
+  cells.clear();
   // Point by point (Gauss-Seidel): a point sees the support its neighbours in the same cell already have.
   for (const auto& collider : colliders) {
-    collider->near(t, at, collider->contact().epsilon, near);
-    for (const int p : near) {
+    nearPoints(*collider, t, points, x, cells, collider->contact().epsilon, near, at);
+    for (std::size_t j = 0; j < near.size(); ++j) {
+      const int p = near[j];
       if (points[p].inverse_mass == 0) continue;
       const double m = 1 / points[p].inverse_mass;
       const Vec3 fp = m * points.acceleration(f, inv_mass, p);
-      const auto s = activeSupport(*collider, t, particle(at, p), fp, m);
+      const auto s = activeSupport(*collider, t, particle(at, Eigen::Index(j)), fp, m);
       if (!s) continue;
       points.spread(p, supportForce(*s, collider->contact(), fp, points.blend(v, p), m, stick_time), f);
     }
@@ -107,11 +159,12 @@ void resolveCollisions(Colliders colliders, const WeightedPoints& points, double
                        const VecX& inv_mass) {
   if (points.empty()) return;
   thread_local VecX at;
-  std::vector<int>& near = nearScratch();
+  thread_local CellBoxes cells;
+  thread_local std::vector<int> near;
   for (const auto& collider : colliders) {
     const ContactParams& c = collider->contact();
-    points.blendAll(x, at);
-    collider->near(t, at, c.epsilon, near);
+    cells.clear();  // where the colliders before this one left the points
+    nearPoints(*collider, t, points, x, cells, c.epsilon, near, at);
     for (const int p : near) {
       if (points[p].inverse_mass == 0) continue;
       const auto s = collider->query(t, points.blend(x, p));  // where the points before it left it

@@ -13,6 +13,7 @@
 #pragma once
 #include <memory>
 #include <span>
+#include <vector>
 
 #include "sim/colliders/collider.h"
 #include "sim/weighted_points.h"
@@ -38,5 +39,32 @@ void addContactForces(Colliders colliders, const WeightedPoints& points, double 
                       const VecX& inv_mass, double stick_time, VecX& f);
 void resolveCollisions(Colliders colliders, const WeightedPoints& points, double t, VecX& x, VecX& v,
                        const VecX& inv_mass);
+
+// Each cell's box in one state (WeightedPoints::cellBounds), computed when a collider first needs it: a plane never
+// does. Cleared by its owner whenever the state changes.
+class CellBoxes {
+ public:
+  void clear() { ready_ = false; }
+  const std::vector<Eigen::AlignedBox3d>& of(const WeightedPoints& points, const VecX& x) {
+    if (!ready_) points.cellBounds(x, boxes_);
+    ready_ = true;
+    return boxes_;
+  }
+
+ private:
+  std::vector<Eigen::AlignedBox3d> boxes_;
+  bool ready_ = false;
+};
+
+// The points whose blend of x collider.near(t, ., margin) keeps, in index order, into out, and their positions into
+// at (particle(at, j) is point out[j]'s; at grows to fit and is never shrunk, so a step allocates nothing); cells
+// holds the boxes of x's cells. Only the points of the cells the collider may be near are blended and asked: for a
+// half-space (Collider::halfSpace), those whose blend of the particles' distances to the plane is within the margin
+// (the distance is affine: the blend of the distances is the point's distance, to round-off), after the cells
+// whose nearest particle is; for any other collider, the points of the cells whose box it may be near
+// (Collider::mayBeNear). Every other point lies where near() keeps nothing, so the list is the one near() gives on
+// every point's blend, at the cost of the few points by the collider. The tests are widened by round-off slack.
+void nearPoints(const Collider& collider, double t, const WeightedPoints& points, const VecX& x, CellBoxes& cells,
+                double margin, std::vector<int>& out, VecX& at);
 
 }  // namespace wobble

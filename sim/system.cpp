@@ -132,34 +132,31 @@ double MassSpringSystem::colliderWork(double t, double h, const VecX& x0, const 
     reach = std::max(reach, h * std::max(particle(v0, i).norm(), particle(v1, i).norm()));
   Vec3 weighted = Vec3::Zero();
   double touching = 0;
-  // The particles colliders meet, then the embedded points, each with its mass (0: not met by colliders).
-  thread_local VecX point_x0, point_v0, point_x1, point_v1, point_mass;
-  point_mass.resize(points_.size());
-  for (int p = 0; p < points_.size(); ++p)
-    point_mass[p] = points_[p].inverse_mass > 0 ? 1 / points_[p].inverse_mass : 0.0;
-  if (!points_.empty() && !colliders_.empty()) {
-    points_.blendAll(x0, point_x0);
-    points_.blendAll(v0, point_v0);
-    points_.blendAll(x1, point_x1);
-    points_.blendAll(v1, point_v1);
-  }
-  using Ends = std::tuple<double, const VecX*, const VecX*, const VecX*, const VecX*>;
+  // The particles colliders meet, then the embedded points (those of the cells near the collider, contact.h's
+  // nearPoints), each with its mass.
+  thread_local VecX point_x, point_v;  // the near points' positions and velocities
+  thread_local CellBoxes cells0, cells1;
+  cells0.clear();
+  cells1.clear();
+  using End = std::tuple<double, const VecX*, const VecX*, CellBoxes*>;
   for (const auto& collider : colliders_)
-    for (const auto& [time, x, v, px, pv] :
-         {Ends{t, &x0, &v0, &point_x0, &point_v0}, {t + h, &x1, &v1, &point_x1, &point_v1}}) {
-      const double epsilon = collider->contact().epsilon;
-      for (const auto& [xs, vs, met, mass] :
-           {std::tuple<const VecX*, const VecX*, const VecX*, const VecX*>{x, v, &collider_inv_mass_, &mass_},
-            {px, pv, &point_mass, &point_mass}}) {
-        collider->near(time, *xs, epsilon + 2 * reach, near);  // the surface moves too: at most as far, for the margin
-        for (const int i : near) {
-          if ((*met)[i] == 0) continue;
-          const auto s = collider->query(time, particle(*xs, i));
-          if (!s || std::abs(s->distance) >= epsilon + h * (particle(*vs, i) - s->velocity).norm()) continue;
-          weighted += (*mass)[i] * s->velocity;
-          touching += (*mass)[i];
-        }
-      }
+    for (const auto& [time, x, v, cells] : {End{t, &x0, &v0, &cells0}, End{t + h, &x1, &v1, &cells1}}) {
+      const double epsilon = collider->contact().epsilon, margin = epsilon + 2 * reach;  // the surface moves too
+      const auto touch = [&](const Vec3& xi, const Vec3& vi, double m) {
+        const auto s = collider->query(time, xi);
+        if (!s || std::abs(s->distance) >= epsilon + h * (vi - s->velocity).norm()) return;
+        weighted += m * s->velocity;
+        touching += m;
+      };
+      collider->near(time, *x, margin, near);
+      for (const int i : near)
+        if (collider_inv_mass_[i] != 0) touch(particle(*x, i), particle(*v, i), mass_[i]);
+      if (points_.empty()) continue;
+      nearPoints(*collider, time, points_, *x, *cells, margin, near, point_x);
+      points_.blendSome(*v, near, point_v);
+      for (std::size_t j = 0; j < near.size(); ++j)
+        if (const double inverse = points_[near[j]].inverse_mass; inverse > 0)
+          touch(particle(point_x, Eigen::Index(j)), particle(point_v, Eigen::Index(j)), 1 / inverse);
     }
   if (touching == 0 || weighted == Vec3::Zero()) return 0;
   // The contact impulse on all bodies: their momentum change less gravity's and drag's impulse (the springs between

@@ -1,31 +1,73 @@
 #include "sim/weighted_points.h"
 
+#include <cmath>
+#include <stdexcept>
+
+#include "sim/colliders/collider.h"
+
 namespace wobble {
 
 void WeightedPoints::add(const std::array<int, 8>& particle, const std::array<double, 8>& weight, int first,
                          const VecX& inv_mass) {
+  // cellBounds holds a point in its cell's box only for a convex combination.
+  double sum = 0;
+  for (const double wk : weight) {
+    if (!(wk >= 0)) throw std::invalid_argument("WeightedPoints::add: a weight is negative or not a number");
+    sum += wk;
+  }
+  if (!(std::abs(sum - 1) <= 1e-12)) throw std::invalid_argument("WeightedPoints::add: the weights do not sum to 1");
   WeightedPoint w{particle, weight, 0};
   for (int k = 0; k < 8; ++k) {
     w.particle[k] += first;
     w.inverse_mass += w.weight[k] * w.weight[k] * inv_mass[w.particle[k]];
   }
   points_.push_back(w);
+  const auto [it, added] = cell_index_.try_emplace(w.particle, cellCount());
+  if (added) cells_.push_back(w.particle), cell_points_.emplace_back();
+  cell_of_.push_back(it->second);
+  cell_points_[it->second].push_back(size() - 1);
 }
+
+namespace {
+
+// The same sums as WeightedPoints::blend(), in the same order.
+inline void blendInto(const WeightedPoint& w, const double* in, double* o) {
+  double x = 0, y = 0, z = 0;
+  for (int k = 0; k < 8; ++k) {
+    const double* q = in + 3 * std::size_t(w.particle[k]);
+    x += w.weight[k] * q[0];
+    y += w.weight[k] * q[1];
+    z += w.weight[k] * q[2];
+  }
+  o[0] = x, o[1] = y, o[2] = z;
+}
+
+}  // namespace
 
 void WeightedPoints::blendAll(const VecX& s, VecX& out) const {
   out.resize(3 * size());
-  const double* in = s.data();
   double* o = out.data();
-  for (const WeightedPoint& w : points_) {  // the same sums as blend(), in the same order
-    double x = 0, y = 0, z = 0;
-    for (int k = 0; k < 8; ++k) {
-      const double* q = in + 3 * std::size_t(w.particle[k]);
-      x += w.weight[k] * q[0];
-      y += w.weight[k] * q[1];
-      z += w.weight[k] * q[2];
+  for (const WeightedPoint& w : points_) blendInto(w, s.data(), o), o += 3;
+}
+
+void WeightedPoints::blendSome(const VecX& s, std::span<const int> which, VecX& out) const {
+  if (out.size() < 3 * Eigen::Index(which.size())) out.resize(3 * Eigen::Index(which.size()));
+  double* o = out.data();
+  for (const int p : which) blendInto(points_[p], s.data(), o), o += 3;
+}
+
+void WeightedPoints::cellBounds(const VecX& x, std::vector<Eigen::AlignedBox3d>& out) const {
+  out.resize(cells_.size());
+  for (std::size_t c = 0; c < cells_.size(); ++c) {
+    Vec3 lo = particle(x, cells_[c][0]), hi = lo;
+    for (int k = 1; k < 8; ++k) {
+      const Vec3 q = particle(x, cells_[c][k]);
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
     }
-    o[0] = x, o[1] = y, o[2] = z;
-    o += 3;
+    // A blend rounds by a few units in the last place of the largest coordinate: far less than this.
+    const double slack = roundOffSlack(std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()));
+    out[c] = Eigen::AlignedBox3d(lo.array() - slack, hi.array() + slack);
   }
 }
 

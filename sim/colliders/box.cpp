@@ -1,5 +1,7 @@
 #include "sim/colliders/box.h"
 
+#include <cmath>
+
 namespace wobble {
 
 BoxCollider::BoxCollider(std::string name, ContactParams contact, const Vec3& center, const Vec3& size)
@@ -20,6 +22,13 @@ std::optional<SurfacePoint> BoxCollider::query(double, const Vec3& x) const {
   Vec3 normal = Vec3::Zero();
   normal[axis] = d[axis] < 0 ? -1 : 1;
   return SurfacePoint{distance, normal, Vec3::Zero(), Vec3::Zero()};
+}
+
+bool BoxCollider::mayBeNear(double, const Eigen::AlignedBox3d& box, double margin) const {
+  // query()'s distance is at least the Euclidean distance to the solid (negative only inside it).
+  const Eigen::AlignedBox3d solid(center_ - size_ / 2, center_ + size_ / 2);
+  const double slack = roundOffSlack(magnitude(box) + magnitude(solid));
+  return std::sqrt(box.squaredExteriorDistance(solid)) < std::max(margin, 0.0) + slack;
 }
 
 std::optional<Eigen::AlignedBox3d> BoxCollider::bounds(double) const {

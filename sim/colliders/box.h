@@ -9,6 +9,7 @@ class BoxCollider final : public Collider {
  public:
   BoxCollider(std::string name, ContactParams contact, const Vec3& center, const Vec3& size);
   std::optional<SurfacePoint> query(double t, const Vec3& x) const override;
+  bool mayBeNear(double t, const Eigen::AlignedBox3d& box, double margin) const override;
   std::optional<Eigen::AlignedBox3d> bounds(double t) const override;
   bool isStatic() const override { return true; }
   const Vec3& center() const { return center_; }

@@ -2,6 +2,7 @@
 // at a time, with the surface's velocity and acceleration there. The response (restitution, penetration
 // correction, contact force, friction) is shared by every collider and lives in contact.h.
 #pragma once
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
@@ -24,6 +25,11 @@ struct SurfacePoint {
   Vec3 acceleration;  // of the surface at that point
 };
 
+// A half-space's boundary plane: what a plane collider's near() tests, normal.dot(x - point) < margin.
+struct HalfSpace {
+  Vec3 point, normal;
+};
+
 class Collider {
  public:
   Collider(std::string name, ContactParams contact) : name_(std::move(name)), contact_(contact) {}
@@ -34,7 +40,15 @@ class Collider {
   // Replaces out by the particles of x (flat, 3 per particle) whose query() distance at t is below margin (inside
   // included), in index order: the cheap test contact code runs before it asks query() anything. The default asks
   // query() itself; colliders override it with a tight loop over the coordinates.
-  virtual void near(double t, const VecX& x, double margin, std::vector<int>& out) const;
+  virtual void near(double t, const StateRef& x, double margin, std::vector<int>& out) const;
+  // Whether near(t, ., margin) could keep any point of box: false only where it keeps none (a conservative test,
+  // with slack for round-off). Contact asks it for each cell of an embedded surface before it blends the cell's
+  // points (contact.h, nearPoints). The default (true) is always safe; colliders override it with a box test.
+  virtual bool mayBeNear(double t, const Eigen::AlignedBox3d& box, double margin) const;
+  // For a collider whose near(t, ., margin) keeps exactly the x with normal.dot(x - point) < margin (a plane): that
+  // half-space. Contact then bounds an embedded surface's points by blending that one number per particle instead of
+  // boxes (contact.h, nearPoints). Nothing, the default, for every other surface.
+  virtual std::optional<HalfSpace> halfSpace(double) const { return std::nullopt; }
 
   // A box holding the solid at time t (one that moves on a repeating schedule: over its whole cycle), or nothing if it
   // is unbounded (a plane). Used to frame a camera around the action.
@@ -50,5 +64,13 @@ class Collider {
   std::string name_;
   ContactParams contact_;
 };
+
+// Slack for the round-off of a test at coordinates of this size: far above it, far below any distance that matters.
+inline double roundOffSlack(double magnitude) { return 1e-9 * (1 + magnitude); }
+
+// The largest absolute coordinate of a box.
+inline double magnitude(const Eigen::AlignedBox3d& box) {
+  return std::max(box.min().cwiseAbs().maxCoeff(), box.max().cwiseAbs().maxCoeff());
+}
 
 }  // namespace wobble

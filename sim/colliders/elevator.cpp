@@ -63,7 +63,7 @@ std::optional<SurfacePoint> ElevatorCollider::query(double t, const Vec3& x) con
                       Vec3(0, schedule_.acceleration(t), 0)};
 }
 
-void ElevatorCollider::near(double t, const VecX& x, double margin, std::vector<int>& out) const {
+void ElevatorCollider::near(double t, const StateRef& x, double margin, std::vector<int>& out) const {
   out.clear();
   const Vec3 top = topCenter(t);  // query's tests, once per call instead of once per particle
   const double half = size_ / 2;
@@ -76,6 +76,16 @@ void ElevatorCollider::near(double t, const VecX& x, double margin, std::vector<
         distance < margin)
       out.push_back(i);
   }
+}
+
+bool ElevatorCollider::mayBeNear(double t, const Eigen::AlignedBox3d& box, double margin) const {
+  // near()'s slab, widened by the slack: does the box reach into it?
+  const Vec3 top = topCenter(t);
+  const double half = size_ / 2, slack = roundOffSlack(magnitude(box) + top.cwiseAbs().maxCoeff() + half + thickness_);
+  const Vec3 &lo = box.min(), &hi = box.max();
+  return hi.x() >= top.x() - half - slack && lo.x() <= top.x() + half + slack && hi.z() >= top.z() - half - slack &&
+         lo.z() <= top.z() + half + slack && hi.y() - top.y() >= -thickness_ - slack &&
+         lo.y() - top.y() < margin + slack;
 }
 
 std::optional<Eigen::AlignedBox3d> ElevatorCollider::bounds(double) const {

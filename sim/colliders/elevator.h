@@ -26,7 +26,8 @@ class ElevatorCollider final : public Collider {
  public:
   ElevatorCollider(std::string name, ContactParams contact, ElevatorSchedule schedule, double size, double thickness);
   std::optional<SurfacePoint> query(double t, const Vec3& x) const override;
-  void near(double t, const VecX& x, double margin, std::vector<int>& out) const override;
+  void near(double t, const StateRef& x, double margin, std::vector<int>& out) const override;
+  bool mayBeNear(double t, const Eigen::AlignedBox3d& box, double margin) const override;
   // The slab over its whole travel, from its lowest bottom to its highest top (the same at every t).
   std::optional<Eigen::AlignedBox3d> bounds(double t) const override;
   Vec3 topCenter(double t) const { return schedule_.start + Vec3(0, schedule_.height(t), 0); }

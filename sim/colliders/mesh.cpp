@@ -98,7 +98,7 @@ std::optional<SurfacePoint> MeshCollider::query(double t, const Vec3& x) const {
   return SurfacePoint{side * len, normal, velocity_, Vec3::Zero()};
 }
 
-void MeshCollider::near(double t, const VecX& x, double margin, std::vector<int>& out) const {
+void MeshCollider::near(double t, const StateRef& x, double margin, std::vector<int>& out) const {
   out.clear();
   const int n = static_cast<int>(x.size() / 3);
   out.reserve(n);  // once: the list never reallocates while a body settles onto the collider
@@ -110,6 +110,13 @@ void MeshCollider::near(double t, const VecX& x, double margin, std::vector<int>
     if (d2 > reach2) continue;
     if (const auto s = query(t, p); s && s->distance < margin) out.push_back(i);
   }
+}
+
+bool MeshCollider::mayBeNear(double t, const Eigen::AlignedBox3d& box, double margin) const {
+  // near() asks query() only within the margin of the mesh's bounding box.
+  const Eigen::AlignedBox3d mesh = *bounds(t);
+  const double reach = (margin > 0 ? margin : 0) + roundOffSlack(magnitude(box) + magnitude(mesh));
+  return box.squaredExteriorDistance(mesh) <= reach * reach;
 }
 
 std::optional<Eigen::AlignedBox3d> MeshCollider::bounds(double t) const {

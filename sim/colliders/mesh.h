@@ -26,7 +26,8 @@ class MeshCollider final : public Collider {
   // Skips the point query for a particle farther than margin from the mesh's box: for a closed mesh, such a particle
   // is outside at a distance of at least that, so the answer is the default's; an open mesh (a plate) touches only
   // what comes within margin of its box, never a particle far behind its sheet.
-  void near(double t, const VecX& x, double margin, std::vector<int>& out) const override;
+  void near(double t, const StateRef& x, double margin, std::vector<int>& out) const override;
+  bool mayBeNear(double t, const Eigen::AlignedBox3d& box, double margin) const override;
 
   // The mesh at t = 0 in the scene's frame; at time t it is moved by offset(t).
   const std::vector<Vec3>& points() const { return points_; }

@@ -11,7 +11,9 @@ class PlaneCollider final : public Collider {
  public:
   PlaneCollider(std::string name, ContactParams contact, const Vec3& point, const Vec3& normal);
   std::optional<SurfacePoint> query(double t, const Vec3& x) const override;
-  void near(double t, const VecX& x, double margin, std::vector<int>& out) const override;
+  void near(double t, const StateRef& x, double margin, std::vector<int>& out) const override;
+  bool mayBeNear(double t, const Eigen::AlignedBox3d& box, double margin) const override;
+  std::optional<HalfSpace> halfSpace(double) const override { return HalfSpace{point_, normal_}; }
   std::optional<Eigen::AlignedBox3d> bounds(double) const override { return std::nullopt; }  // infinite
   bool isStatic() const override { return true; }
   const Vec3& point() const { return point_; }

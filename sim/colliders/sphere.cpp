@@ -13,7 +13,7 @@ std::optional<SurfacePoint> SphereCollider::query(double t, const Vec3& x) const
   return SurfacePoint{len - radius_, normal, velocity_, Vec3::Zero()};
 }
 
-void SphereCollider::near(double t, const VecX& x, double margin, std::vector<int>& out) const {
+void SphereCollider::near(double t, const StateRef& x, double margin, std::vector<int>& out) const {
   out.clear();
   const Vec3 c = center(t);
   // |x - c| - r < margin without a square root; a hair wider than that, so round-off never drops a particle
@@ -26,6 +26,12 @@ void SphereCollider::near(double t, const VecX& x, double margin, std::vector<in
     const double dx = p[0] - c.x(), dy = p[1] - c.y(), dz = p[2] - c.z();
     if (dx * dx + dy * dy + dz * dz < reach2) out.push_back(i);
   }
+}
+
+bool SphereCollider::mayBeNear(double t, const Eigen::AlignedBox3d& box, double margin) const {
+  const Vec3 c = center(t);  // near()'s reach, and slack for the box's round-off
+  const double reach = (radius_ + margin) * (1 + 1e-9) + roundOffSlack(magnitude(box) + c.cwiseAbs().maxCoeff());
+  return box.squaredExteriorDistance(c) < reach * reach;
 }
 
 std::optional<Eigen::AlignedBox3d> SphereCollider::bounds(double t) const {

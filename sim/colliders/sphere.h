@@ -9,7 +9,8 @@ class SphereCollider final : public Collider {
  public:
   SphereCollider(std::string name, ContactParams contact, const Vec3& center, double radius, const Vec3& velocity);
   std::optional<SurfacePoint> query(double t, const Vec3& x) const override;
-  void near(double t, const VecX& x, double margin, std::vector<int>& out) const override;
+  void near(double t, const StateRef& x, double margin, std::vector<int>& out) const override;
+  bool mayBeNear(double t, const Eigen::AlignedBox3d& box, double margin) const override;
   std::optional<Eigen::AlignedBox3d> bounds(double t) const override;
   bool isStatic() const override { return velocity_.isZero(0); }
   Vec3 center(double t) const { return center_ + t * velocity_; }
