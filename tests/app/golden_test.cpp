@@ -1,7 +1,8 @@
-// Golden images: a small render (160 x 90, 4 samples per pixel) of an early frame of each shipped scene, through
-// `wobble run` (simulating and rendering in one pass), compared with tests/golden/<scene>_NNNN.png. The default
-// scene is motion-blurred (camera.shutter = 0.5); jelly_slope_still_0025.png is it with the shutter at 0, the picture
-// it gave before motion blur existed: a shutter of 0 draws exactly what a renderer without motion blur drew.
+// Golden images: a small render (160 x 90, render.samples = 4: adaptive where the scene sets render.noise_threshold,
+// as jelly_slope's 0.3) of an early frame of each shipped scene, through `wobble run` (simulating and rendering in one
+// pass), compared with tests/golden/<scene>_NNNN.png. The default scene is motion-blurred (camera.shutter = 0.5);
+// jelly_slope_still_0025.png is it with the shutter at 0 (a shutter of 0 draws exactly what a renderer without motion
+// blur drew).
 // Tolerance (goldenVerdict below): fail when more than 1% of the pixels differ by more than 0.02 (of full scale) or any
 // pixel by more than 0.25 (idiff semantics, render/image_diff.h), when the mean error over all values exceeds 0.004,
 // or when the mean pixel error (largest over the channels) over any 8 x 8 window exceeds 0.05. idiff's rule alone
