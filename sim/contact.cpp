@@ -12,7 +12,21 @@ std::vector<int>& nearScratch() {
   return near;
 }
 
-// The support and friction force on a point of mass m under net force f, moving at v, that s supports (activeSupport).
+// The step end's velocity change of a point within the band (restitution on its approach), and its move onto the
+// surface when it is below it.
+struct Response {
+  Vec3 dv = Vec3::Zero(), dx = Vec3::Zero();
+};
+Response response(const SurfacePoint& s, const ContactParams& c, const Vec3& v) {
+  Response r;
+  const double vn = s.normal.dot(v - s.velocity);
+  if (vn < 0) r.dv = -(1 + c.restitution) * vn * s.normal;
+  if (s.distance < 0) r.dx = -s.distance * s.normal;
+  return r;
+}
+
+}  // namespace
+
 Vec3 supportForce(const SurfacePoint& s, const ContactParams& c, const Vec3& f, const Vec3& v, double m,
                   double stick_time) {
   // Net force relative to the surface's frame; its normal part pushes into the surface (activeSupport).
@@ -30,21 +44,6 @@ Vec3 supportForce(const SurfacePoint& s, const ContactParams& c, const Vec3& f, 
   }
   return support * s.normal + friction;
 }
-
-// The step end's velocity change of a point within the band (restitution on its approach), and its move onto the
-// surface when it is below it.
-struct Response {
-  Vec3 dv = Vec3::Zero(), dx = Vec3::Zero();
-};
-Response response(const SurfacePoint& s, const ContactParams& c, const Vec3& v) {
-  Response r;
-  const double vn = s.normal.dot(v - s.velocity);
-  if (vn < 0) r.dv = -(1 + c.restitution) * vn * s.normal;
-  if (s.distance < 0) r.dx = -s.distance * s.normal;
-  return r;
-}
-
-}  // namespace
 
 std::optional<SurfacePoint> activeSupport(const Collider& collider, double t, const Vec3& x, const Vec3& f, double m) {
   auto s = collider.query(t, x);

@@ -27,6 +27,10 @@ using Colliders = std::span<const std::unique_ptr<Collider>>;
 // The one definition of an active contact, for the explicit forces here and the implicit constraints.
 std::optional<SurfacePoint> activeSupport(const Collider& collider, double t, const Vec3& x, const Vec3& f, double m);
 
+// The support and friction force on a point of mass m under net force f, moving at v, that s supports (activeSupport).
+Vec3 supportForce(const SurfacePoint& s, const ContactParams& c, const Vec3& f, const Vec3& v, double m,
+                  double stick_time);
+
 void addContactForces(Colliders colliders, double t, const VecX& x, const VecX& v, const VecX& mass,
                       const VecX& inv_mass, double stick_time, VecX& f);
 

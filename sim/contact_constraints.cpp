@@ -15,8 +15,10 @@ bool byParticleAndCollider(const ContactConstraint& a, const ContactConstraint& 
 }  // namespace
 
 void findContactConstraints(Colliders colliders, double t, double h, const VecX& x, const VecX& v, const VecX& f,
-                            const VecX& mass, const VecX& inv_mass, std::vector<ContactConstraint>& out) {
+                            const VecX& mass, const VecX& inv_mass, std::vector<ContactConstraint>& out,
+                            std::vector<ReleasedSupport>* released) {
   out.clear();
+  if (released) released->clear();
   thread_local std::vector<int> near;  // kept between calls: no allocation per step
   for (std::size_t k = 0; k < colliders.size(); ++k) {
     const Collider& collider = *colliders[k];
@@ -29,8 +31,11 @@ void findContactConstraints(Colliders colliders, double t, double h, const VecX&
       // constraint would hold its normal velocity for the whole step against the springs' pull, positive work that
       // launched a stiff jelly off the floor at 1/60 s. A surface pushes only while it is pressed (Signorini's
       // condition at the velocity level); a resting particle's velocity noise stays far below the band's width.
-      if (s && s->distance + h * s->normal.dot(particle(v, i) - s->velocity) < collider.contact().epsilon)
+      if (!s) continue;
+      if (s->distance + h * s->normal.dot(particle(v, i) - s->velocity) < collider.contact().epsilon)
         out.push_back({i, s->normal, s->normal.dot(s->acceleration), int(k)});
+      else if (released)
+        released->push_back({i, supportForce(*s, collider.contact(), particle(f, i), particle(v, i), mass[i], 2 * h)});
     }
     // Stable: an earlier collider's constraint on a particle stays before this one's.
     std::inplace_merge(out.begin(), out.begin() + earlier, out.end(), byParticleAndCollider);

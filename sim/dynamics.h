@@ -31,6 +31,13 @@ struct ContactConstraint {
   bool impact = false;  // from addImpactConstraints (else a resting contact at the step's start)
 };
 
+// A support that the accelerations apply at a step's start but an implicit step must not hold (contact_constraints.h):
+// the particle is leaving the surface. The solver takes force (support and friction, N) back out of its start force.
+struct ReleasedSupport {
+  int particle;
+  Vec3 force;
+};
+
 // Two surface elements of bodies near each other in an implicit step (contact between bodies, docs/body-contact.md): a
 // point against a triangle or an edge against an edge, as a stencil of particles with weights w such that sum w_i x_i
 // is the relative position (sim/collision/primitives.h): four particles for surfaces over particles, up to 32 when
@@ -69,11 +76,14 @@ class ForceJacobian {
                             const VecX* w = nullptr, VecX* kw = nullptr) const = 0;
   // Whether solvers should run their loops on threads for this system (parallel.h); the result is the same bytes.
   virtual bool parallel() const { return false; }
-  // Replaces out by the particles whose contact support is active at (t, x, v), at most one per particle. The default
+  // Replaces out by the particles whose contact support is active at (t, x, v), one per particle and surface; and
+  // released (when given) by the supports the accelerations apply to particles leaving their surface. The default
   // is none: contact, if any, then stays an explicit force in the accelerations.
-  virtual void contactConstraints(double t, const VecX& x, const VecX& v, std::vector<ContactConstraint>& out) const {
+  virtual void contactConstraints(double t, const VecX& x, const VecX& v, std::vector<ContactConstraint>& out,
+                                  std::vector<ReleasedSupport>* released = nullptr) const {
     (void)t, (void)x, (void)v;
     out.clear();
+    if (released) released->clear();
   }
   // Impacts of a candidate step from (x0, v0) at t to (x1, v1) at t + h: adds to out (kept in particle order) a
   // constraint for every particle the step ends inside a surface, with the normal velocity change that keeps it out

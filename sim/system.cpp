@@ -89,13 +89,15 @@ void MassSpringSystem::fillJacobian(double, const VecX& x, const VecX&, double c
   });
 }
 
-void MassSpringSystem::contactConstraints(double t, const VecX& x, const VecX& v,
-                                          std::vector<ContactConstraint>& out) const {
+void MassSpringSystem::contactConstraints(double t, const VecX& x, const VecX& v, std::vector<ContactConstraint>& out,
+                                          std::vector<ReleasedSupport>* released) const {
   out.clear();
+  if (released) released->clear();
   if (colliders_.empty()) return;
   thread_local VecX f;  // kept between calls: no allocation per step
   smoothForce(t, x, v, f);
-  findContactConstraints(colliders_, t, stick_time_ / 2, x, v, f, mass_, collider_inv_mass_, out);  // h: setStepSize
+  findContactConstraints(colliders_, t, stick_time_ / 2, x, v, f, mass_, collider_inv_mass_, out,  // h: setStepSize
+                         released);
 }
 
 bool MassSpringSystem::impactConstraints(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,

@@ -49,7 +49,8 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   // The same Jacobians as triplets of dF/dx and dF/dv (duplicates summed): for analysis and tests.
   void addForceJacobians(double t, const VecX& x, const VecX& v, Triplets& dfdx, Triplets& dfdv) const;
   // The particles whose contact support is active (contact_constraints.h).
-  void contactConstraints(double t, const VecX& x, const VecX& v, std::vector<ContactConstraint>& out) const override;
+  void contactConstraints(double t, const VecX& x, const VecX& v, std::vector<ContactConstraint>& out,
+                          std::vector<ReleasedSupport>* released = nullptr) const override;
   // The particles a candidate implicit step ends inside a collider (contact_constraints.h, addImpactConstraints).
   bool impactConstraints(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1, const VecX& v1,
                          std::vector<ContactConstraint>& out) const override;

@@ -16,7 +16,8 @@
 // has S_i = I - n n^T and its normal dv prescribed (the surface's normal acceleration times h; on two surfaces at
 // once S_i = d d^T, d the line both leave free, on three S_i = 0, every normal component prescribed: B&W section
 // 5.3, contact_filter.h), which is what the
-// explicit support force does instantaneously; friction stays explicit. Without that, the support sized to cancel a
+// explicit support force does instantaneously; friction stays explicit; a support on a particle leaving its
+// surface within the step is taken out of F0 (ReleasedSupport: held for the step, it launched stiff bodies). Without that, the support sized to cancel a
 // stiff spring's push at the start would act for the whole step while the spring relaxes and launch the body. Impacts
 // likewise (B&W's constraints, here for collisions within the step): when the solved step would end a particle inside
 // a surface, that particle is constrained along the normal to its restitution bounce (or what keeps it out) and the
@@ -103,12 +104,15 @@ class BackwardEuler final : public Integrator {
     }
     const VecX& mass = jacobian->mass();
     filter_.reset(jacobian->inverseMass());
-    jacobian->contactConstraints(t, x, v, contacts_);
+    jacobian->contactConstraints(t, x, v, contacts_, &released_);
     constrainFilter(contacts_, filter_);
 
     // F0 = M a0: every force, contact included, at the start state.
     ++stats_.evaluations;
     dynamics.acceleration(t, x, v, f0_);
+    // A support on a particle leaving its surface would act for the whole step (contact_constraints.h): taken out.
+    for (const ReleasedSupport& r : released_)
+      particle(f0_, r.particle) -= jacobian->inverseMass()[r.particle] * r.force;
     // Linearized step at (x0, v0): A dv = h (F0 + h dF/dx v0), with dv's filtered-out part prescribed.
     assemble(*jacobian, t, x, v, h, &v, &kv_);
     rhs_.resize(x.size());
@@ -410,6 +414,7 @@ class BackwardEuler final : public Integrator {
   IntegratorOptions options_;
   PairBlockMatrix matrix_;
   ParticleFilter filter_;
+  std::vector<ReleasedSupport> released_;
   FilteredPcg pcg_;
   std::vector<ContactConstraint> contacts_;
   int n_ = 0;
