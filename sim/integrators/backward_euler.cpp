@@ -15,10 +15,10 @@
 // has S_i = 0, dv_i = 0; a particle whose contact support is active at the start (ForceJacobian::contactConstraints)
 // has S_i = I - n n^T and its normal dv prescribed (the surface's normal acceleration times h; on two surfaces at
 // once S_i = d d^T, d the line both leave free, on three S_i = 0, every normal component prescribed: B&W section
-// 5.3, contact_filter.h), which is what the
-// explicit support force does instantaneously; friction stays explicit; a support on a particle leaving its
-// surface within the step is taken out of F0 (ReleasedSupport: held for the step, it launched stiff bodies). Without that, the support sized to cancel a
-// stiff spring's push at the start would act for the whole step while the spring relaxes and launch the body. Impacts
+// 5.3, contact_filter.h), which is what the explicit support force does instantaneously; friction stays explicit.
+// Without that, the support sized to cancel a stiff spring's push at the start would act for the whole step while the
+// spring relaxes and launch the body; for the same reason a support on a particle leaving its surface within the step
+// (no constraint) is taken out of F0 (ReleasedSupport). Impacts
 // likewise (B&W's constraints, here for collisions within the step): when the solved step would end a particle inside
 // a surface, that particle is constrained along the normal to its restitution bounce (or what keeps it out) and the
 // step is solved again, so the stiff springs pass the impulse to the body inside the implicit solve and no position
