@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <random>
 
+#include "dense_matrix.h"
 #include "sim/bodies/cloth.h"
 #include "sim/bodies/jelly.h"
 #include "sim/force_jacobian.h"
@@ -119,15 +120,7 @@ TEST(SpringRuns, JacobianBlocksEqualTheTripletJacobians) {
   PairBlockMatrix a;
   a.reset(system.jacobianPattern());
   system.fillJacobian(0, x, v, cx, cv, a, nullptr, nullptr);
-  Eigen::MatrixXd blocks = Eigen::MatrixXd::Zero(3 * n, 3 * n);
-  for (int p = 0; p < n; ++p) blocks.block<3, 3>(3 * p, 3 * p) += a.self()[p] * Eigen::Matrix3d::Identity();
-  const PairSchedule& pattern = *a.pattern();
-  for (std::size_t e = 0; e < pattern.size(); ++e) {
-    const Eigen::Matrix3d w = a.pair(e).dense();
-    const int i = pattern.a()[e], j = pattern.b()[e];
-    blocks.block<3, 3>(3 * i, 3 * i) += w, blocks.block<3, 3>(3 * j, 3 * j) += w;
-    blocks.block<3, 3>(3 * i, 3 * j) -= w, blocks.block<3, 3>(3 * j, 3 * i) -= w;
-  }
+  const Eigen::MatrixXd blocks = testing::denseMatrix(a);
 
   Triplets tx, tv;
   system.addForceJacobians(0, x, v, tx, tv);

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <random>
 
+#include "dense_matrix.h"
 #include "sim/bodies/cloth.h"
 #include "sim/solver/pair_block_matrix.h"
 #include "sim/system.h"
@@ -62,21 +63,7 @@ TEST(StencilCouplings, ThreadedProductEqualsTheDenseMatrixAndTheOneThreadLoopByt
     a.stencils().push_back(b);
   }
 
-  // The dense matrix: the pattern's blocks, and each stencil's w_i w_j B.
-  Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(3 * n, 3 * n);
-  for (int q = 0; q < n; ++q) dense.block<3, 3>(3 * q, 3 * q) += a.self()[q] * Eigen::Matrix3d::Identity();
-  const PairSchedule& pattern = *a.pattern();
-  for (std::size_t e = 0; e < pattern.size(); ++e) {
-    const Eigen::Matrix3d w = a.pair(e).dense();
-    const int i = pattern.a()[e], j = pattern.b()[e];
-    dense.block<3, 3>(3 * i, 3 * i) += w, dense.block<3, 3>(3 * j, 3 * j) += w;
-    dense.block<3, 3>(3 * i, 3 * j) -= w, dense.block<3, 3>(3 * j, 3 * i) -= w;
-  }
-  for (const StencilBlock& b : a.stencils())
-    for (int i = 0; i < b.stencil.size; ++i)
-      for (int j = 0; j < b.stencil.size; ++j)
-        dense.block<3, 3>(3 * b.stencil.particle[i], 3 * b.stencil.particle[j]) +=
-            b.stencil.w[i] * b.stencil.w[j] * b.block.dense();
+  const Eigen::MatrixXd dense = testing::denseMatrix(a);  // the pattern's blocks and each stencil's w_i w_j B
 
   VecX threaded, one_thread;
   a.multiply(y, threaded, true);
