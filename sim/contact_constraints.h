@@ -12,10 +12,11 @@ namespace wobble {
 // three: Baraff & Witkin 1998, section 5.3), in particle order and, within a particle, collider order; pinned
 // particles are skipped.
 // released (when given): the particles whose support is active but which leave the band within the step, each with
-// the support and friction force addContactForces gives it (with stick time 2 h): an implicit step takes that force
-// out of its start force, since it cannot hold it for the whole step either (a stiff jelly's bottom layer, bounced
-// off the floor, kept the support that cancelled its springs' push at the start for a whole 1/60 s step and the
-// jelly jumped: 14 J became 199 J in one step).
+// its support and friction force (supportForce with stick time 2 h): an implicit step takes that force out of its
+// start force, since it cannot hold it for the whole step either (a stiff jelly's bottom layer, bounced off the
+// floor, kept the support that cancelled its springs' push for a whole 1/60 s step: 14 J became 199 J in a step).
+// Sized from the smooth force f, as the constraints are; addContactForces sizes a particle's second surface's support
+// after its first's, so on a particle leaving two surfaces at once the second force taken out is approximate.
 void findContactConstraints(Colliders colliders, double t, double h, const VecX& x, const VecX& v, const VecX& f,
                             const VecX& mass, const VecX& inv_mass, std::vector<ContactConstraint>& out,
                             std::vector<ReleasedSupport>* released = nullptr);
