@@ -355,67 +355,150 @@ struct BodyCollisions::Impl {
 
   // The step's candidates, kept through backward Euler's solves (nearPairs) and the pass after the step (resolve):
   // found once for the swept boxes from the start to the first solve's end, padded by kStepMarginFraction of the
-  // thickness more, with each pair's nearest points at the start as they are computed. They stand while the start is
-  // the same bytes and every node's end lies within that margin of the end they were found for: each exact swept box
-  // then lies inside its padded one, so the list holds every pair of the exact broad phase, in the same ascending
-  // order, and the tests that follow (a distance within the thickness, a gap, a hit along the step) drop the others:
-  // the same contacts in the same order, without a broad phase and nearest points again at each solve.
+  // thickness more, with each pair's nearest points at the start. They stand while the start is the same bytes and
+  // every node's end lies within that margin of the end they were found for: each exact swept box then lies inside
+  // its padded one, so the list holds every pair of the exact broad phase, in the same ascending order, and the tests
+  // that follow (a distance within the thickness, a gap, a hit along the step) drop the others: the same contacts in
+  // the same order, without a broad phase and nearest points again at each solve.
+  // Most candidates lie far apart along their nearest points' direction d at the start, and stay so at the end
+  // (neighbours within one flat layer of a cloth). Along a fixed unit d each vertex's projection is linear in the
+  // step's fraction, so the gap between the two elements' projections (the least of one's minus the greatest of the
+  // other's) is concave: at least its smaller value at the ends, and the distance is at least that. An end whose
+  // nodes moved by at most `drift` (Euclidean) from the one the candidates were found for changes that gap by at most
+  // 2 drift. So each candidate keeps its gap there, less what a search looks for (its slack), and a later search
+  // tests only the candidates whose slack is at most 2 drift: every other one would fail its tests anyway.
   struct StepCandidates {
     bool valid = false;
     VecX start, end;  // nxs and nxe they were found for
     double margin = 0;
     std::vector<std::pair<int, int>> vf, ee;
-    std::vector<Closest> closest;  // at the start, per candidate (vf, then ee); a NaN distance: not computed yet
+    std::vector<Closest> closest;  // at the start, per candidate (vf, then ee)
+    // The candidates each search may test, with the drift up to which they need no test (each search then takes those
+    // whose slack is at most 2 drift): those within the thickness at the start (repel); those apart at the start
+    // whose gap at the end may come within the thickness (nearPairs); those whose distance may come within twice eta
+    // along the step (detect). A candidate with slack above what any drift within the margin allows is left out.
+    std::vector<int> near;
+    std::vector<std::pair<int, double>> closing, hitting;
+    // The smallest start distance over the candidates whose start boxes are within the thickness (repel's statistic).
+    double boxed_min = std::numeric_limits<double>::infinity();
   } step;
-  bool from_step = false;  // vf and ee are step's (indices into step.closest)
+  bool from_step = false;   // the candidates are step's (vf and ee are not used)
+  double drift = 0;         // with from_step: the largest distance of a node's end from step.end
+  std::vector<int> subset;  // the candidates a search tests (subsetOf)
+
+  const std::vector<std::pair<int, int>>& vfList() const { return from_step ? step.vf : vf; }
+  const std::vector<std::pair<int, int>>& eeList() const { return from_step ? step.ee : ee; }
 
   // Takes the step's candidates if they stand for (nxs, nxe); returns whether it did.
   bool reuseStep() {
     if (!motion_cull || !step.valid || step.start.size() != nxs.size() || step.end.size() != nxe.size()) return false;
     if (std::memcmp(step.start.data(), nxs.data(), sizeof(double) * std::size_t(nxs.size())) != 0) return false;
     if (!((nxe - step.end).cwiseAbs().maxCoeff() <= step.margin)) return false;
-    vf = step.vf;
-    ee = step.ee;
     from_step = true;
+    drift = 0;
+    for (int k = 0; k < nodeCount(); ++k) drift = std::max(drift, (particle(nxe, k) - particle(step.end, k)).norm());
     return true;
   }
-  // The step's candidates for (nxs, nxe), found anew.
+  // The step's candidates for (nxs, nxe), found anew, with their nearest points at the start and gaps at the end.
   void findStep() {
     step.margin = kStepMarginFraction * max_thickness;
     broadPhase(false, step.margin);
     step.start = nxs;
     step.end = nxe;
-    step.vf = vf;
-    step.ee = ee;
-    step.closest.assign(pairCount(), Closest{std::numeric_limits<double>::quiet_NaN(), {}, Vec3::Zero()});
-    step.valid = from_step = true;
+    step.vf.swap(vf);
+    step.ee.swap(ee);
+    from_step = true;
+    drift = 0;
+    // Any end the candidates serve lies within the margin of step.end along each axis: within sqrt(3) margin.
+    const double most = 2 * std::sqrt(3.0) * step.margin;
+    const int n = pairCount();
+    step.closest.resize(n);
+    std::vector<double> boxed(n), closing(n), hitting(n);
+    std::vector<char> near(n);
+    forEachChunk(n, parallel, [&](int begin, int end) {
+      for (int k = begin; k < end; ++k) {
+        const PairInfo p = pairInfo(k);
+        const auto x = points(nxs, p.stencil);
+        const Closest c = p.kind == Primitive::PointTriangle ? pointTriangle(x[0], x[1], x[2], x[3])
+                                                             : edgeEdge(x[0], x[1], x[2], x[3]);
+        step.closest[k] = c;
+        double gap = -std::numeric_limits<double>::infinity();  // at the end along the start's direction
+        if (c.distance > 0) {
+          const Vec3 d = c.delta / c.distance;
+          const int first = p.kind == Primitive::PointTriangle ? 1 : 2;
+          double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+          for (int i = 0; i < 4; ++i) {
+            const double y = d.dot(particle(nxe, p.stencil.vertex[i]));
+            if (i < first) lo = std::min(lo, y);
+            else hi = std::max(hi, y);
+          }
+          if (std::isfinite(lo - hi)) gap = lo - hi;
+        }
+        const double eta2 = 2 * kEtaFraction * p.thickness;
+        closing[k] = c.distance > 0 ? gap - (1 + 1e-5) * p.thickness : std::numeric_limits<double>::infinity();
+        hitting[k] = c.distance > eta2 ? gap - eta2 : -std::numeric_limits<double>::infinity();
+        boxed[k] = startBoxesNear(p, x) ? c.distance : std::numeric_limits<double>::infinity();
+        near[k] = c.distance < p.thickness;
+      }
+    });
+    step.near.clear();
+    step.closing.clear();
+    step.hitting.clear();
+    step.boxed_min = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < n; ++k) {
+      step.boxed_min = std::min(step.boxed_min, boxed[k]);
+      if (near[k]) step.near.push_back(k);
+      if (!(closing[k] > most)) step.closing.emplace_back(k, closing[k]);
+      if (!(hitting[k] > most)) step.hitting.emplace_back(k, hitting[k]);
+    }
+    step.valid = true;
   }
   // The nearest points at the start of candidate k (whose stencil's start points are x), from the step's when known.
-  Closest startClosest(int k, Primitive kind, const std::array<Vec3, 4>& x) {
-    if (from_step && !std::isnan(step.closest[k].distance)) return step.closest[k];
-    const Closest c =
-        kind == Primitive::PointTriangle ? pointTriangle(x[0], x[1], x[2], x[3]) : edgeEdge(x[0], x[1], x[2], x[3]);
-    if (from_step) step.closest[k] = c;  // each k on one thread
-    return c;
+  Closest startClosest(int k, Primitive kind, const std::array<Vec3, 4>& x) const {
+    if (from_step) return step.closest[k];
+    return kind == Primitive::PointTriangle ? pointTriangle(x[0], x[1], x[2], x[3]) : edgeEdge(x[0], x[1], x[2], x[3]);
+  }
+  // Whether the start's boxes of the pair's elements (the swept ones found it) are within the thickness.
+  static bool startBoxesNear(const PairInfo& p, const std::array<Vec3, 4>& x) {
+    Vec3 lo0 = x[0].cwiseMin(x[1]), hi0 = x[0].cwiseMax(x[1]), lo1 = x[2].cwiseMin(x[3]), hi1 = x[2].cwiseMax(x[3]);
+    if (p.kind == Primitive::PointTriangle) {
+      lo0 = hi0 = x[0];
+      lo1 = x[1].cwiseMin(lo1);
+      hi1 = x[1].cwiseMax(hi1);
+    }
+    return !((lo0.array() - hi1.array()).maxCoeff() > p.thickness) &&
+           !((lo1.array() - hi0.array()).maxCoeff() > p.thickness);
+  }
+  // With the step's candidates: those of a list (StepCandidates) whose slack is at most 2 drift, ascending; nullptr
+  // (every candidate) otherwise.
+  const std::vector<int>* subsetOf(const std::vector<std::pair<int, double>>& list) {
+    if (!from_step) return nullptr;
+    subset.clear();
+    for (const auto& [k, slack] : list)
+      if (!(slack > 2 * drift)) subset.push_back(k);
+    return &subset;
   }
 
-  int pairCount() const { return int(vf.size() + ee.size()); }
+  int pairCount() const { return int(vfList().size() + eeList().size()); }
   PairInfo pairInfo(int k) const {
-    return k < int(vf.size()) ? info(Primitive::PointTriangle, vf[k].first, vf[k].second)
-                              : info(Primitive::EdgeEdge, ee[k - vf.size()].first, ee[k - vf.size()].second);
+    const auto &v = vfList(), &e = eeList();
+    return k < int(v.size()) ? info(Primitive::PointTriangle, v[k].first, v[k].second)
+                             : info(Primitive::EdgeEdge, e[k - v.size()].first, e[k - v.size()].second);
   }
 
-  // fn(k, info) over every candidate pair on threads in fixed chunks; what it returns (an optional) is gathered in
-  // pair order.
+  // fn(k, info) over every candidate pair k (or those in only, ascending) on threads in fixed chunks; what it returns
+  // (an optional) is gathered in pair order.
   template <class Fn>
-  auto gather(Fn&& fn) {
+  auto gather(Fn&& fn, const std::vector<int>* only = nullptr) {
     using Found = typename std::invoke_result_t<Fn&, int, const PairInfo&>::value_type;
-    const int n = pairCount();
+    const int n = only ? int(only->size()) : pairCount();
     const int chunk = 1024, chunks = (n + chunk - 1) / chunk;
     std::vector<std::vector<Found>> parts(chunks);
     const auto run = [&](int c) {
-      for (int k = c * chunk; k < std::min(n, (c + 1) * chunk); ++k)
+      for (int j = c * chunk; j < std::min(n, (c + 1) * chunk); ++j) {
+        const int k = only ? (*only)[j] : j;
         if (auto found = fn(k, pairInfo(k))) parts[c].push_back(*found);
+      }
     };
     if (parallel && chunks > 1)
       tbb::parallel_for(tbb::blocked_range<int>(0, chunks, 1), [&](const tbb::blocked_range<int>& r) {
@@ -465,31 +548,28 @@ struct BodyCollisions::Impl {
 
   // Step 1: repulsion and friction for pairs within the thickness at the start (only counted without impulses).
   void repel(double h, Stats& stats, bool impulses) {
-    const std::vector<Contact> near = gather([&](int k, const PairInfo& p) -> std::optional<Contact> {
-      const auto x = points(nxs, p.stencil);
-      // The start's boxes (the swept ones found the pair) further apart than the thickness: not near.
-      Vec3 lo0 = x[0].cwiseMin(x[1]), hi0 = x[0].cwiseMax(x[1]), lo1 = x[2].cwiseMin(x[3]), hi1 = x[2].cwiseMax(x[3]);
-      if (p.kind == Primitive::PointTriangle) {
-        lo0 = hi0 = x[0];
-        lo1 = x[1].cwiseMin(lo1);
-        hi1 = x[1].cwiseMax(hi1);
-      }
-      if (((lo0.array() - hi1.array()).maxCoeff() > p.thickness) ||
-          ((lo1.array() - hi0.array()).maxCoeff() > p.thickness))
-        return std::nullopt;
-      const Closest c = startClosest(k, p.kind, x);
-      if (c.distance >= p.thickness) return Contact{k, c, Vec3::Zero(), -1};  // only its distance counts
-      Vec3 normal;
-      if (c.distance > 0) {
-        normal = c.delta / c.distance;
-      } else if (p.kind == Primitive::PointTriangle) {
-        normal = (x[2] - x[1]).cross(x[3] - x[1]).normalized();
-      } else {
-        normal = (x[1] - x[0]).cross(x[3] - x[2]).normalized();
-      }
-      if (!normal.allFinite()) return Contact{k, c, Vec3::Zero(), -1};
-      return Contact{k, c, normal, 0};
-    });
+    // With the step's candidates: those within the thickness at the start, the smallest distance of the others known.
+    const auto* only = from_step ? &step.near : nullptr;
+    if (only) stats.min_distance = std::min(stats.min_distance, step.boxed_min);
+    const std::vector<Contact> near = gather(
+        [&](int k, const PairInfo& p) -> std::optional<Contact> {
+          const auto x = points(nxs, p.stencil);
+          // The start's boxes (the swept ones found the pair) further apart than the thickness: not near.
+          if (!startBoxesNear(p, x)) return std::nullopt;
+          const Closest c = startClosest(k, p.kind, x);
+          if (c.distance >= p.thickness) return Contact{k, c, Vec3::Zero(), -1};  // only its distance counts
+          Vec3 normal;
+          if (c.distance > 0) {
+            normal = c.delta / c.distance;
+          } else if (p.kind == Primitive::PointTriangle) {
+            normal = (x[2] - x[1]).cross(x[3] - x[1]).normalized();
+          } else {
+            normal = (x[1] - x[0]).cross(x[3] - x[2]).normalized();
+          }
+          if (!normal.allFinite()) return Contact{k, c, Vec3::Zero(), -1};
+          return Contact{k, c, normal, 0};
+        },
+        only);
     for (const Contact& c : near) {
       stats.min_distance = std::min(stats.min_distance, c.at.distance);
       if (c.t < 0) continue;
@@ -528,20 +608,24 @@ struct BodyCollisions::Impl {
     };
     if (within_zones)
       for (const int p : pass_particles) root[p] = zones.find(p);
-    std::vector<Contact> hits = gather([&](int k, const PairInfo& p) -> std::optional<Contact> {
-      if (!all) {
-        bool moved = false;
-        for (const int i : p.stencil.vertex) moved |= dirty[i] != 0;
-        if (!moved) return std::nullopt;
-      }
-      if (within_zones && inOneZone(p.stencil)) return std::nullopt;
-      const auto& q = p.stencil.vertex;
-      const int first = p.kind == Primitive::PointTriangle ? 1 : 2;
-      if (apartAllStep(q.data(), first, q.data() + first, 4 - first, p.thickness)) return std::nullopt;
-      const auto hit = firstHit(p.kind, points(nxs, p.stencil), points(nxe, p.stencil), kEtaFraction * p.thickness);
-      if (!hit) return std::nullopt;
-      return Contact{k, hit->at, hit->normal, hit->t};
-    });
+    // With the step's candidates: those whose distance may come within eta along the step.
+    const auto* only = subsetOf(step.hitting);
+    std::vector<Contact> hits = gather(
+        [&](int k, const PairInfo& p) -> std::optional<Contact> {
+          if (!all) {
+            bool moved = false;
+            for (const int i : p.stencil.vertex) moved |= dirty[i] != 0;
+            if (!moved) return std::nullopt;
+          }
+          if (within_zones && inOneZone(p.stencil)) return std::nullopt;
+          const auto& q = p.stencil.vertex;
+          const int first = p.kind == Primitive::PointTriangle ? 1 : 2;
+          if (apartAllStep(q.data(), first, q.data() + first, 4 - first, p.thickness)) return std::nullopt;
+          const auto hit = firstHit(p.kind, points(nxs, p.stencil), points(nxe, p.stencil), kEtaFraction * p.thickness);
+          if (!hit) return std::nullopt;
+          return Contact{k, hit->at, hit->normal, hit->t};
+        },
+        only);
     std::fill(dirty.begin(), dirty.end(), 0);
     return hits;
   }
@@ -636,32 +720,36 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
   s.blendNodes(x1, s.nxe);
   if (!motion_cull) s.broadPhase();  // the shortcuts off: the exact broad phase, every time
   else if (!s.reuseStep()) s.findStep();
+  // With the step's candidates: those apart at the start whose gap at x1 may be within the thickness.
+  const auto* only = s.subsetOf(s.step.closing);
   const std::size_t before = out.size();
   std::vector<std::array<int, 4>> known;  // the pairs already in out, sorted
   for (const ContactPair& c : out) known.push_back(c.element);
   std::sort(known.begin(), known.end());
   // Each candidate on threads (gather keeps the pair order): its nearest points at x0, then its gap at x1.
-  const std::vector<ContactPair> found = s.gather([&](int k, const PairInfo& p) -> std::optional<ContactPair> {
-    const auto x = s.points(s.nxs, p.stencil);
-    const Closest c = s.startClosest(k, p.kind, x);
-    if (!(c.distance > 0)) return std::nullopt;  // touching at the start: no direction (the post-step pass has it)
-    const Vec3 normal = c.delta / c.distance;
-    // The gap at x1 from the nodes first (cheap, and most candidates are far from closing); the pair's own, over its
-    // particles, decides (it differs in rounding only, far below this margin).
-    Vec3 end_relative = Vec3::Zero();
-    for (int i = 0; i < 4; ++i) end_relative += c.w[i] * particle(s.nxe, p.stencil.vertex[i]);
-    if (normal.dot(end_relative) - p.thickness > 1e-6 * p.thickness) return std::nullopt;
-    ContactPair pair{p.stencil.vertex, s.expand(p.stencil, c.w), normal, p.thickness, p.friction};
-    if (!(pair.gap(x1) < 0)) return std::nullopt;
-    if (std::binary_search(known.begin(), known.end(), pair.element)) return std::nullopt;
-    // The linearized gap of a pair far apart at x0 says little: only a pair that does come within the thickness at
-    // x1 (or crosses on the way) joins.
-    const auto e = s.points(s.nxe, p.stencil);
-    const Closest end =
-        p.kind == Primitive::PointTriangle ? pointTriangle(e[0], e[1], e[2], e[3]) : edgeEdge(e[0], e[1], e[2], e[3]);
-    if (!(end.distance < p.thickness) && !firstHit(p.kind, x, e, kEtaFraction * p.thickness)) return std::nullopt;
-    return pair;
-  });
+  const std::vector<ContactPair> found = s.gather(
+      [&](int k, const PairInfo& p) -> std::optional<ContactPair> {
+        const auto x = s.points(s.nxs, p.stencil);
+        const Closest c = s.startClosest(k, p.kind, x);
+        if (!(c.distance > 0)) return std::nullopt;  // touching at the start: no direction (the post-step pass has it)
+        const Vec3 normal = c.delta / c.distance;
+        // The gap at x1 from the nodes first (cheap, and most candidates are far from closing); the pair's own, over
+        // its particles, decides (it differs in rounding only, far below this margin).
+        Vec3 end_relative = Vec3::Zero();
+        for (int i = 0; i < 4; ++i) end_relative += c.w[i] * particle(s.nxe, p.stencil.vertex[i]);
+        if (normal.dot(end_relative) - p.thickness > 1e-6 * p.thickness) return std::nullopt;
+        if (std::binary_search(known.begin(), known.end(), p.stencil.vertex)) return std::nullopt;
+        ContactPair pair{p.stencil.vertex, s.expand(p.stencil, c.w), normal, p.thickness, p.friction};
+        if (!(pair.gap(x1) < 0)) return std::nullopt;
+        // The linearized gap of a pair far apart at x0 says little: only a pair that does come within the thickness at
+        // x1 (or crosses on the way) joins.
+        const auto e = s.points(s.nxe, p.stencil);
+        const Closest end = p.kind == Primitive::PointTriangle ? pointTriangle(e[0], e[1], e[2], e[3])
+                                                               : edgeEdge(e[0], e[1], e[2], e[3]);
+        if (!(end.distance < p.thickness) && !firstHit(p.kind, x, e, kEtaFraction * p.thickness)) return std::nullopt;
+        return pair;
+      },
+      only);
   out.insert(out.end(), found.begin(), found.end());
   return out.size() > before;
 }
