@@ -190,7 +190,9 @@ void StencilCouplings::index() const {
   packed_first_.assign(1, 0);
   packed_particle_.clear();
   packed_weight_.clear();
+  packed_block_.clear();
   for (const StencilBlock& b : blocks_) {
+    packed_block_.push_back(b.block);
     for (int i = 0; i < b.stencil.size; ++i)
       if (b.stencil.w[i] != 0) {
         packed_particle_.push_back(b.stencil.particle[i]);
@@ -216,7 +218,7 @@ void StencilCouplings::addProducts(const T* x, T* y, bool parallel) const {
         const T* xj = x + 3 * packed_particle_[j];
         d += packed_weight_[j] * Vec3(xj[0], xj[1], xj[2]);
       }
-      const Vec3 u = blocks_[k].block * d;
+      const Vec3 u = packed_block_[k] * d;
       u_[3 * k] = u.x(), u_[3 * k + 1] = u.y(), u_[3 * k + 2] = u.z();
     }
   });

@@ -56,6 +56,7 @@ class StencilCouplings {
   // particles and weights [packed_first_[k], packed_first_[k + 1]), weights of 0 left out.
   mutable std::vector<int> packed_first_, packed_particle_;
   mutable std::vector<double> packed_weight_;
+  mutable std::vector<Sym3> packed_block_;  // stencil k's block, contiguous (a StencilBlock spans several cache lines)
   mutable std::vector<double> u_;  // u_k, three values a stencil: scratch of the product
 };
 
