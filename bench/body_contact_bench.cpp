@@ -1,6 +1,7 @@
 // The cost of contact between bodies (sim/collision/, docs/body-contact.md): a limp cloth folded in four layers
 // (tests/sim/folded_cloth.h) is dropped onto the floor and collapses onto itself. After a warm-up of 0.5 s to the
-// collapsed state, layers lying on each other (simulated once per case, untimed), each iteration is one step, with
+// collapsed state, layers lying on each other (simulated once per case, untimed), each of 10 iterations is one step
+// (steps 31 to 40: the same states in every run; wall time, and CPU time of the whole process, both threads), with
 // self-contact on (/1) against off (/0, the same cloth from its own warm-up, layers passing through each other); the
 // last argument 0 turns the broad phase's culls off (sim/collision/body_collisions.h), to show what it saves:
 //   BM_Folded/100/x: 100 x 100 cloth, backward Euler at dt 1/60 (the 2x target);
@@ -12,15 +13,25 @@
 // particle spacing: 5.1 mm at 100, 2.0 mm at 256).
 //   BM_StackInSolve/x: jelly_stack's two 5^3 jellies, the upper one resting on the lower, backward Euler at 1/60 with
 //   the contacts in its solve (/1) against the pass after the step alone (/0, as before they went into the solve).
+//   BM_BroadPhase/x: the broad phase of one step of the 100 x 100 cloth at step 31 (its vertices' and triangles',
+//   and its edges' swept boxes from that step's start to its end, padded as body_collisions.cpp pads them): the
+//   spatial hash wobble uses (/0, broad_phase.h) against Embree's rtcCollide (/1: a BVH of user boxes per list, the
+//   float boxes rounded outward, its pairs filtered by the double boxes and sorted as the hash's); both give the
+//   same pairs (checked).
 // Run: taskset -c 0,1 build/body_contact_bench (two cores).
 #include <benchmark/benchmark.h>
+#include <embree3/rtcore.h>
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
+#include <mutex>
 
 #include "sim/bodies/cloth.h"
 #include "sim/bodies/jelly.h"
 #include "sim/colliders/plane.h"
 #include "sim/collision/body_collisions.h"
+#include "sim/collision/broad_phase.h"
 #include "sim/simulation.h"
 #include "tests/sim/folded_cloth.h"
 
@@ -71,6 +82,9 @@ BENCHMARK(BM_Folded)
     ->Args({100, 1, 0})
     ->Args({256, 0, 1})
     ->Args({256, 1, 1})
+    ->Iterations(10)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FoldedRk4)->Args({32, 0, 1})->Args({32, 1, 1})->Unit(benchmark::kMillisecond);
 
@@ -105,6 +119,130 @@ void BM_StackInSolve(benchmark::State& state) {
 }
 
 BENCHMARK(BM_StackInSolve)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// The broad phase's input: boxes of the surface's vertices, triangles and edges over one step, and the pairs that
+// body_collisions.cpp keeps (elements of no common vertex).
+struct BroadPhaseInput {
+  std::vector<collision::Box> vertices, triangles, edges;
+  std::vector<std::array<int, 3>> triangle_vertices;
+  std::vector<std::array<int, 2>> edge_vertices;
+  bool keepVertexTriangle(int v, int t) const {
+    const auto& c = triangle_vertices[t];
+    return v != c[0] && v != c[1] && v != c[2];
+  }
+  bool keepEdgeEdge(int e, int f) const {
+    const auto &a = edge_vertices[e], &b = edge_vertices[f];
+    return a[0] != b[0] && a[0] != b[1] && a[1] != b[0] && a[1] != b[1];
+  }
+};
+
+BroadPhaseInput broadPhaseInput() {
+  auto c = folded(100, true, "backward-euler", 1.0 / 60);
+  const VecX x0 = c->sim->x();
+  c->sim->advanceTo(c->sim->time() + 1.0 / 60);
+  const VecX& x1 = c->sim->x();
+  const BodySlot& cloth = c->system->bodies()[0];
+  const double pad = cloth.body.contact.thickness;  // half the thickness, and the step candidates' margin as much
+  BroadPhaseInput in;
+  const auto box = [&](auto vertices) {
+    collision::Box b{Vec3::Constant(INFINITY), Vec3::Constant(-INFINITY)};
+    for (const int v : vertices)
+      for (const VecX* x : {&x0, &x1}) {
+        const Vec3 p = x->segment<3>(3 * (cloth.first + cloth.body.surface.particle[v]));
+        b.lo = b.lo.cwiseMin(p), b.hi = b.hi.cwiseMax(p);
+      }
+    b.lo.array() -= pad, b.hi.array() += pad;
+    return b;
+  };
+  for (int v = 0; v < int(cloth.body.surface.vertexCount()); ++v) in.vertices.push_back(box(std::array<int, 1>{v}));
+  for (const auto& t : cloth.body.surface.triangles) {
+    in.triangle_vertices.push_back(t);
+    in.triangles.push_back(box(t));
+    for (int k = 0; k < 3; ++k)
+      in.edge_vertices.push_back({std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])});
+  }
+  std::sort(in.edge_vertices.begin(), in.edge_vertices.end());
+  in.edge_vertices.erase(std::unique(in.edge_vertices.begin(), in.edge_vertices.end()), in.edge_vertices.end());
+  for (const auto& e : in.edge_vertices) in.edges.push_back(box(e));
+  return in;
+}
+
+// rtcCollide over two lists of boxes (the same list twice for pairs within one): the pairs whose double boxes overlap
+// and keep accepts, ascending, each unordered pair of one list once as (smaller, larger).
+class EmbreeBroadPhase {
+ public:
+  EmbreeBroadPhase() : device_(rtcNewDevice(nullptr)) {}
+  ~EmbreeBroadPhase() { rtcReleaseDevice(device_); }
+  template <class Keep>
+  void pairs(const std::vector<collision::Box>& a, const std::vector<collision::Box>& b, bool same, Keep&& keep,
+             std::vector<std::pair<int, int>>& out) {
+    RTCScene sa = scene(a), sb = same ? sa : scene(b);
+    found_.clear();
+    rtcCollide(sa, sb, &EmbreeBroadPhase::collect, this);
+    rtcReleaseScene(sa);
+    if (!same) rtcReleaseScene(sb);
+    out.clear();
+    for (auto [i, j] : found_) {
+      if (same && i > j) std::swap(i, j);
+      if ((!same || i != j) && a[i].overlaps(b[j]) && keep(i, j)) out.emplace_back(i, j);
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+  }
+
+ private:
+  static float down(double d) { return float(d) > d ? std::nextafter(float(d), -INFINITY) : float(d); }
+  static float up(double d) { return float(d) < d ? std::nextafter(float(d), INFINITY) : float(d); }
+  static void bounds(const RTCBoundsFunctionArguments* args) {
+    const collision::Box& b = (*static_cast<const std::vector<collision::Box>*>(args->geometryUserPtr))[args->primID];
+    *args->bounds_o =
+        RTCBounds{down(b.lo.x()), down(b.lo.y()), down(b.lo.z()), 0, up(b.hi.x()), up(b.hi.y()), up(b.hi.z()), 0};
+  }
+  static void collect(void* self, RTCCollision* found, unsigned count) {
+    auto& me = *static_cast<EmbreeBroadPhase*>(self);
+    const std::lock_guard<std::mutex> lock(me.mutex_);  // called from Embree's threads
+    for (unsigned k = 0; k < count; ++k) me.found_.emplace_back(int(found[k].primID0), int(found[k].primID1));
+  }
+  RTCScene scene(const std::vector<collision::Box>& boxes) {
+    RTCScene s = rtcNewScene(device_);
+    rtcSetSceneBuildQuality(s, RTC_BUILD_QUALITY_LOW);
+    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(g, unsigned(boxes.size()));
+    rtcSetGeometryUserData(g, const_cast<std::vector<collision::Box>*>(&boxes));
+    rtcSetGeometryBoundsFunction(g, &EmbreeBroadPhase::bounds, nullptr);
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(s, g);
+    rtcReleaseGeometry(g);
+    rtcCommitScene(s);
+    return s;
+  }
+  RTCDevice device_;
+  std::mutex mutex_;
+  std::vector<std::pair<int, int>> found_;
+};
+
+void BM_BroadPhase(benchmark::State& state) {
+  const BroadPhaseInput in = broadPhaseInput();
+  const auto vf = [&](int v, int t) { return in.keepVertexTriangle(v, t); };
+  const auto ee = [&](int e, int f) { return in.keepEdgeEdge(e, f); };
+  std::vector<std::pair<int, int>> hash_vf, hash_ee, vf_pairs, ee_pairs;
+  collision::overlappingPairs(in.vertices, in.triangles, false, true, vf, hash_vf);
+  collision::overlappingPairs(in.edges, in.edges, true, true, ee, hash_ee);
+  EmbreeBroadPhase embree;
+  for (auto _ : state) {
+    if (state.range(0) == 0) {
+      collision::overlappingPairs(in.vertices, in.triangles, false, true, vf, vf_pairs);
+      collision::overlappingPairs(in.edges, in.edges, true, true, ee, ee_pairs);
+    } else {
+      embree.pairs(in.vertices, in.triangles, false, vf, vf_pairs);
+      embree.pairs(in.edges, in.edges, true, ee, ee_pairs);
+    }
+  }
+  if (vf_pairs != hash_vf || ee_pairs != hash_ee) state.SkipWithError("the two broad phases disagree");
+  state.counters["pairs"] = double(hash_vf.size() + hash_ee.size());
+}
+
+BENCHMARK(BM_BroadPhase)->Arg(0)->Arg(1)->MeasureProcessCPUTime()->UseRealTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace wobble
