@@ -49,18 +49,19 @@ class HashGrid {
     }
   }
 
-  // Appends the targets in the buckets of the box's cells (duplicates and false overlaps included).
-  void candidates(const Box& box, std::vector<int>& out) const {
-    out.insert(out.end(), oversized_.begin(), oversized_.end());
+  // fn(t) for every target in the buckets of the box's cells (duplicates and false overlaps included).
+  template <class Fn>
+  void forCandidates(const Box& box, Fn&& fn) const {
+    for (const int t : oversized_) fn(t);
     Eigen::Array3i a, b;
+    const auto bucket = [&](std::uint64_t k) {
+      for (int e = start_[k]; e < start_[k + 1]; ++e) fn(entries_[e]);
+    };
     if (!cellRange(box, a, b)) {  // a huge query: every target
-      for (int k = 0; k + 1 < int(start_.size()); ++k)
-        out.insert(out.end(), entries_.begin() + start_[k], entries_.begin() + start_[k + 1]);
+      for (std::uint64_t k = 0; k + 1 < start_.size(); ++k) bucket(k);
       return;
     }
-    forCells(a, b, [&](std::uint64_t k) {
-      out.insert(out.end(), entries_.begin() + start_[k], entries_.begin() + start_[k + 1]);
-    });
+    forCells(a, b, bucket);
   }
 
  private:
@@ -103,22 +104,20 @@ void lookUp(const HashGrid& grid, const std::vector<Box>& queries, const std::ve
   forEachChunk(n, parallel, [&](int begin, int end) {
     // A target met again within one query (it spans several of the query's cells) is skipped by its stamp: the
     // call's number and the query's index, unique over the process.
-    thread_local std::vector<int> found;
     thread_local std::vector<std::uint64_t> stamp;
     if (stamp.size() < targets.size()) stamp.resize(targets.size(), 0);
     auto& part = parts[begin / chunk];
     for (int q = begin; q < end; ++q) {
       if (!wanted(q)) continue;
       const std::size_t first = part.size();
-      found.clear();
-      grid.candidates(queries[q], found);
       const std::uint64_t mark = (call << 32) | std::uint64_t(q);
-      for (int t : found) {
+      const Box& box = queries[q];
+      grid.forCandidates(box, [&](int t) {
         if (!target_index.empty()) t = target_index[t];
-        if (stamp[t] == mark) continue;
+        if (stamp[t] == mark) return;
         stamp[t] = mark;
-        if (queries[q].overlaps(targets[t]) && accepted(q, t)) part.emplace_back(q, t);
-      }
+        if (box.overlaps(targets[t]) && accepted(q, t)) part.emplace_back(q, t);
+      });
       std::sort(part.begin() + first, part.end());  // ascending t: the order of the grid's buckets is not
     }
   });
