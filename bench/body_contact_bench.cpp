@@ -5,12 +5,13 @@
 // self-contact on (/1) against off (/0, the same cloth from its own warm-up, layers passing through each other); the
 // last argument 0 turns the broad phase's culls off (sim/collision/body_collisions.h), to show what it saves:
 //   BM_Folded/100/x: 100 x 100 cloth, backward Euler at dt 1/60 (the 2x target);
-//   BM_Folded/256/x: 256 x 256 cloth, backward Euler at 1/60 (target: 50 ms a step on 2 threads);
+//   (256 x 256, the other target, is not registered: its folds spring open so violently on release that the
+//   warm-up does not finish; docs/body-contact.md, Cost.)
 //   BM_FoldedRk4/32/x: 32 x 32 cloth, RK4 at 2.5e-4 s, below its stable step (theory: 3.0e-4 s; at 100 x 100 it is
 //   2.8e-6 s), detection once a step, not a stage.
 // Counters per step: contacts (pairs within the thickness), CCD hits, impact-zone activations; min_dist is the
 // smallest distance between non-adjacent elements seen in the timed steps (m; the thickness is a quarter of the
-// particle spacing: 5.1 mm at 100, 2.0 mm at 256).
+// particle spacing: 5.1 mm at 100).
 //   BM_StackInSolve/x: jelly_stack's two 5^3 jellies, the upper one resting on the lower, backward Euler at 1/60 with
 //   the contacts in its solve (/1) against the pass after the step alone (/0, as before they went into the solve).
 //   BM_BroadPhase/x: the broad phase of one step of the 100 x 100 cloth at step 31 (its vertices' and triangles',
@@ -80,8 +81,6 @@ BENCHMARK(BM_Folded)
     ->Args({100, 0, 1})
     ->Args({100, 1, 1})
     ->Args({100, 1, 0})
-    ->Args({256, 0, 1})
-    ->Args({256, 1, 1})
     ->Iterations(10)
     ->MeasureProcessCPUTime()
     ->UseRealTime()
