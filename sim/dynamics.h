@@ -49,10 +49,15 @@ struct ContactPair {
   std::array<int, 4> element;  // the pair's surface vertices in the pass that found it: its identity there
   WeightedStencil stencil;
   Vec3 normal;
-  double thickness;                                              // m
-  double friction;                                               // Coulomb coefficient
+  double thickness;  // m
+  double friction;   // Coulomb coefficient
+  // An embedded point against a collider (ForceJacobian::colliderPairs): the surface's offset along the normal (its
+  // tangent plane at the step's end: the gap is the point's height above it), and the least rise of the gap over the
+  // step that the point's restitution asks (h times the normal velocity it leaves with); both 0 between bodies.
+  bool collider = false;
+  double surface = 0, rise = 0;
   Vec3 relative(const VecX& y) const { return stencil.sum(y); }  // sum w_i y_i
-  double gap(const VecX& x) const { return normal.dot(relative(x)) - thickness; }
+  double gap(const VecX& x) const { return normal.dot(relative(x)) - surface - thickness; }
 };
 
 // Optional capability of a Dynamics, for implicit integrators: the lumped (diagonal) mass and the smooth forces with
@@ -99,6 +104,14 @@ class ForceJacobian {
   // the same pair). Returns whether out grew; the solver then solves again with the pairs' penalty (the default: none).
   virtual bool bodyContacts(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out) const {
     (void)x0, (void)x1, (void)out;
+    return false;
+  }
+  // Contact of embedded points (weighted_points.h) with colliders for a candidate step from x0 at t to x1 at t + h:
+  // appends to out, as pairs for the same penalty, every point not yet in it that x1 ends below a surface. Returns
+  // whether out grew (the default: none).
+  virtual bool colliderPairs(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
+                             std::vector<ContactPair>& out) const {
+    (void)t, (void)h, (void)x0, (void)v0, (void)x1, (void)out;
     return false;
   }
 

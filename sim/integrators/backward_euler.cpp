@@ -138,7 +138,8 @@ class BackwardEuler final : public Integrator {
     forEachChunk(n_, parallel_, [&](int begin, int end) {
       for (int p = begin; p < end; ++p) particle(end_x_, p) = particle(x, p) + h * (particle(v, p) + particle(dv_, p));
     });
-    if (options_.body_contact_in_solve && jacobian->bodyContacts(x, end_x_, pairs_) &&
+    const bool body_pairs = options_.body_contact_in_solve && jacobian->bodyContacts(x, end_x_, pairs_);
+    if ((jacobian->colliderPairs(t, h, x, v, end_x_, pairs_) || body_pairs) &&
         updatePairs(*jacobian, h, x, end_x_, true))
       applyPairs(h, x, v);
     solve(rhs_, dv_, absolute);
@@ -187,9 +188,10 @@ class BackwardEuler final : public Integrator {
         }
       });
       const bool impacts = jacobian.impactConstraints(t, h, x, v, end_x_, end_v_, contacts_);
-      const bool pairs = options_.body_contact_in_solve &&
-                         (jacobian.bodyContacts(x, end_x_, pairs_) || !pairs_.empty()) &&
-                         updatePairs(jacobian, h, x, end_x_, false);
+      const bool found = jacobian.colliderPairs(t, h, x, v, end_x_, pairs_);
+      const bool pairs =
+          ((options_.body_contact_in_solve && jacobian.bodyContacts(x, end_x_, pairs_)) || found || !pairs_.empty()) &&
+          updatePairs(jacobian, h, x, end_x_, false);
       if (!impacts && !pairs) return;
       history_ = 0;  // this step's dv carries impulses: not the smooth error's measure
       if (impacts) {
@@ -230,6 +232,7 @@ class BackwardEuler final : public Integrator {
       const double weight = c.stencil.inverseMass(inverse_mass);
       const double stiffness = weight > 0 ? kPenalty / (weight * h * h) : 0;
       PairTerm term{stiffness, 0, std::min(0.0, c.gap(x0)) * (1 - kRecovery), false};
+      if (c.collider) term.rest = std::max(term.rest, c.gap(x0) + c.rise);
       if (first) {  // the last step's active set, and its friction, start this step's
         const auto it = std::lower_bound(carried_.begin(), carried_.end(), CarriedPair{c.element, 0});
         if (it != carried_.end() && it->element == c.element && stiffness > 0) {
@@ -296,7 +299,7 @@ class BackwardEuler final : public Integrator {
           v1 += s.w[i] * vi;
           x1 += s.w[i] * (particle(x, s.particle[i]) + h * vi);
         }
-        const double pressed = term.stiffness * std::max(0.0, term.rest + c.thickness - c.normal.dot(x1));
+        const double pressed = term.stiffness * std::max(0.0, term.rest + c.surface + c.thickness - c.normal.dot(x1));
         const double slide = (v1 - c.normal.dot(v1) * c.normal).norm();
         damping = c.friction * pressed / std::max(slide, kStickSpeed);
       }
