@@ -30,7 +30,10 @@
 // does: Li et al. 2020, "Incremental Potential Contact"). The penalty is convex, and backward Euler is the minimizer of
 // the incremental potential (Gast et al. 2015, "Optimization integrator for large time steps"), so an exact step never
 // gains energy through it; the pass after the step keeps only its collision impulses and impact zones (Bridson et al.
-// 2002), the guarantee that nothing passes through. Options:
+// 2002), the guarantee that nothing passes through. An embedded surface's points (a mesh jelly's, weighted_points.h)
+// meet colliders through the same penalty (ForceJacobian::colliderPairs: each point the step would end below a
+// surface, against its tangent plane, its restitution's bounce a raised rest gap), their explicit supports taken out
+// of F0 (ReleasedSupport): held from the step's start they made a resting mesh jelly hop. Options:
 // cg_tolerance (relative residual |S (b - A dv)| / |S (b - A z)|, default in integrator.h), cg_error_fraction (below),
 // cg_preconditioner (integrator.h) and cg_max_iterations of each linear solve (a solve that hits the limit is used as
 // it stands, as Blender's cloth solver does; the achieved residual is in the stats); newton: after that first step,
