@@ -109,7 +109,8 @@ class ForceJacobian {
     return false;
   }
   // Contact of embedded points (weighted_points.h) with colliders for a candidate step from x0 at t to x1 at t + h:
-  // appends to out, as pairs for the same penalty, every point not yet in it that x1 ends below a surface (element
+  // appends to out, as pairs for the same penalty, every point not yet in it that x1 ends within a surface's contact
+  // band (epsilon) or below it (element
   // {-1 - collider, point, 0, 0}, apart from the pairs between bodies), with its restitution's rise from its approach
   // speed at (x0, v0). Returns whether out grew (the default: none). Their explicit supports are released
   // (contactConstraints).

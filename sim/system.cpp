@@ -128,14 +128,17 @@ bool MassSpringSystem::colliderPairs(double t, double h, const VecX& x0, const V
   const std::size_t before = out.size();
   for (std::size_t k = 0; k < colliders_.size(); ++k) {
     const Collider& collider = *colliders_[k];
+    // Within the band, as the particles' resting constraints: a pair not pressed stays out of the solve, and a
+    // resting point whose pair the last step left active is found again even when the step's first guess lifts it.
+    const double band = collider.contact().epsilon;
     cells.clear();
-    nearPoints(collider, t + h, points_, x1, cells, 0, near, at);
+    nearPoints(collider, t + h, points_, x1, cells, band, near, at);
     for (std::size_t j = 0; j < near.size(); ++j) {
       const int p = near[j];
       if (points_[p].inverse_mass == 0) continue;
       const Vec3 end = particle(at, Eigen::Index(j));
       const auto s = collider.query(t + h, end);
-      if (!s || !(s->distance < 0)) continue;
+      if (!s || !(s->distance < band)) continue;
       // Negative first entry: apart from the pairs between bodies, whose elements are surface vertices.
       const std::array<int, 4> element{-1 - int(k), p, 0, 0};
       if (std::binary_search(known.begin(), known.end(), element)) continue;

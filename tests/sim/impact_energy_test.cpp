@@ -153,9 +153,9 @@ TEST(ImpactEnergy, MeshJellysSurfaceRestsOnTheFloorUnderEveryIntegrator) {
 // penalty inside the solve (ForceJacobian::colliderPairs), not a support held from the step's start. With that support
 // the sphere below hopped in and out of the band and never came to rest: over its fifth second it moved 69 mm frame to
 // frame and its energy rose 68 J above the fourth second's end (bench/mesh_jelly_bench.cpp, BM_Tremor, the same
-// scene); now 0.9 mm and 0.4 J (the step end lifting the points the penalty lets sag by a fraction of a millimetre).
-// Oracle: a body at rest does not move, and resting gains no energy. Bounds: 2 mm, about twice the tremor measured
-// and a thirtieth of the old; 1 J, the 613 kg body's weight over a sixth of a millimetre.
+// scene); now 0.03 mm, and the energy stays below the fourth second's end. Oracle: a body at rest does not move, and
+// resting gains no energy. Bounds: 0.5 mm, some twenty times the tremor measured and a hundred-and-fortieth of the
+// old; 0.1 J, the 613 kg body's weight over 0.017 mm.
 TEST(ImpactEnergy, MeshJellyRestingUnderBackwardEulerAtALargeStepStaysStill) {
   MeshJellyParams p{.cells = 8, .ks = 1400, .kd = 50};
   p.placement.center = Vec3(0, 0.55, 0);
@@ -177,8 +177,8 @@ TEST(ImpactEnergy, MeshJellyRestingUnderBackwardEulerAtALargeStepStaysStill) {
     last = std::move(now);
     highest = std::max(highest, system.energy(sim.x(), sim.v()));
   }
-  EXPECT_LT(most, 0.002) << "the resting surface moved " << most << " m in a frame";
-  EXPECT_LT(highest - rested, 1.0) << "resting, the energy rose from " << rested << " J to " << highest << " J";
+  EXPECT_LT(most, 0.0005) << "the resting surface moved " << most << " m in a frame";
+  EXPECT_LT(highest - rested, 0.1) << "resting, the energy rose from " << rested << " J to " << highest << " J";
 }
 
 TEST(ImpactEnergy, StiffJellyAtALargeBackwardEulerStepBouncesBelowItsDrop) {
