@@ -133,7 +133,7 @@ void nearPoints(const Collider& collider, double t, const WeightedPoints& points
 }
 
 void addContactForces(Colliders colliders, const WeightedPoints& points, double t, const VecX& x, const VecX& v,
-                      const VecX& inv_mass, double stick_time, VecX& f) {
+                      const VecX& inv_mass, double stick_time, VecX& f, std::vector<ReleasedSupport>* added) {
   if (points.empty() || colliders.empty()) return;
   thread_local VecX at;  // the near points' positions
   thread_local CellBoxes cells;
@@ -149,7 +149,10 @@ void addContactForces(Colliders colliders, const WeightedPoints& points, double 
       const Vec3 fp = m * points.acceleration(f, inv_mass, p);
       const auto s = activeSupport(*collider, t, particle(at, Eigen::Index(j)), fp, m);
       if (!s) continue;
-      points.spread(p, supportForce(*s, collider->contact(), fp, points.blend(v, p), m, stick_time), f);
+      const Vec3 g = supportForce(*s, collider->contact(), fp, points.blend(v, p), m, stick_time);
+      points.spread(p, g, f);
+      if (added)
+        for (int k = 0; k < 8; ++k) added->push_back({points[p].particle[k], points[p].weight[k] * g});
     }
   }
 }

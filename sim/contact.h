@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "sim/colliders/collider.h"
+#include "sim/dynamics.h"
 #include "sim/weighted_points.h"
 
 namespace wobble {
@@ -39,8 +40,10 @@ void resolveCollisions(Colliders colliders, double t, VecX& x, VecX& v, const Ve
 // The same for points riding on particles (weighted_points.h: a mesh jelly's surface): each point meets the colliders
 // as a particle of the point's mass would, at its own position and velocity, and the force, impulse or move is handed
 // to its particles by its weights. Points in order, each seeing what the earlier ones did to their shared particles.
+// added (when given): appended with each force handed to a particle (an implicit step takes them out again and holds
+// the points by its own penalty: ForceJacobian::colliderPairs).
 void addContactForces(Colliders colliders, const WeightedPoints& points, double t, const VecX& x, const VecX& v,
-                      const VecX& inv_mass, double stick_time, VecX& f);
+                      const VecX& inv_mass, double stick_time, VecX& f, std::vector<ReleasedSupport>* added = nullptr);
 void resolveCollisions(Colliders colliders, const WeightedPoints& points, double t, VecX& x, VecX& v,
                        const VecX& inv_mass);
 

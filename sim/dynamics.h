@@ -44,15 +44,21 @@ struct ReleasedSupport {
 // the elements' vertices are blends of particles (a mesh jelly's embedded surface, sim/solver/stencil.h). At the
 // step's start their nearest points are along the unit normal n (from the second element to the first); the pair's
 // gap g(x) = n . sum w_i x_i - thickness, linear in x over the step, is kept >= 0 by a stiff penalty inside backward
-// Euler's solve (backward_euler.cpp).
+// Euler's solve (backward_euler.cpp). The same serves an embedded point against a collider (colliderPairs, below):
+// the stencil is the point's 8 particles, and the surface's offset comes off the gap.
 struct ContactPair {
   std::array<int, 4> element;  // the pair's surface vertices in the pass that found it: its identity there
   WeightedStencil stencil;
   Vec3 normal;
-  double thickness;                                              // m
-  double friction;                                               // Coulomb coefficient
+  double thickness;  // m
+  double friction;   // Coulomb coefficient
+  // An embedded point against a collider (ForceJacobian::colliderPairs): the surface's offset along the normal (its
+  // tangent plane at the step's end: the gap is the point's height above it), and the least rise of the gap over the
+  // step that the point's restitution asks (h times the normal velocity it leaves with); both 0 between bodies.
+  bool collider = false;
+  double surface = 0, rise = 0;
   Vec3 relative(const VecX& y) const { return stencil.sum(y); }  // sum w_i y_i
-  double gap(const VecX& x) const { return normal.dot(relative(x)) - thickness; }
+  double gap(const VecX& x) const { return normal.dot(relative(x)) - surface - thickness; }
 };
 
 // Optional capability of a Dynamics, for implicit integrators: the lumped (diagonal) mass and the smooth forces with
@@ -77,8 +83,9 @@ class ForceJacobian {
   // Whether solvers should run their loops on threads for this system (parallel.h); the result is the same bytes.
   virtual bool parallel() const { return false; }
   // Replaces out by the particles whose contact support is active at (t, x, v), one per particle and surface; and
-  // released (when given) by the supports the accelerations apply to particles leaving their surface. The default
-  // is none: contact, if any, then stays an explicit force in the accelerations.
+  // released (when given) by the supports the accelerations apply to particles leaving their surface, and those of
+  // embedded points, which colliderPairs holds instead (each handed to its particles by the point's weights). The
+  // default is none: contact, if any, then stays an explicit force in the accelerations.
   virtual void contactConstraints(double t, const VecX& x, const VecX& v, std::vector<ContactConstraint>& out,
                                   std::vector<ReleasedSupport>* released = nullptr) const {
     (void)t, (void)x, (void)v;
@@ -99,6 +106,17 @@ class ForceJacobian {
   // the same pair). Returns whether out grew; the solver then solves again with the pairs' penalty (the default: none).
   virtual bool bodyContacts(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out) const {
     (void)x0, (void)x1, (void)out;
+    return false;
+  }
+  // Contact of embedded points (weighted_points.h) with colliders for a candidate step from x0 at t to x1 at t + h:
+  // appends to out, as pairs for the same penalty, every point not yet in it that x1 ends within a surface's contact
+  // band (epsilon) or below it (element
+  // {-1 - collider, point, 0, 0}, apart from the pairs between bodies), with its restitution's rise from its approach
+  // speed at (x0, v0). Returns whether out grew (the default: none). Their explicit supports are released
+  // (contactConstraints).
+  virtual bool colliderPairs(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
+                             std::vector<ContactPair>& out) const {
+    (void)t, (void)h, (void)x0, (void)v0, (void)x1, (void)out;
     return false;
   }
 

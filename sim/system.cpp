@@ -98,6 +98,11 @@ void MassSpringSystem::contactConstraints(double t, const VecX& x, const VecX& v
   smoothForce(t, x, v, f);
   findContactConstraints(colliders_, t, stick_time_ / 2, x, v, f, mass_, collider_inv_mass_, out,  // h: setStepSize
                          released);
+  // The embedded points' supports, as the accelerations add them (after the particles'), all released: the implicit
+  // step holds the points by colliderPairs' penalty instead.
+  if (points_.empty() || !released) return;
+  addContactForces(colliders_, t, x, v, mass_, collider_inv_mass_, stick_time_, f);
+  addContactForces(colliders_, points_, t, x, v, inv_mass_, stick_time_, f, released);
 }
 
 bool MassSpringSystem::impactConstraints(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
@@ -107,6 +112,48 @@ bool MassSpringSystem::impactConstraints(double t, double h, const VecX& x0, con
 
 bool MassSpringSystem::bodyContacts(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out) const {
   return body_contact_ && body_contact_->nearPairs(x0, x1, out);
+}
+
+bool MassSpringSystem::colliderPairs(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
+                                     std::vector<ContactPair>& out) const {
+  if (points_.empty()) return false;
+  thread_local std::vector<int> near;  // kept between calls: no allocation per step
+  thread_local VecX at;
+  thread_local CellBoxes cells;
+  thread_local std::vector<std::array<int, 4>> known;  // the points' pairs already in out
+  known.clear();
+  for (const ContactPair& c : out)
+    if (c.element[0] < 0) known.push_back(c.element);
+  std::sort(known.begin(), known.end());
+  const std::size_t before = out.size();
+  for (std::size_t k = 0; k < colliders_.size(); ++k) {
+    const Collider& collider = *colliders_[k];
+    // Within the band, as the particles' resting constraints: a pair not pressed stays out of the solve, and a
+    // resting point whose pair the last step left active is found again even when the step's first guess lifts it.
+    const double band = collider.contact().epsilon;
+    cells.clear();
+    nearPoints(collider, t + h, points_, x1, cells, band, near, at);
+    for (std::size_t j = 0; j < near.size(); ++j) {
+      const int p = near[j];
+      if (points_[p].inverse_mass == 0) continue;
+      const Vec3 end = particle(at, Eigen::Index(j));
+      const auto s = collider.query(t + h, end);
+      if (!s || !(s->distance < band)) continue;
+      // Negative first entry: apart from the pairs between bodies, whose elements are surface vertices.
+      const std::array<int, 4> element{-1 - int(k), p, 0, 0};
+      if (std::binary_search(known.begin(), known.end(), element)) continue;
+      ContactPair pair{element, {}, s->normal, 0, collider.contact().friction};
+      for (int i = 0; i < 8; ++i) pair.stencil.add(points_[p].particle[i], points_[p].weight[i]);
+      pair.collider = true;
+      pair.surface = s->normal.dot(end) - s->distance;  // the tangent plane at the nearest surface point at t + h
+      // Restitution's bounce on the approach at the step's start, as addImpactConstraints gives a particle.
+      const auto start = collider.query(t, points_.blend(x0, p));
+      const double approach = s->normal.dot(points_.blend(v0, p) - (start ? start->velocity : s->velocity));
+      pair.rise = h * (s->normal.dot(s->velocity) + collider.contact().restitution * std::max(0.0, -approach));
+      out.push_back(pair);
+    }
+  }
+  return out.size() > before;
 }
 
 void MassSpringSystem::acceleration(double t, const VecX& x, const VecX& v, VecX& a) const {

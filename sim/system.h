@@ -56,6 +56,9 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
                          std::vector<ContactConstraint>& out) const override;
   // Contact between bodies for an implicit step (BodyCollisions::nearPairs of the pass set below; none without one).
   bool bodyContacts(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out) const override;
+  // The embedded points a candidate implicit step ends within a collider's band, as penalty pairs (ForceJacobian).
+  bool colliderPairs(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
+                     std::vector<ContactPair>& out) const override;
   // The body-contact pass whose pairs bodyContacts reports (Simulation sets it; nullptr: none).
   void setBodyContact(collision::BodyCollisions* pass) { body_contact_ = pass; }
   const collision::BodyCollisions* bodyContact() const { return body_contact_; }

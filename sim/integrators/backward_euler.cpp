@@ -30,7 +30,10 @@
 // does: Li et al. 2020, "Incremental Potential Contact"). The penalty is convex, and backward Euler is the minimizer of
 // the incremental potential (Gast et al. 2015, "Optimization integrator for large time steps"), so an exact step never
 // gains energy through it; the pass after the step keeps only its collision impulses and impact zones (Bridson et al.
-// 2002), the guarantee that nothing passes through. Options:
+// 2002), the guarantee that nothing passes through. An embedded surface's points (a mesh jelly's, weighted_points.h)
+// meet colliders through the same penalty (ForceJacobian::colliderPairs: each point the step would end below a
+// surface, against its tangent plane, its restitution's bounce a raised rest gap), their explicit supports taken out
+// of F0 (ReleasedSupport): held from the step's start they made a resting mesh jelly hop. Options:
 // cg_tolerance (relative residual |S (b - A dv)| / |S (b - A z)|, default in integrator.h), cg_error_fraction (below),
 // cg_preconditioner (integrator.h) and cg_max_iterations of each linear solve (a solve that hits the limit is used as
 // it stands, as Blender's cloth solver does; the achieved residual is in the stats); newton: after that first step,
@@ -138,7 +141,8 @@ class BackwardEuler final : public Integrator {
     forEachChunk(n_, parallel_, [&](int begin, int end) {
       for (int p = begin; p < end; ++p) particle(end_x_, p) = particle(x, p) + h * (particle(v, p) + particle(dv_, p));
     });
-    if (options_.body_contact_in_solve && jacobian->bodyContacts(x, end_x_, pairs_) &&
+    const bool body_pairs = options_.body_contact_in_solve && jacobian->bodyContacts(x, end_x_, pairs_);
+    if ((jacobian->colliderPairs(t, h, x, v, end_x_, pairs_) || body_pairs) &&
         updatePairs(*jacobian, h, x, end_x_, true))
       applyPairs(h, x, v);
     solve(rhs_, dv_, absolute);
@@ -187,9 +191,10 @@ class BackwardEuler final : public Integrator {
         }
       });
       const bool impacts = jacobian.impactConstraints(t, h, x, v, end_x_, end_v_, contacts_);
-      const bool pairs = options_.body_contact_in_solve &&
-                         (jacobian.bodyContacts(x, end_x_, pairs_) || !pairs_.empty()) &&
-                         updatePairs(jacobian, h, x, end_x_, false);
+      const bool found = jacobian.colliderPairs(t, h, x, v, end_x_, pairs_);
+      const bool pairs =
+          ((options_.body_contact_in_solve && jacobian.bodyContacts(x, end_x_, pairs_)) || found || !pairs_.empty()) &&
+          updatePairs(jacobian, h, x, end_x_, false);
       if (!impacts && !pairs) return;
       history_ = 0;  // this step's dv carries impulses: not the smooth error's measure
       if (impacts) {
@@ -230,6 +235,7 @@ class BackwardEuler final : public Integrator {
       const double weight = c.stencil.inverseMass(inverse_mass);
       const double stiffness = weight > 0 ? kPenalty / (weight * h * h) : 0;
       PairTerm term{stiffness, 0, std::min(0.0, c.gap(x0)) * (1 - kRecovery), false};
+      if (c.collider) term.rest = std::max(term.rest, c.gap(x0) + c.rise);
       if (first) {  // the last step's active set, and its friction, start this step's
         const auto it = std::lower_bound(carried_.begin(), carried_.end(), CarriedPair{c.element, 0});
         if (it != carried_.end() && it->element == c.element && stiffness > 0) {
@@ -296,7 +302,7 @@ class BackwardEuler final : public Integrator {
           v1 += s.w[i] * vi;
           x1 += s.w[i] * (particle(x, s.particle[i]) + h * vi);
         }
-        const double pressed = term.stiffness * std::max(0.0, term.rest + c.thickness - c.normal.dot(x1));
+        const double pressed = term.stiffness * std::max(0.0, term.rest + c.surface + c.thickness - c.normal.dot(x1));
         const double slide = (v1 - c.normal.dot(v1) * c.normal).norm();
         damping = c.friction * pressed / std::max(slide, kStickSpeed);
       }
