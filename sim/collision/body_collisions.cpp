@@ -286,6 +286,26 @@ struct BodyCollisions::Impl {
     return false;
   }
 
+  // Whether the elements (nodes q[0, first) and q[first, 4)) stay further apart than twice eta all through the step
+  // along the direction of their nearest points at the start, c (known: a distance that is not NaN): the fixed axis
+  // of apartAllStep, chosen to separate them most at the start. Spares the continuous test most pairs that move
+  // together (an explicit integrator's small steps).
+  bool apartAlongNearest(const Closest& c, const std::array<int, 4>& q, int first, double thickness) const {
+    if (!(c.distance > 0)) return false;
+    const Vec3 d = c.delta / c.distance;
+    const double eta2 = 2 * kEtaFraction * thickness;
+    for (const VecX* x : {&nxs, &nxe}) {
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (int i = 0; i < 4; ++i) {
+        const double y = d.dot(particle(*x, q[i]));
+        if (i < first) lo = std::min(lo, y);
+        else hi = std::max(hi, y);
+      }
+      if (!(lo - hi > eta2)) return false;
+    }
+    return true;
+  }
+
   // The candidate pairs of the swept boxes (padded by half the largest thickness, so that every pair within the
   // thickness at the start or meeting on the way is found). Directly before a detection (after_impulses: a later
   // round, impulses applied since the last broad phase), less the pairs a fixed axis keeps further apart than the
@@ -296,6 +316,7 @@ struct BodyCollisions::Impl {
   void broadPhase(bool after_impulses = false, double margin = 0) {
     cull = motion_cull;
     from_step = false;
+    round_closest_valid = false;
     const bool moved_only = after_impulses && cull;
     const double pad = 0.5 * max_thickness + margin;
     const auto fill = [&](auto& boxes, const auto& items) {
@@ -382,6 +403,10 @@ struct BodyCollisions::Impl {
     // The smallest start distance over the candidates whose start boxes are within the thickness (repel's statistic).
     double boxed_min = std::numeric_limits<double>::infinity();
   } step;
+  // The round's nearest points at the start, per candidate (a NaN distance: not found), found by repel for the
+  // continuous test that follows it on the same lists (detect): valid until the next broad phase.
+  std::vector<Closest> round_closest;
+  bool round_closest_valid = false;
   bool from_step = false;   // the candidates are step's (vf and ee are not used)
   double drift = 0;         // with from_step: the largest distance of a node's end from step.end
   std::vector<int> subset;  // the candidates a search tests (subsetOf)
@@ -551,12 +576,16 @@ struct BodyCollisions::Impl {
     // With the step's candidates: those within the thickness at the start, the smallest distance of the others known.
     const auto* only = from_step ? &step.near : nullptr;
     if (only) stats.min_distance = std::min(stats.min_distance, step.boxed_min);
+    round_closest_valid = !from_step;
+    if (round_closest_valid)
+      round_closest.assign(pairCount(), Closest{std::numeric_limits<double>::quiet_NaN(), {}, Vec3::Zero()});
     const std::vector<Contact> near = gather(
         [&](int k, const PairInfo& p) -> std::optional<Contact> {
           const auto x = points(nxs, p.stencil);
           // The start's boxes (the swept ones found the pair) further apart than the thickness: not near.
           if (!startBoxesNear(p, x)) return std::nullopt;
           const Closest c = startClosest(k, p.kind, x);
+          if (round_closest_valid) round_closest[k] = c;                          // each k on one thread
           if (c.distance >= p.thickness) return Contact{k, c, Vec3::Zero(), -1};  // only its distance counts
           Vec3 normal;
           if (c.distance > 0) {
@@ -621,6 +650,8 @@ struct BodyCollisions::Impl {
           const auto& q = p.stencil.vertex;
           const int first = p.kind == Primitive::PointTriangle ? 1 : 2;
           if (apartAllStep(q.data(), first, q.data() + first, 4 - first, p.thickness)) return std::nullopt;
+          if (all && cull && round_closest_valid && apartAlongNearest(round_closest[k], q, first, p.thickness))
+            return std::nullopt;
           const auto hit = firstHit(p.kind, points(nxs, p.stencil), points(nxe, p.stencil), kEtaFraction * p.thickness);
           if (!hit) return std::nullopt;
           return Contact{k, hit->at, hit->normal, hit->t};

@@ -6,6 +6,8 @@
 
 #include <cstring>
 #include <random>
+#include <string>
+#include <tuple>
 
 #include "sim/bodies/cloth.h"
 #include "sim/bodies/jelly.h"
@@ -244,33 +246,42 @@ TEST(BodyContact, ContactFreeStepsAreTheSameBytes) {
 
 // The broad phase's culls (body_collisions.h, setBroadPhaseCulls) drop only pairs that cannot be near or collide:
 // the folded cloth of bench/body_contact_bench.cpp (folded_cloth.h), 20 x 20, landing on the floor and collapsing
-// onto itself under backward Euler at 1/60 s, gives the same bytes and the same counts with the culls as without,
-// with contacts and collisions found on the way and no triangle pair intersecting at the end (the independent test).
+// onto itself under backward Euler at 1/60 s (its solves' searches and the pass after the step; and the pass alone,
+// `in_solve` off) and under RK4 at 5e-4 s (the pass, every step), gives the same bytes and the same counts with the
+// culls as without, with contacts (and under backward Euler collisions) found on the way and no triangle pair
+// intersecting at the end (the independent test).
 TEST(BodyContact, BroadPhaseCullsFindTheSameContacts) {
   struct Result {
     VecX x, v;
     collision::Stats stats;
     testing::ParticleTriangles tris;
   };
-  const auto run = [](bool cull) {
-    collision::setBroadPhaseCulls(cull);
-    const auto system = testing::foldedCloth(20, true);
-    Simulation sim(*system, makeIntegrator("backward-euler"), 1.0 / 60);
-    EXPECT_FALSE(sim.advanceTo(0.6));
-    collision::setBroadPhaseCulls(true);
-    return Result{sim.x(), sim.v(), *sim.bodyContact(), surfaces(*system)};
-  };
-  const Result cull = run(true), all = run(false);
-  EXPECT_GT(cull.stats.contacts, 0);
-  EXPECT_GT(cull.stats.ccd_hits, 0);
-  EXPECT_EQ(testing::intersectingPairs(cull.tris, cull.x), 0);
-  EXPECT_EQ(cull.stats.contacts, all.stats.contacts);
-  EXPECT_EQ(cull.stats.ccd_hits, all.stats.ccd_hits);
-  EXPECT_EQ(cull.stats.zone_activations, all.stats.zone_activations);
-  EXPECT_EQ(cull.stats.min_distance, all.stats.min_distance);
-  ASSERT_EQ(cull.x.size(), all.x.size());
-  EXPECT_EQ(std::memcmp(cull.x.data(), all.x.data(), sizeof(double) * cull.x.size()), 0);
-  EXPECT_EQ(std::memcmp(cull.v.data(), all.v.data(), sizeof(double) * cull.v.size()), 0);
+  for (const auto& [integrator, in_solve, dt, end] :
+       {std::tuple{"backward-euler", true, 1.0 / 60, 0.6}, std::tuple{"backward-euler", false, 1.0 / 60, 0.6},
+        std::tuple{"rk4", true, 5e-4, 0.4}}) {
+    SCOPED_TRACE(std::string(integrator) + (in_solve ? "" : ", in_solve off"));
+    const auto run = [&](bool cull) {
+      collision::setBroadPhaseCulls(cull);
+      const auto system = testing::foldedCloth(20, true);
+      IntegratorOptions options;
+      options.body_contact_in_solve = in_solve;
+      Simulation sim(*system, makeIntegrator(integrator, options), dt);
+      EXPECT_FALSE(sim.advanceTo(end));
+      collision::setBroadPhaseCulls(true);
+      return Result{sim.x(), sim.v(), *sim.bodyContact(), surfaces(*system)};
+    };
+    const Result cull = run(true), all = run(false);
+    EXPECT_GT(cull.stats.contacts, 0);
+    if (std::string(integrator) == "backward-euler") EXPECT_GT(cull.stats.ccd_hits, 0);
+    EXPECT_EQ(testing::intersectingPairs(cull.tris, cull.x), 0);
+    EXPECT_EQ(cull.stats.contacts, all.stats.contacts);
+    EXPECT_EQ(cull.stats.ccd_hits, all.stats.ccd_hits);
+    EXPECT_EQ(cull.stats.zone_activations, all.stats.zone_activations);
+    EXPECT_EQ(cull.stats.min_distance, all.stats.min_distance);
+    ASSERT_EQ(cull.x.size(), all.x.size());
+    EXPECT_EQ(std::memcmp(cull.x.data(), all.x.data(), sizeof(double) * cull.x.size()), 0);
+    EXPECT_EQ(std::memcmp(cull.v.data(), all.v.data(), sizeof(double) * cull.v.size()), 0);
+  }
 }
 
 }  // namespace
