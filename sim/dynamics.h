@@ -110,10 +110,9 @@ class ForceJacobian {
   }
   // Contact of embedded points (weighted_points.h) with colliders for a candidate step from x0 at t to x1 at t + h:
   // appends to out, as pairs for the same penalty, every point not yet in it that x1 ends within a surface's contact
-  // band (epsilon) or below it (element
-  // {-1 - collider, point, 0, 0}, apart from the pairs between bodies), with its restitution's rise from its approach
-  // speed at (x0, v0). Returns whether out grew (the default: none). Their explicit supports are released
-  // (contactConstraints).
+  // band (epsilon) or below it (element {-1 - collider, point, 0, 0}, apart from the pairs between bodies), with its
+  // restitution's rise from its approach speed at (x0, v0). Returns whether out grew (the default: none). Their
+  // explicit supports are released (contactConstraints).
   virtual bool colliderPairs(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
                              std::vector<ContactPair>& out) const {
     (void)t, (void)h, (void)x0, (void)v0, (void)x1, (void)out;
