@@ -50,8 +50,13 @@ std::optional<BlowUp> Simulation::advanceTo(double t_end) {
     system_.resolveCollisions(t_, x_, v_);
     if (collisions_)
       if (auto failure = collisions_->resolve(x_before_, x_, v_, h, !integrator_->solvesBodyContact()))
-        return BlowUp{
-            std::string(integrator_->name()), steps_, t_, failure->particle, 0, failure->reason, contactFix()};
+        return BlowUp{std::string(integrator_->name()),
+                      steps_,
+                      t_,
+                      failure->particle,
+                      0,
+                      failure->reason,
+                      failure->fix.empty() ? contactFix() : failure->fix};
     if (auto blow_up = check()) return blow_up;
     if (colliders) {
       const double work = system_.colliderWork(t0, h, x_before_, v_before_, x_, v_);

@@ -313,7 +313,9 @@ struct BodyCollisions::Impl {
   // thousandth of it), and only the pairs with a particle moved since the last detection (dirty), the only ones it
   // tests then: the same pairs that detection finds, in the same order. The step's first broad phase keeps them all:
   // repulsion changes the trajectories before that round's detection, which tests apartAllStep per pair.
-  void broadPhase(bool after_impulses = false, double margin = 0) {
+  // Returns false when the lists would exceed the candidate budget (Settings::candidates_per_vertex): vf and ee are
+  // then incomplete, and overwhelmed says so.
+  bool broadPhase(bool after_impulses = false, double margin = 0) {
     cull = motion_cull;
     from_step = false;
     round_closest_valid = false;
@@ -331,11 +333,14 @@ struct BodyCollisions::Impl {
     fill(vertex_boxes, single);
     fill(edge_boxes, edges);
     fill(triangle_boxes, triangles);
+    const std::size_t budget = std::size_t(std::max(0, settings.candidates_per_vertex)) * std::size_t(nodeCount());
     const auto pairs = [&](const std::vector<Box>& queries, const std::vector<Box>& targets, bool same,
                            const std::vector<char>& query_moved, const std::vector<char>& target_moved,
-                           const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out) {
-      if (moved_only) overlappingMarkedPairs(queries, targets, same, parallel, query_moved, target_moved, keep, out);
-      else overlappingPairs(queries, targets, same, parallel, keep, out);
+                           const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out,
+                           std::size_t limit) {
+      return moved_only
+                 ? overlappingMarkedPairs(queries, targets, same, parallel, query_moved, target_moved, keep, out, limit)
+                 : overlappingPairs(queries, targets, same, parallel, keep, out, limit);
     };
     if (moved_only) {
       const auto mark = [&](const auto& items, std::vector<char>& moved) {
@@ -349,7 +354,7 @@ struct BodyCollisions::Impl {
       mark(edges, edge_moved);
       mark(triangles, triangle_moved);
     }
-    pairs(
+    overwhelmed = !pairs(
         vertex_boxes, triangle_boxes, false, vertex_moved, triangle_moved,
         [&](int v, int t) {
           if (!bodiesMeet(vertex_body[v], triangle_body[t])) return false;
@@ -360,18 +365,39 @@ struct BodyCollisions::Impl {
           if (!(m[p] + m[tri[0]] + m[tri[1]] + m[tri[2]] > 0)) return false;
           return !moved_only || !apartAllStep(&p, 1, tri.data(), 3, pairThickness(vertex_body[v], triangle_body[t]));
         },
-        vf);
-    pairs(
-        edge_boxes, edge_boxes, true, edge_moved, edge_moved,
-        [&](int e, int f) {
-          if (!bodiesMeet(edge_body[e], edge_body[f])) return false;
-          const auto &a = edges[e], &b = edges[f];
-          if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return false;
-          const auto& m = node_inv_mass;
-          if (!(m[a[0]] + m[a[1]] + m[b[0]] + m[b[1]] > 0)) return false;
-          return !moved_only || !apartAllStep(a.data(), 2, b.data(), 2, pairThickness(edge_body[e], edge_body[f]));
-        },
-        ee);
+        vf, budget);
+    overwhelmed = overwhelmed || !pairs(
+                                     edge_boxes, edge_boxes, true, edge_moved, edge_moved,
+                                     [&](int e, int f) {
+                                       if (!bodiesMeet(edge_body[e], edge_body[f])) return false;
+                                       const auto &a = edges[e], &b = edges[f];
+                                       if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return false;
+                                       const auto& m = node_inv_mass;
+                                       if (!(m[a[0]] + m[a[1]] + m[b[0]] + m[b[1]] > 0)) return false;
+                                       return !moved_only || !apartAllStep(a.data(), 2, b.data(), 2,
+                                                                           pairThickness(edge_body[e], edge_body[f]));
+                                     },
+                                     ee, budget - std::min(budget, vf.size()));
+    if (overwhelmed) vf.clear(), ee.clear();
+    return !overwhelmed;
+  }
+  bool overwhelmed = false;  // the last broad phase exceeded the candidate budget
+
+  // Why the pass stops when the broad phase exceeds its budget: the vertex that moved furthest in the step.
+  Failure overwhelmedFailure() const {
+    int furthest = 0;
+    double most = 0;
+    for (int k = 0; k < nodeCount(); ++k) {
+      const double move = (particle(nxe, k) - particle(nxs, k)).norm();
+      if (move > most || !(move == move)) furthest = k, most = move;
+    }
+    std::ostringstream why;
+    why << "the broad phase would list more than " << settings.candidates_per_vertex
+        << " candidate pairs per surface vertex in this step: the surfaces moved too far in it (a vertex by " << most
+        << " m, against a contact thickness of " << max_thickness << " m)";
+    return Failure{mainParticle(furthest), why.str(),
+                   "or bodies that start nearer rest (one released under strain can move many particle spacings in "
+                   "a step)"};
   }
 
   // The step's candidates, kept through backward Euler's solves (nearPairs) and the pass after the step (resolve):
@@ -425,9 +451,11 @@ struct BodyCollisions::Impl {
     return true;
   }
   // The step's candidates for (nxs, nxe), found anew, with their nearest points at the start and gaps at the end.
-  void findStep() {
+  // Returns false (no candidates: the step stays invalid) when the broad phase exceeds its budget.
+  bool findStep() {
     step.margin = kStepMarginFraction * max_thickness;
-    broadPhase(false, step.margin);
+    step.valid = false;
+    if (!broadPhase(false, step.margin)) return false;
     step.start = nxs;
     step.end = nxe;
     step.vf.swap(vf);
@@ -477,6 +505,7 @@ struct BodyCollisions::Impl {
       if (!(hitting[k] > most)) step.hitting.emplace_back(k, hitting[k]);
     }
     step.valid = true;
+    return true;
   }
   // The nearest points at the start of candidate k (whose stencil's start points are x), from the step's when known.
   Closest startClosest(int k, Primitive kind, const std::array<Vec3, 4>& x) const {
@@ -749,8 +778,9 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
   if (!x1.allFinite()) return false;
   s.blendNodes(x0, s.nxs);
   s.blendNodes(x1, s.nxe);
-  if (!motion_cull) s.broadPhase();  // the shortcuts off: the exact broad phase, every time
-  else if (!s.reuseStep()) s.findStep();
+  // The shortcuts off: the exact broad phase, every time. Over the candidate budget: no pairs (the pass after the step
+  // stops the run).
+  if (!motion_cull ? !s.broadPhase() : !s.reuseStep() && !s.findStep()) return false;
   // With the step's candidates: those apart at the start whose gap at x1 may be within the thickness.
   const auto* only = s.subsetOf(s.step.closing);
   const std::size_t before = out.size();
@@ -800,14 +830,14 @@ std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v
   s.changed.assign(n / 3, 0);
   s.dirty.assign(s.nodeCount(), 0);
   s.root.resize(n / 3);
-  if (!s.reuseStep()) s.broadPhase();  // an implicit solve's candidates, or the exact broad phase
+  if (!s.reuseStep() && !s.broadPhase()) return s.overwhelmedFailure();  // an implicit solve's, or the exact
   s.repel(h, stats_, repulsion);
 
   std::optional<Failure> failure;
   bool all = true, clean = false;  // the first detection tests every pair: repulsion moved only some
   std::vector<Contact> hits;
   for (int round = 0; round < s.settings.ccd_iterations; ++round) {
-    if (round > 0) s.broadPhase(true);
+    if (round > 0 && !s.broadPhase(true)) return s.overwhelmedFailure();
     hits = s.detect(all);
     all = false;
     if (hits.empty()) {
@@ -818,7 +848,7 @@ std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v
     s.impulses(hits, h);
   }
   if (!clean) {  // the last round's impulses are not checked yet
-    s.broadPhase(!all);
+    if (!s.broadPhase(!all)) return s.overwhelmedFailure();
     hits = s.detect(all);
   }
   if (!hits.empty()) {
@@ -828,7 +858,7 @@ std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v
     for (; round < s.settings.zone_iterations && !hits.empty(); ++round) {
       stats_.largest_zone = std::max(stats_.largest_zone, s.rigidify(hits, h));
       ++stats_.zone_rounds;
-      s.broadPhase(true);
+      if (!s.broadPhase(true)) return s.overwhelmedFailure();
       hits = s.detect(false, true);
     }
     if (!hits.empty()) {

@@ -56,8 +56,9 @@ struct Stats {
 };
 
 struct Failure {
-  int particle;  // one particle of a collision left
+  int particle;  // one particle of a collision left (or of the vertex that moved furthest)
   std::string reason;
+  std::string fix;  // what to change, when not the contact settings (empty: Simulation suggests those)
 };
 
 struct Surface {

@@ -93,14 +93,16 @@ class HashGrid {
 
 // Every (q, t) with q a query that wanted(q) and t a target of the grid (its index through target_index when that
 // is not empty) whose boxes overlap and accepted(q, t) holds, appended by ascending q, then t.
+// Returns false (out incomplete) once more than limit pairs are found.
 template <class Wanted, class Accepted>
-void lookUp(const HashGrid& grid, const std::vector<Box>& queries, const std::vector<Box>& targets,
+bool lookUp(const HashGrid& grid, const std::vector<Box>& queries, const std::vector<Box>& targets,
             const std::vector<int>& target_index, bool parallel, Wanted&& wanted, Accepted&& accepted,
-            std::vector<std::pair<int, int>>& out) {
+            std::vector<std::pair<int, int>>& out, std::size_t limit) {
   static std::atomic<std::uint64_t> calls{0};
   const std::uint64_t call = ++calls;
   const int n = static_cast<int>(queries.size()), chunk = particleChunk(n), chunks = (n + chunk - 1) / chunk;
   std::vector<std::vector<std::pair<int, int>>> parts(chunks);
+  std::atomic<std::size_t> found{out.size()};
   forEachChunk(n, parallel, [&](int begin, int end) {
     // A target met again within one query (it spans several of the query's cells) is skipped by its stamp: the
     // call's number and the query's index, unique over the process.
@@ -119,32 +121,38 @@ void lookUp(const HashGrid& grid, const std::vector<Box>& queries, const std::ve
         if (box.overlaps(targets[t]) && accepted(q, t)) part.emplace_back(q, t);
       });
       std::sort(part.begin() + first, part.end());  // ascending t: the order of the grid's buckets is not
+      if ((found += part.size() - first) > limit) return;
     }
   });
+  if (found > limit) return false;
   for (const auto& part : parts) out.insert(out.end(), part.begin(), part.end());
+  return true;
 }
 
 }  // namespace
 
-void overlappingPairs(const std::vector<Box>& queries, const std::vector<Box>& targets, bool same, bool parallel,
-                      const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out) {
+bool overlappingPairs(const std::vector<Box>& queries, const std::vector<Box>& targets, bool same, bool parallel,
+                      const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out,
+                      std::size_t limit) {
   out.clear();
-  if (queries.empty() || targets.empty()) return;
-  lookUp(
+  if (queries.empty() || targets.empty()) return true;
+  return lookUp(
       HashGrid(targets), queries, targets, {}, parallel, [](int) { return true; },
-      [&](int q, int t) { return (!same || q < t) && keep(q, t); }, out);
+      [&](int q, int t) { return (!same || q < t) && keep(q, t); }, out, limit);
 }
 
-void overlappingMarkedPairs(const std::vector<Box>& queries, const std::vector<Box>& targets, bool same, bool parallel,
+bool overlappingMarkedPairs(const std::vector<Box>& queries, const std::vector<Box>& targets, bool same, bool parallel,
                             const std::vector<char>& query_marked, const std::vector<char>& target_marked,
-                            const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out) {
+                            const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out,
+                            std::size_t limit) {
   out.clear();
-  if (queries.empty() || targets.empty()) return;
+  if (queries.empty() || targets.empty()) return true;
   // Marked queries against every target; with one list on both sides that finds every pair with a marked element,
   // each taken as (smaller, larger).
-  lookUp(
-      HashGrid(targets), queries, targets, {}, parallel, [&](int q) { return query_marked[q] != 0; },
-      [&](int q, int t) { return same ? q != t && keep(std::min(q, t), std::max(q, t)) : keep(q, t); }, out);
+  if (!lookUp(
+          HashGrid(targets), queries, targets, {}, parallel, [&](int q) { return query_marked[q] != 0; },
+          [&](int q, int t) { return same ? q != t && keep(std::min(q, t), std::max(q, t)) : keep(q, t); }, out, limit))
+    return false;
   if (same) {
     for (auto& [q, t] : out)
       if (q > t) std::swap(q, t);
@@ -156,13 +164,15 @@ void overlappingMarkedPairs(const std::vector<Box>& queries, const std::vector<B
         marked.push_back(targets[t]);
         index.push_back(int(t));
       }
-    if (!marked.empty())
-      lookUp(
-          HashGrid(marked), queries, targets, index, parallel, [&](int q) { return query_marked[q] == 0; },
-          [&](int q, int t) { return keep(q, t); }, out);
+    if (!marked.empty() &&
+        !lookUp(
+            HashGrid(marked), queries, targets, index, parallel, [&](int q) { return query_marked[q] == 0; },
+            [&](int q, int t) { return keep(q, t); }, out, limit))
+      return false;
   }
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
+  return true;
 }
 
 }  // namespace wobble::collision

@@ -5,6 +5,7 @@
 // rebuilt from scratch in two linear passes each time (no refit quality to lose as a cloth crumples), and its output
 // is sorted, hence the same whatever the thread count (docs/body-contact.md).
 #pragma once
+#include <cstdint>
 #include <functional>
 #include <utility>
 #include <vector>
@@ -20,15 +21,18 @@ struct Box {
 
 // Every pair (query q, target t) whose boxes overlap and for which keep(q, t) holds, ascending by (q, t). With the
 // same list on both sides pass same = true: each unordered pair once, q < t. Runs queries in fixed chunks on threads
-// when parallel; the result does not depend on it.
-void overlappingPairs(const std::vector<Box>& queries, const std::vector<Box>& targets, bool same, bool parallel,
-                      const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out);
+// when parallel; the result does not depend on it. Returns false, out incomplete, when there would be more than limit
+// pairs (boxes so large that the list would take more memory than a step may: the caller stops).
+bool overlappingPairs(const std::vector<Box>& queries, const std::vector<Box>& targets, bool same, bool parallel,
+                      const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out,
+                      std::size_t limit = SIZE_MAX);
 
 // The pairs of overlappingPairs that have a marked query or a marked target (marks: one char per box), in the same
 // order: for the later rounds of a step, where only pairs with an element that moved can newly collide. Marked
-// queries look up every target; every other query looks up the marked targets only.
-void overlappingMarkedPairs(const std::vector<Box>& queries, const std::vector<Box>& targets, bool same, bool parallel,
+// queries look up every target; every other query looks up the marked targets only. Returns false as above.
+bool overlappingMarkedPairs(const std::vector<Box>& queries, const std::vector<Box>& targets, bool same, bool parallel,
                             const std::vector<char>& query_marked, const std::vector<char>& target_marked,
-                            const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out);
+                            const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out,
+                            std::size_t limit = SIZE_MAX);
 
 }  // namespace wobble::collision

@@ -14,6 +14,10 @@ struct SurfaceParams {
 struct Settings {
   int ccd_iterations = 8;    // rounds of collision impulses before impact zones
   int zone_iterations = 64;  // rounds of impact zones before the pass gives up
+  // Not a scene key: the most candidate pairs per surface vertex a step's broad phase may list (about 40 where a
+  // cloth lies in four layers on itself); more means the surfaces moved many times their spacing in one step, and the
+  // run stops like a blow-up instead of filling memory (about 120 bytes a candidate).
+  int candidates_per_vertex = 128;
 };
 
 }  // namespace wobble::collision

@@ -272,7 +272,9 @@ TEST(BodyContact, BroadPhaseCullsFindTheSameContacts) {
     };
     const Result cull = run(true), all = run(false);
     EXPECT_GT(cull.stats.contacts, 0);
-    if (std::string(integrator) == "backward-euler") EXPECT_GT(cull.stats.ccd_hits, 0);
+    if (std::string(integrator) == "backward-euler") {
+      EXPECT_GT(cull.stats.ccd_hits, 0);
+    }
     EXPECT_EQ(testing::intersectingPairs(cull.tris, cull.x), 0);
     EXPECT_EQ(cull.stats.contacts, all.stats.contacts);
     EXPECT_EQ(cull.stats.ccd_hits, all.stats.ccd_hits);
@@ -281,6 +283,32 @@ TEST(BodyContact, BroadPhaseCullsFindTheSameContacts) {
     ASSERT_EQ(cull.x.size(), all.x.size());
     EXPECT_EQ(std::memcmp(cull.x.data(), all.x.data(), sizeof(double) * cull.x.size()), 0);
     EXPECT_EQ(std::memcmp(cull.v.data(), all.v.data(), sizeof(double) * cull.v.size()), 0);
+  }
+}
+
+// A step whose broad phase would list more candidate pairs than its budget (Settings::candidates_per_vertex) stops the
+// run like a blow-up, saying why and what to try, instead of filling memory: the folded cloth with a budget of 2 pairs
+// per vertex (it lists about 40 once its layers lie on each other) stops at the first step that needs more, under
+// backward Euler with the contacts in its solve and with the pass alone, and under RK4; with the default budget it
+// runs on (BroadPhaseCullsFindTheSameContacts).
+TEST(BodyContact, ABroadPhaseOverItsBudgetStopsTheRun) {
+  for (const auto& [integrator, in_solve, dt] :
+       {std::tuple{"backward-euler", true, 1.0 / 60}, std::tuple{"backward-euler", false, 1.0 / 60},
+        std::tuple{"rk4", true, 5e-4}}) {
+    SCOPED_TRACE(std::string(integrator) + (in_solve ? "" : ", in_solve off"));
+    const auto system = testing::foldedCloth(20, true);
+    collision::Settings settings = system->contactSettings();
+    settings.candidates_per_vertex = 2;
+    system->setContactSettings(settings);
+    IntegratorOptions options;
+    options.body_contact_in_solve = in_solve;
+    Simulation sim(*system, makeIntegrator(integrator, options), dt);
+    const auto stop = sim.advanceTo(0.6);
+    ASSERT_TRUE(stop.has_value());
+    EXPECT_NE(stop->reason.find("more than 2 candidate pairs per surface vertex"), std::string::npos) << stop->reason;
+    EXPECT_NE(stop->message(dt).find("Try a smaller time step"), std::string::npos);
+    EXPECT_LT(stop->time, 0.6);
+    EXPECT_TRUE(sim.x().allFinite());
   }
 }
 
