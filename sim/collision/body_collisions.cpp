@@ -333,7 +333,9 @@ struct BodyCollisions::Impl {
     fill(vertex_boxes, single);
     fill(edge_boxes, edges);
     fill(triangle_boxes, triangles);
-    const std::size_t budget = std::size_t(std::max(0, settings.candidates_per_vertex)) * std::size_t(nodeCount());
+    const std::size_t budget =
+        std::max(std::size_t(std::max(0L, settings.min_candidates)),
+                 std::size_t(std::max(0, settings.candidates_per_vertex)) * std::size_t(nodeCount()));
     const auto pairs = [&](const std::vector<Box>& queries, const std::vector<Box>& targets, bool same,
                            const std::vector<char>& query_moved, const std::vector<char>& target_moved,
                            const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out,
@@ -392,8 +394,10 @@ struct BodyCollisions::Impl {
       if (move > most || !(move == move)) furthest = k, most = move;
     }
     std::ostringstream why;
-    why << "the broad phase would list more than " << settings.candidates_per_vertex
-        << " candidate pairs per surface vertex in this step: the surfaces moved too far in it (a vertex by " << most
+    why << "the broad phase would list more than "
+        << std::max(long(settings.candidates_per_vertex) * nodeCount(), settings.min_candidates)
+        << " candidate pairs in this step (" << nodeCount()
+        << " surface vertices): the surfaces moved too far in it (a vertex by " << most
         << " m, against a contact thickness of " << max_thickness << " m)";
     return Failure{mainParticle(furthest), why.str(),
                    "or bodies that start nearer rest (one released under strain can move many particle spacings in "

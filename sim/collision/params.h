@@ -14,10 +14,12 @@ struct SurfaceParams {
 struct Settings {
   int ccd_iterations = 8;    // rounds of collision impulses before impact zones
   int zone_iterations = 64;  // rounds of impact zones before the pass gives up
-  // Not a scene key: the most candidate pairs per surface vertex a step's broad phase may list (about 40 where a
-  // cloth lies in four layers on itself); more means the surfaces moved many times their spacing in one step, and the
-  // run stops like a blow-up instead of filling memory (about 120 bytes a candidate).
+  // Not scene keys: the most candidate pairs a step's broad phase may list, the larger of candidates_per_vertex per
+  // surface vertex (about 40 where a cloth lies in four layers on itself) and min_candidates (8 million: about 1 GB,
+  // at some 120 bytes a candidate; a fine model's surface on a coarse lattice may have hundreds a vertex). More means
+  // the surfaces moved many times their spacing in one step: the run stops like a blow-up instead of filling memory.
   int candidates_per_vertex = 128;
+  long min_candidates = 8'000'000;
 };
 
 }  // namespace wobble::collision
