@@ -313,8 +313,14 @@ struct BodyCollisions::Impl {
   // thousandth of it), and only the pairs with a particle moved since the last detection (dirty), the only ones it
   // tests then: the same pairs that detection finds, in the same order. The step's first broad phase keeps them all:
   // repulsion changes the trajectories before that round's detection, which tests apartAllStep per pair.
-  // Returns false when the lists would exceed the candidate budget (Settings::candidates_per_vertex): vf and ee are
-  // then incomplete, and overwhelmed says so.
+  // The most candidate pairs a broad phase may list (Settings::candidates_per_vertex, min_candidates).
+  std::size_t candidateBudget() const {
+    return std::max(std::size_t(std::max(0L, settings.min_candidates)),
+                    std::size_t(std::max(0, settings.candidates_per_vertex)) * std::size_t(nodeCount()));
+  }
+
+  // Returns false when the lists would exceed the candidate budget: vf and ee are then incomplete, and overwhelmed
+  // says so.
   bool broadPhase(bool after_impulses = false, double margin = 0) {
     cull = motion_cull;
     from_step = false;
@@ -333,9 +339,7 @@ struct BodyCollisions::Impl {
     fill(vertex_boxes, single);
     fill(edge_boxes, edges);
     fill(triangle_boxes, triangles);
-    const std::size_t budget =
-        std::max(std::size_t(std::max(0L, settings.min_candidates)),
-                 std::size_t(std::max(0, settings.candidates_per_vertex)) * std::size_t(nodeCount()));
+    const std::size_t budget = candidateBudget();
     const auto pairs = [&](const std::vector<Box>& queries, const std::vector<Box>& targets, bool same,
                            const std::vector<char>& query_moved, const std::vector<char>& target_moved,
                            const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out,
@@ -368,18 +372,18 @@ struct BodyCollisions::Impl {
           return !moved_only || !apartAllStep(&p, 1, tri.data(), 3, pairThickness(vertex_body[v], triangle_body[t]));
         },
         vf, budget);
-    overwhelmed = overwhelmed || !pairs(
-                                     edge_boxes, edge_boxes, true, edge_moved, edge_moved,
-                                     [&](int e, int f) {
-                                       if (!bodiesMeet(edge_body[e], edge_body[f])) return false;
-                                       const auto &a = edges[e], &b = edges[f];
-                                       if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return false;
-                                       const auto& m = node_inv_mass;
-                                       if (!(m[a[0]] + m[a[1]] + m[b[0]] + m[b[1]] > 0)) return false;
-                                       return !moved_only || !apartAllStep(a.data(), 2, b.data(), 2,
-                                                                           pairThickness(edge_body[e], edge_body[f]));
-                                     },
-                                     ee, budget - std::min(budget, vf.size()));
+    if (!overwhelmed)
+      overwhelmed = !pairs(
+          edge_boxes, edge_boxes, true, edge_moved, edge_moved,
+          [&](int e, int f) {
+            if (!bodiesMeet(edge_body[e], edge_body[f])) return false;
+            const auto &a = edges[e], &b = edges[f];
+            if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return false;
+            const auto& m = node_inv_mass;
+            if (!(m[a[0]] + m[a[1]] + m[b[0]] + m[b[1]] > 0)) return false;
+            return !moved_only || !apartAllStep(a.data(), 2, b.data(), 2, pairThickness(edge_body[e], edge_body[f]));
+          },
+          ee, budget - std::min(budget, vf.size()));
     if (overwhelmed) vf.clear(), ee.clear();
     return !overwhelmed;
   }
@@ -394,10 +398,8 @@ struct BodyCollisions::Impl {
       if (move > most || !(move == move)) furthest = k, most = move;
     }
     std::ostringstream why;
-    why << "the broad phase would list more than "
-        << std::max(long(settings.candidates_per_vertex) * nodeCount(), settings.min_candidates)
-        << " candidate pairs in this step (" << nodeCount()
-        << " surface vertices): the surfaces moved too far in it (a vertex by " << most
+    why << "the broad phase would list more than " << candidateBudget() << " candidate pairs in this step ("
+        << nodeCount() << " surface vertices): the surfaces moved too far in it (a vertex by " << most
         << " m, against a contact thickness of " << max_thickness << " m)";
     return Failure{mainParticle(furthest), why.str(),
                    "or bodies that start nearer rest (one released under strain can move many particle spacings in "
