@@ -34,7 +34,14 @@ struct PairInfo {
   Primitive kind;
   Stencil stencil;
   double thickness, friction, stiffness;
+  // The first element's nodes: stencil.vertex[0, first()) (a point, or an edge), the second's the rest.
+  int first() const { return kind == Primitive::PointTriangle ? 1 : 2; }
 };
+
+// The nearest points of a pair's two elements, whose nodes are at x (in stencil order).
+Closest nearest(Primitive kind, const std::array<Vec3, 4>& x) {
+  return kind == Primitive::PointTriangle ? pointTriangle(x[0], x[1], x[2], x[3]) : edgeEdge(x[0], x[1], x[2], x[3]);
+}
 
 // A point-triangle or edge-edge pair found near (proximity) or colliding (hit).
 struct Contact {
@@ -269,17 +276,10 @@ struct BodyCollisions::Impl {
     for (int k = 0; k < 3; ++k) {
       bool ab = true, ba = true;  // a below b all along, b below a all along
       for (const VecX* x : {&nxs, &nxe}) {
-        double lo_a = std::numeric_limits<double>::infinity(), hi_a = -lo_a, lo_b = lo_a, hi_b = -lo_a;
-        for (int i = 0; i < na; ++i) {
-          const double v = (*x)[3 * a[i] + k];
-          lo_a = std::min(lo_a, v), hi_a = std::max(hi_a, v);
-        }
-        for (int i = 0; i < nb; ++i) {
-          const double v = (*x)[3 * b[i] + k];
-          lo_b = std::min(lo_b, v), hi_b = std::max(hi_b, v);
-        }
-        ab = ab && lo_b - hi_a > gap;
-        ba = ba && lo_a - hi_b > gap;
+        const auto along_axis = [&](int node) { return (*x)[3 * node + k]; };
+        const Extent ea = extent(a, na, along_axis), eb = extent(b, nb, along_axis);
+        ab = ab && eb.lo - ea.hi > gap;
+        ba = ba && ea.lo - eb.hi > gap;
       }
       if (ab || ba) return true;
     }
@@ -294,16 +294,31 @@ struct BodyCollisions::Impl {
     if (!(c.distance > 0)) return false;
     const Vec3 d = c.delta / c.distance;
     const double eta2 = 2 * kEtaFraction * thickness;
-    for (const VecX* x : {&nxs, &nxe}) {
-      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-      for (int i = 0; i < 4; ++i) {
-        const double y = d.dot(particle(*x, q[i]));
-        if (i < first) lo = std::min(lo, y);
-        else hi = std::max(hi, y);
-      }
-      if (!(lo - hi > eta2)) return false;
-    }
+    for (const VecX* x : {&nxs, &nxe})
+      if (!(gapAlong(d, *x, q, first) > eta2)) return false;
     return true;
+  }
+
+  // The interval of a projection y(node) over count nodes.
+  struct Extent {
+    double lo = std::numeric_limits<double>::infinity(), hi = -std::numeric_limits<double>::infinity();
+  };
+  template <class Project>
+  static Extent extent(const int* nodes, int count, Project&& y) {
+    Extent e;
+    for (int i = 0; i < count; ++i) {
+      const double v = y(nodes[i]);
+      e.lo = std::min(e.lo, v), e.hi = std::max(e.hi, v);
+    }
+    return e;
+  }
+  // The gap between the elements q[0, first) and q[first, 4) of a pair along unit d (from the second to the first),
+  // at the nodes' positions x: the least projection of the first's nodes minus the greatest of the second's. Along a
+  // fixed d it is concave over a linear step, so at least its smaller value at the step's ends, and the distance is at
+  // least it.
+  static double gapAlong(const Vec3& d, const VecX& x, const std::array<int, 4>& q, int first) {
+    const auto along_d = [&](int node) { return d.dot(particle(x, node)); };
+    return extent(q.data(), first, along_d).lo - extent(q.data() + first, 4 - first, along_d).hi;
   }
 
   // The candidate pairs of the swept boxes (padded by half the largest thickness, so that every pair within the
@@ -434,6 +449,11 @@ struct BodyCollisions::Impl {
     std::vector<std::pair<int, double>> closing, hitting;
     // The smallest start distance over the candidates whose start boxes are within the thickness (repel's statistic).
     double boxed_min = std::numeric_limits<double>::infinity();
+    // findStep's per-candidate values before they are sorted into the lists above.
+    struct {
+      std::vector<double> boxed, closing, hitting;
+      std::vector<char> near;
+    } scratch;
   } step;
   // The round's nearest points at the start, per candidate (a NaN distance: not found), found by repel for the
   // continuous test that follows it on the same lists (detect): valid until the next broad phase.
@@ -472,26 +492,18 @@ struct BodyCollisions::Impl {
     const double most = 2 * std::sqrt(3.0) * step.margin;
     const int n = pairCount();
     step.closest.resize(n);
-    std::vector<double> boxed(n), closing(n), hitting(n);
-    std::vector<char> near(n);
+    auto& [boxed, closing, hitting, near] = step.scratch;  // kept: fresh pages each step cost more than the work
+    boxed.resize(n), closing.resize(n), hitting.resize(n), near.resize(n);
     forEachChunk(n, parallel, [&](int begin, int end) {
       for (int k = begin; k < end; ++k) {
         const PairInfo p = pairInfo(k);
         const auto x = points(nxs, p.stencil);
-        const Closest c = p.kind == Primitive::PointTriangle ? pointTriangle(x[0], x[1], x[2], x[3])
-                                                             : edgeEdge(x[0], x[1], x[2], x[3]);
+        const Closest c = nearest(p.kind, x);
         step.closest[k] = c;
         double gap = -std::numeric_limits<double>::infinity();  // at the end along the start's direction
         if (c.distance > 0) {
-          const Vec3 d = c.delta / c.distance;
-          const int first = p.kind == Primitive::PointTriangle ? 1 : 2;
-          double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-          for (int i = 0; i < 4; ++i) {
-            const double y = d.dot(particle(nxe, p.stencil.vertex[i]));
-            if (i < first) lo = std::min(lo, y);
-            else hi = std::max(hi, y);
-          }
-          if (std::isfinite(lo - hi)) gap = lo - hi;
+          const double end_gap = gapAlong(c.delta / c.distance, nxe, p.stencil.vertex, p.first());
+          if (std::isfinite(end_gap)) gap = end_gap;
         }
         const double eta2 = 2 * kEtaFraction * p.thickness;
         closing[k] = c.distance > 0 ? gap - (1 + 1e-5) * p.thickness : std::numeric_limits<double>::infinity();
@@ -516,7 +528,7 @@ struct BodyCollisions::Impl {
   // The nearest points at the start of candidate k (whose stencil's start points are x), from the step's when known.
   Closest startClosest(int k, Primitive kind, const std::array<Vec3, 4>& x) const {
     if (from_step) return step.closest[k];
-    return kind == Primitive::PointTriangle ? pointTriangle(x[0], x[1], x[2], x[3]) : edgeEdge(x[0], x[1], x[2], x[3]);
+    return nearest(kind, x);
   }
   // Whether the start's boxes of the pair's elements (the swept ones found it) are within the thickness.
   static bool startBoxesNear(const PairInfo& p, const std::array<Vec3, 4>& x) {
@@ -683,7 +695,7 @@ struct BodyCollisions::Impl {
           }
           if (within_zones && inOneZone(p.stencil)) return std::nullopt;
           const auto& q = p.stencil.vertex;
-          const int first = p.kind == Primitive::PointTriangle ? 1 : 2;
+          const int first = p.first();
           if (apartAllStep(q.data(), first, q.data() + first, 4 - first, p.thickness)) return std::nullopt;
           if (all && cull && round_closest_valid && apartAlongNearest(round_closest[k], q, first, p.thickness))
             return std::nullopt;
@@ -793,9 +805,17 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
   std::vector<std::array<int, 4>> known;  // the pairs already in out, sorted
   for (const ContactPair& c : out) known.push_back(c.element);
   std::sort(known.begin(), known.end());
-  // Each candidate on threads (gather keeps the pair order): its nearest points at x0, then its gap at x1.
-  const std::vector<ContactPair> found = s.gather(
-      [&](int k, const PairInfo& p) -> std::optional<ContactPair> {
+  // Each candidate on threads (gather keeps the pair order): its nearest points at x0, then its gap at x1. What
+  // joins is gathered small (the candidate, its weights and normal) and expanded into out after: a pair's stencil
+  // holds room for embedded points' particles, and copying tens of thousands of them through temporaries cost more
+  // than the tests.
+  struct Joining {
+    int k;
+    std::array<double, 4> w;
+    Vec3 normal;
+  };
+  const std::vector<Joining> found = s.gather(
+      [&](int k, const PairInfo& p) -> std::optional<Joining> {
         const auto x = s.points(s.nxs, p.stencil);
         const Closest c = s.startClosest(k, p.kind, x);
         if (!(c.distance > 0)) return std::nullopt;  // touching at the start: no direction (the post-step pass has it)
@@ -811,13 +831,19 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
         // The linearized gap of a pair far apart at x0 says little: only a pair that does come within the thickness at
         // x1 (or crosses on the way) joins.
         const auto e = s.points(s.nxe, p.stencil);
-        const Closest end = p.kind == Primitive::PointTriangle ? pointTriangle(e[0], e[1], e[2], e[3])
-                                                               : edgeEdge(e[0], e[1], e[2], e[3]);
+        const Closest end = nearest(p.kind, e);
         if (!(end.distance < p.thickness) && !firstHit(p.kind, x, e, kEtaFraction * p.thickness)) return std::nullopt;
-        return pair;
+        return Joining{k, c.w, normal};
       },
       only);
-  out.insert(out.end(), found.begin(), found.end());
+  out.resize(before + found.size());
+  forEachChunk(int(found.size()), s.parallel, [&](int begin, int end) {
+    for (int j = begin; j < end; ++j) {
+      const PairInfo p = s.pairInfo(found[j].k);
+      out[before + j] =
+          ContactPair{p.stencil.vertex, s.expand(p.stencil, found[j].w), found[j].normal, p.thickness, p.friction};
+    }
+  });
   return out.size() > before;
 }
 
