@@ -152,7 +152,8 @@ void addContactForces(Colliders colliders, const WeightedPoints& points, double 
       const Vec3 g = supportForce(*s, collider->contact(), fp, points.blend(v, p), m, stick_time);
       points.spread(p, g, f);
       if (added)
-        for (int k = 0; k < 8; ++k) added->push_back({points[p].particle[k], points[p].weight[k] * g});
+        for (int k = 0; k < 8; ++k)  // a point on a cell's face or edge has corners of weight 0: nothing to release
+          if (points[p].weight[k] != 0) added->push_back({points[p].particle[k], points[p].weight[k] * g});
     }
   }
 }

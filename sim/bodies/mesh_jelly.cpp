@@ -128,7 +128,7 @@ Body buildMeshJelly(const std::string& name, const ModelMesh& model, const MeshJ
   const auto nodeOf = [&](int i, int j, int k) { return i + dims[0] * (j + dims[1] * k); };
 
   // A node is a particle when a kept cell touches it; particles in node order (x fastest), as the cube jelly's.
-  std::vector<int> node_index(std::size_t(dims[0]) * dims[1] * dims[2], -1);
+  std::vector<int> node_index(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2], -1);
   for (int k = 0; k < f.cells[2]; ++k)
     for (int j = 0; j < f.cells[1]; ++j)
       for (int i = 0; i < f.cells[0]; ++i)

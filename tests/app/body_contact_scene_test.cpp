@@ -189,7 +189,9 @@ TEST_F(ContactCounters, InSolveCountersFollowTheKey) {
     ASSERT_FALSE(r.blow_up) << r.blow_up_message;
     // The pass alone gains energy here (docs/body-contact.md, Energy at the impacts), and the message says what to try.
     EXPECT_EQ(r.energy_gain.has_value(), !in_solve);
-    if (r.energy_gain) EXPECT_NE(r.energy_gain_message.find("[contact] in_solve = true"), std::string::npos);
+    if (r.energy_gain) {
+      EXPECT_NE(r.energy_gain_message.find("[contact] in_solve = true"), std::string::npos);
+    }
     std::ifstream in(out / "run.json");
     const auto j = nlohmann::json::parse(in);
     const auto& c = j["body_contact"];

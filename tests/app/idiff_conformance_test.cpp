@@ -190,8 +190,9 @@ class IdiffConformance : public testing::ScratchDir {
         EXPECT_EQ(got, expected) << p.name << " with [" << o << "]:\nwobble:\n"
                                  << testing::slurpFile(log) << "idiff:\n"
                                  << testing::slurpFile(idiff_log);
-        if (same_report && expected != 4)
+        if (same_report && expected != 4) {
           EXPECT_EQ(testing::slurpFile(log), testing::slurpFile(idiff_log)) << p.name << " with [" << o << "]";
+        }
         table << " " << expected << "/" << got;
       }
       table << "\n";
