@@ -26,6 +26,9 @@ constexpr double kRepulsionFraction = 0.1;
 // The step's candidates (Impl::StepCandidates) are found with boxes padded by this fraction of the largest thickness
 // more than the exact broad phase's: room for the solves' ends to move from the first one's.
 constexpr double kStepMarginFraction = 0.5;
+// The pass's candidates kept across steps (Impl::Skin) are found with boxes padded by this fraction of the largest
+// thickness more than the exact broad phase's, and serve while every node stays within half of it of the box it swept.
+constexpr double kSkinFraction = 0.5;
 // A collision impulse leaves at most this fraction of the approach speed as separation (no restitution beyond it),
 // and aims to end the step this fraction of the thickness apart.
 constexpr double kSeparation = 0.1, kEndGapFraction = 0.01;
@@ -476,6 +479,49 @@ struct BodyCollisions::Impl {
     for (int k = 0; k < nodeCount(); ++k) drift = std::max(drift, (particle(nxe, k) - particle(step.end, k)).norm());
     return true;
   }
+  // The pass's candidates kept across steps, as a Verlet list keeps its neighbours within a skin: found for boxes
+  // padded by a margin (kSkinFraction of the largest thickness) more than the exact broad phase's, they hold every
+  // pair of the exact broad phase for any step whose nodes all lie, at its start and its end, within half that margin
+  // of the box each swept when they were found (the other half covers the rounding of the boxes): each exact padded
+  // box then lies inside the skin's. The surplus pairs, in the same ascending order as the exact ones, fail the
+  // geometric tests that follow (start boxes within the thickness, an axis apart all along, a hit): the same contacts
+  // in the same order. Serves steps that move a node by a small part of the thickness (an explicit integrator's),
+  // where the broad phase is most of the pass; a skin is built only after such a step.
+  struct Skin {
+    bool valid = false;
+    VecX lo, hi;  // per node coordinate: where the node may lie at a step's start and end
+    std::vector<std::pair<int, int>> vf, ee;
+  } skin;
+  // The candidates for the pass over (nxs, nxe): the skin's when it serves, else a new skin's when the step moved
+  // every node by less than an eighth of its margin, else the exact broad phase's. False: over the budget.
+  bool passCandidates(Stats& stats) {
+    const double margin = kSkinFraction * max_thickness;
+    if (motion_cull && skin.valid && skin.lo.size() == nxs.size()) {
+      bool inside = true;
+      for (Eigen::Index j = 0; j < nxs.size() && inside; ++j)
+        inside = std::min(nxs[j], nxe[j]) >= skin.lo[j] && std::max(nxs[j], nxe[j]) <= skin.hi[j];
+      if (inside) {
+        cull = true;
+        from_step = false;
+        round_closest_valid = false;
+        vf = skin.vf;
+        ee = skin.ee;
+        ++stats.skin_passes;
+        return true;
+      }
+    }
+    skin.valid = false;
+    if (motion_cull && (nxe - nxs).cwiseAbs().maxCoeff() < margin / 8 && broadPhase(false, margin)) {
+      skin.lo = nxs.cwiseMin(nxe).array() - margin / 2;
+      skin.hi = nxs.cwiseMax(nxe).array() + margin / 2;
+      skin.vf = vf;
+      skin.ee = ee;
+      skin.valid = true;
+      return true;
+    }
+    return broadPhase();
+  }
+
   // The step's candidates for (nxs, nxe), found anew, with their nearest points at the start and gaps at the end.
   // Returns false (no candidates: the step stays invalid) when the broad phase exceeds its budget.
   bool findStep() {
@@ -862,7 +908,7 @@ std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v
   s.changed.assign(n / 3, 0);
   s.dirty.assign(s.nodeCount(), 0);
   s.root.resize(n / 3);
-  if (!s.reuseStep() && !s.broadPhase()) return s.overwhelmedFailure();  // an implicit solve's, or the exact
+  if (!s.reuseStep() && !s.passCandidates(stats_)) return s.overwhelmedFailure();  // an implicit solve's, or the pass's
   s.repel(h, stats_, repulsion);
 
   std::optional<Failure> failure;

@@ -249,7 +249,8 @@ TEST(BodyContact, ContactFreeStepsAreTheSameBytes) {
 // onto itself under backward Euler at 1/60 s (its solves' searches and the pass after the step; and the pass alone,
 // `in_solve` off) and under RK4 at 5e-4 s (the pass, every step), gives the same bytes and the same counts with the
 // culls as without, with contacts (and under backward Euler collisions) found on the way and no triangle pair
-// intersecting at the end (the independent test).
+// intersecting at the end (the independent test); under RK4 most passes take the candidates kept from an earlier
+// step (the skin).
 TEST(BodyContact, BroadPhaseCullsFindTheSameContacts) {
   struct Result {
     VecX x, v;
@@ -274,7 +275,10 @@ TEST(BodyContact, BroadPhaseCullsFindTheSameContacts) {
     EXPECT_GT(cull.stats.contacts, 0);
     if (std::string(integrator) == "backward-euler") {
       EXPECT_GT(cull.stats.ccd_hits, 0);
+    } else {  // RK4's small steps: most passes take the candidates an earlier step found (its skin)
+      EXPECT_GT(cull.stats.skin_passes, cull.stats.passes / 2);
     }
+    EXPECT_EQ(all.stats.skin_passes, 0);
     EXPECT_EQ(testing::intersectingPairs(cull.tris, cull.x), 0);
     EXPECT_EQ(cull.stats.contacts, all.stats.contacts);
     EXPECT_EQ(cull.stats.ccd_hits, all.stats.ccd_hits);
