@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <numeric>
 #include <span>
@@ -75,6 +76,39 @@ class UnionFind {
 };
 
 std::atomic<bool> motion_cull{true};
+
+// The pairs of a list by their four vertices, for "is this pair in already" (open addressing; kept between calls, so
+// that it allocates nothing once grown). Sorting the list for a binary search cost several percent of a step.
+class ElementSet {
+ public:
+  void assign(const std::vector<ContactPair>& pairs) {
+    std::size_t size = 64;
+    while (size < 2 * pairs.size()) size *= 2;
+    slots_.assign(size, kEmpty);
+    mask_ = size - 1;
+    for (const ContactPair& c : pairs) {
+      std::size_t i = hash(c.element) & mask_;
+      while (slots_[i] != kEmpty && slots_[i] != c.element) i = (i + 1) & mask_;
+      slots_[i] = c.element;
+    }
+  }
+  bool contains(const std::array<int, 4>& e) const {
+    for (std::size_t i = hash(e) & mask_;; i = (i + 1) & mask_) {
+      if (slots_[i] == e) return true;
+      if (slots_[i] == kEmpty) return false;
+    }
+  }
+
+ private:
+  static constexpr std::array<int, 4> kEmpty{-1, -1, -1, -1};  // no pair's: its vertices are particles or points
+  static std::size_t hash(const std::array<int, 4>& e) {
+    std::uint64_t h = 0x9e3779b97f4a7c15ull;
+    for (const int v : e) h = (h ^ std::uint32_t(v)) * 0xff51afd7ed558ccdull;
+    return std::size_t(h ^ (h >> 32));
+  }
+  std::vector<std::array<int, 4>> slots_;
+  std::size_t mask_ = 0;
+};
 
 }  // namespace
 
@@ -465,6 +499,7 @@ struct BodyCollisions::Impl {
   bool from_step = false;   // the candidates are step's (vf and ee are not used)
   double drift = 0;         // with from_step: the largest distance of a node's end from step.end
   std::vector<int> subset;  // the candidates a search tests (subsetOf)
+  ElementSet known;         // nearPairs: the pairs already in its list
 
   const std::vector<std::pair<int, int>>& vfList() const { return from_step ? step.vf : vf; }
   const std::vector<std::pair<int, int>>& eeList() const { return from_step ? step.ee : ee; }
@@ -848,9 +883,7 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
   // With the step's candidates: those apart at the start whose gap at x1 may be within the thickness.
   const auto* only = s.subsetOf(s.step.closing);
   const std::size_t before = out.size();
-  std::vector<std::array<int, 4>> known;  // the pairs already in out, sorted
-  for (const ContactPair& c : out) known.push_back(c.element);
-  std::sort(known.begin(), known.end());
+  s.known.assign(out);  // the pairs already in out
   // Each candidate on threads (gather keeps the pair order): its nearest points at x0, then its gap at x1. What
   // joins is gathered small (the candidate, its weights and normal) and expanded into out after: a pair's stencil
   // holds room for embedded points' particles, and copying tens of thousands of them through temporaries cost more
@@ -871,7 +904,7 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
         Vec3 end_relative = Vec3::Zero();
         for (int i = 0; i < 4; ++i) end_relative += c.w[i] * particle(s.nxe, p.stencil.vertex[i]);
         if (normal.dot(end_relative) - p.thickness > 1e-6 * p.thickness) return std::nullopt;
-        if (std::binary_search(known.begin(), known.end(), p.stencil.vertex)) return std::nullopt;
+        if (s.known.contains(p.stencil.vertex)) return std::nullopt;
         ContactPair pair{p.stencil.vertex, s.expand(p.stencil, c.w), normal, p.thickness, p.friction};
         if (!(pair.gap(x1) < 0)) return std::nullopt;
         // The linearized gap of a pair far apart at x0 says little: only a pair that does come within the thickness at
