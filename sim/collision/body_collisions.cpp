@@ -777,9 +777,10 @@ struct BodyCollisions::Impl {
           if (within_zones && inOneZone(p.stencil)) return std::nullopt;
           const auto& q = p.stencil.vertex;
           const int first = p.first();
-          if (apartAllStep(q.data(), first, q.data() + first, 4 - first, p.thickness)) return std::nullopt;
+          // Two filters, the cheaper first (one direction where repulsion found the nearest points, else three axes).
           if (all && cull && round_closest_valid && apartAlongNearest(round_closest[k], q, first, p.thickness))
             return std::nullopt;
+          if (apartAllStep(q.data(), first, q.data() + first, 4 - first, p.thickness)) return std::nullopt;
           const auto hit = firstHit(p.kind, points(nxs, p.stencil), points(nxe, p.stencil), kEtaFraction * p.thickness);
           if (!hit) return std::nullopt;
           return Contact{k, hit->at, hit->normal, hit->t};
