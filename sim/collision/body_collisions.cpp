@@ -528,7 +528,8 @@ struct BodyCollisions::Impl {
     std::vector<std::pair<int, int>> vf, ee;
   } skin;
   // The candidates for the pass over (nxs, nxe): the skin's when it serves, else a new skin's when the step moved
-  // every node by less than an eighth of its margin, else the exact broad phase's. False: over the budget.
+  // every node by less than half its margin (then it likely serves a step or more), else the exact broad phase's.
+  // False: over the budget.
   bool passCandidates(Stats& stats) {
     const double margin = kSkinFraction * max_thickness;
     if (motion_cull && skin.valid && skin.lo.size() == nxs.size()) {
@@ -546,7 +547,7 @@ struct BodyCollisions::Impl {
       }
     }
     skin.valid = false;
-    if (motion_cull && (nxe - nxs).cwiseAbs().maxCoeff() < margin / 8 && broadPhase(false, margin)) {
+    if (motion_cull && (nxe - nxs).cwiseAbs().maxCoeff() < margin / 2 && broadPhase(false, margin)) {
       skin.lo = nxs.cwiseMin(nxe).array() - margin / 2;
       skin.hi = nxs.cwiseMax(nxe).array() + margin / 2;
       skin.vf = vf;
