@@ -376,6 +376,7 @@ struct BodyCollisions::Impl {
   bool broadPhase(bool after_impulses = false, double margin = 0) {
     cull = motion_cull;
     from_step = false;
+    from_skin = false;
     round_closest_valid = false;
     const bool moved_only = after_impulses && cull;
     const double pad = 0.5 * max_thickness + margin;
@@ -522,11 +523,30 @@ struct BodyCollisions::Impl {
   // geometric tests that follow (start boxes within the thickness, an axis apart all along, a hit): the same contacts
   // in the same order. Serves steps that move a node by a small part of the thickness (an explicit integrator's),
   // where the broad phase is most of the pass; a skin is built only after such a step.
+  // Each kept candidate also keeps a lower bound of its distance at the start of the step that found the list (its
+  // nearest points' distance where repulsion found them, else its start boxes' gap along an axis). Moving each node
+  // by at most D from there changes the distance between two elements by at most 2 D (each element's hull moves by
+  // at most D), and along a linear step each node stays within the larger of its two ends' displacements. So a later
+  // step skips, in repulsion, the candidates whose bound less 2 D stays above the thickness and the smallest distance
+  // seen (they neither touch nor lower it), and in continuous detection those whose bound less 2 D stays above twice
+  // eta: the same contacts, hits and statistics.
   struct Skin {
     bool valid = false;
     VecX lo, hi;  // per node coordinate: where the node may lie at a step's start and end
     std::vector<std::pair<int, int>> vf, ee;
+    VecX reference;             // the nodes' start when the list was found
+    std::vector<double> lower;  // per candidate: a lower bound of its distance there
+    bool lower_valid = false;   // filled by the repulsion of the step that found the list
   } skin;
+  bool from_skin = false;  // the round's candidates are the skin's (vf, ee copied from it)
+  // The largest distance of a node from the skin's reference, over the given per-node vectors.
+  double skinDrift(std::initializer_list<const VecX*> xs) const {
+    double most = 0;
+    for (const VecX* x : xs)
+      for (int k = 0; k < nodeCount(); ++k)
+        most = std::max(most, (particle(*x, k) - particle(skin.reference, k)).norm());
+    return most;
+  }
   // The candidates for the pass over (nxs, nxe): the skin's when it serves, else a new skin's when the step moved
   // every node by less than half its margin (then it likely serves a step or more), else the exact broad phase's.
   // False: over the budget.
@@ -542,6 +562,7 @@ struct BodyCollisions::Impl {
         round_closest_valid = false;
         vf = skin.vf;
         ee = skin.ee;
+        from_skin = true;
         ++stats.skin_passes;
         return true;
       }
@@ -552,7 +573,11 @@ struct BodyCollisions::Impl {
       skin.hi = nxs.cwiseMax(nxe).array() + margin / 2;
       skin.vf = vf;
       skin.ee = ee;
+      skin.reference = nxs;
+      skin.lower.assign(vf.size() + ee.size(), 0.0);
+      skin.lower_valid = false;
       skin.valid = true;
+      from_skin = true;
       return true;
     }
     return broadPhase();
@@ -612,16 +637,20 @@ struct BodyCollisions::Impl {
     if (from_step) return step.closest[k];
     return nearest(kind, x);
   }
-  // Whether the start's boxes of the pair's elements (the swept ones found it) are within the thickness.
-  static bool startBoxesNear(const PairInfo& p, const std::array<Vec3, 4>& x) {
+  // The largest gap along an axis between the start's boxes of the pair's elements (the swept ones found it): at
+  // most the distance between the elements.
+  static double startBoxGap(const PairInfo& p, const std::array<Vec3, 4>& x) {
     Vec3 lo0 = x[0].cwiseMin(x[1]), hi0 = x[0].cwiseMax(x[1]), lo1 = x[2].cwiseMin(x[3]), hi1 = x[2].cwiseMax(x[3]);
     if (p.kind == Primitive::PointTriangle) {
       lo0 = hi0 = x[0];
       lo1 = x[1].cwiseMin(lo1);
       hi1 = x[1].cwiseMax(hi1);
     }
-    return !((lo0.array() - hi1.array()).maxCoeff() > p.thickness) &&
-           !((lo1.array() - hi0.array()).maxCoeff() > p.thickness);
+    return std::max((lo0.array() - hi1.array()).maxCoeff(), (lo1.array() - hi0.array()).maxCoeff());
+  }
+  // Whether the start's boxes of the pair's elements are within the thickness.
+  static bool startBoxesNear(const PairInfo& p, const std::array<Vec3, 4>& x) {
+    return !(startBoxGap(p, x) > p.thickness);
   }
   // With the step's candidates: those of a list (StepCandidates) whose slack is at most 2 drift, ascending; nullptr
   // (every candidate) otherwise.
@@ -708,12 +737,21 @@ struct BodyCollisions::Impl {
     round_closest_valid = !from_step;
     if (round_closest_valid)
       round_closest.assign(pairCount(), Closest{std::numeric_limits<double>::quiet_NaN(), {}, Vec3::Zero()});
+    // The skin's candidates: those its bounds keep apart are skipped (Skin), or the bounds are filled.
+    const bool skip = from_skin && skin.lower_valid, fill = from_skin && !skin.lower_valid;
+    const double moved = skip ? 2 * skinDrift({&nxs}) : 0, seen = stats.min_distance;
     const std::vector<Contact> near = gather(
         [&](int k, const PairInfo& p) -> std::optional<Contact> {
+          if (skip && skin.lower[k] - moved > std::max(p.thickness, seen)) return std::nullopt;
           const auto x = points(nxs, p.stencil);
           // The start's boxes (the swept ones found the pair) further apart than the thickness: not near.
-          if (!startBoxesNear(p, x)) return std::nullopt;
+          const double box_gap = startBoxGap(p, x);
+          if (box_gap > p.thickness) {
+            if (fill) skin.lower[k] = box_gap;  // each k on one thread
+            return std::nullopt;
+          }
           const Closest c = startClosest(k, p.kind, x);
+          if (fill) skin.lower[k] = c.distance;
           if (round_closest_valid) round_closest[k] = c;                          // each k on one thread
           if (c.distance >= p.thickness) return Contact{k, c, Vec3::Zero(), -1};  // only its distance counts
           Vec3 normal;
@@ -728,6 +766,7 @@ struct BodyCollisions::Impl {
           return Contact{k, c, normal, 0};
         },
         only);
+    skin.lower_valid = skin.lower_valid || fill;
     for (const Contact& c : near) {
       stats.min_distance = std::min(stats.min_distance, c.at.distance);
       if (c.t < 0) continue;
@@ -768,8 +807,12 @@ struct BodyCollisions::Impl {
       for (const int p : pass_particles) root[p] = zones.find(p);
     // With the step's candidates: those whose distance may come within eta along the step.
     const auto* only = subsetOf(step.hitting);
+    // The skin's candidates: those its bounds keep further apart than twice eta all along the step are skipped.
+    const bool skip = all && from_skin && skin.lower_valid;
+    const double moved = skip ? 2 * skinDrift({&nxs, &nxe}) : 0;
     std::vector<Contact> hits = gather(
         [&](int k, const PairInfo& p) -> std::optional<Contact> {
+          if (skip && skin.lower[k] - moved > 2 * kEtaFraction * p.thickness) return std::nullopt;
           if (!all) {
             bool moved = false;
             for (const int i : p.stencil.vertex) moved |= dirty[i] != 0;
