@@ -515,30 +515,31 @@ struct BodyCollisions::Impl {
     for (int k = 0; k < nodeCount(); ++k) drift = std::max(drift, (particle(nxe, k) - particle(step.end, k)).norm());
     return true;
   }
-  // The pass's candidates kept across steps, as a Verlet list keeps its neighbours within a skin: found for boxes
-  // padded by a margin (kSkinFraction of the largest thickness) more than the exact broad phase's, they hold every
-  // pair of the exact broad phase for any step whose nodes all lie, at its start and its end, within half that margin
-  // of the box each swept when they were found (the other half covers the rounding of the boxes): each exact padded
-  // box then lies inside the skin's. The surplus pairs, in the same ascending order as the exact ones, fail the
-  // geometric tests that follow (start boxes within the thickness, an axis apart all along, a hit): the same contacts
-  // in the same order. Serves steps that move a node by a small part of the thickness (an explicit integrator's),
-  // where the broad phase is most of the pass; a skin is built only after such a step.
-  // Each kept candidate also keeps a lower bound of its distance at the start of the step that found the list (its
-  // nearest points' distance where repulsion found them, else its start boxes' gap along an axis). Moving each node
-  // by at most D from there changes the distance between two elements by at most 2 D (each element's hull moves by
-  // at most D), and along a linear step each node stays within the larger of its two ends' displacements. So a later
-  // step skips, in repulsion, the candidates whose bound less 2 D stays above the thickness and the smallest distance
-  // seen (they neither touch nor lower it), and in continuous detection those whose bound less 2 D stays above twice
-  // eta: the same contacts, hits and statistics.
+  // Candidates kept across steps, as a Verlet list keeps its neighbours within a skin: found for boxes padded by a
+  // margin (kSkinFraction of the largest thickness) more than a broad phase needs, they hold every pair of that broad
+  // phase for any step whose nodes all lie, at its start and its end, within half that margin of the box each swept
+  // when they were found (the other half covers the rounding of the boxes): each padded box the step needs then lies
+  // inside the skin's. The surplus pairs, in the same ascending order, fail the geometric tests that follow (start
+  // boxes within the thickness, an axis apart all along, a hit, a gap): the same contacts in the same order. Serves
+  // steps that move a node by a small part of the thickness (an explicit integrator's; a body resting under backward
+  // Euler), where the broad phase is much of the work; a skin is built only after such a step. Two are kept: the
+  // pass's (the exact broad phase's pairs) and the step's (findStep: padded by the step margin as well).
+  // The pass's also keeps a lower bound of each candidate's distance at the start of the step that found the list
+  // (its nearest points' distance where repulsion found them, else its start boxes' gap along an axis). Moving each
+  // node by at most D from there changes the distance between two elements by at most 2 D (each element's hull moves
+  // by at most D), and along a linear step each node stays within the larger of its two ends' displacements. So a
+  // later step skips, in repulsion, the candidates whose bound less 2 D stays above the thickness and the smallest
+  // distance seen (they neither touch nor lower it), and in continuous detection those whose bound less 2 D stays
+  // above twice eta: the same contacts, hits and statistics.
   struct Skin {
     bool valid = false;
     VecX lo, hi;  // per node coordinate: where the node may lie at a step's start and end
     std::vector<std::pair<int, int>> vf, ee;
     VecX reference;             // the nodes' start when the list was found
-    std::vector<double> lower;  // per candidate: a lower bound of its distance there
+    std::vector<double> lower;  // the pass's, per candidate: a lower bound of its distance there
     bool lower_valid = false;   // filled by the repulsion of the step that found the list
-  } skin;
-  bool from_skin = false;  // the round's candidates are the skin's (vf, ee copied from it)
+  } skin, step_skin;
+  bool from_skin = false;  // the round's candidates are the pass's skin's (vf, ee copied from it)
   // The largest distance of a node from the skin's reference, over the given per-node vectors.
   double skinDrift(std::initializer_list<const VecX*> xs) const {
     double most = 0;
@@ -547,48 +548,59 @@ struct BodyCollisions::Impl {
         most = std::max(most, (particle(*x, k) - particle(skin.reference, k)).norm());
     return most;
   }
-  // The candidates for the pass over (nxs, nxe): the skin's when it serves, else a new skin's when the step moved
-  // every node by less than half its margin (then it likely serves a step or more), else the exact broad phase's.
-  // False: over the budget.
-  bool passCandidates(Stats& stats) {
-    const double margin = kSkinFraction * max_thickness;
-    if (motion_cull && skin.valid && skin.lo.size() == nxs.size()) {
+  // vf and ee for (nxs, nxe) from a broad phase padded by `margin` more than the exact one: k's list when it serves
+  // (returns 1), else a new list for k when the step moved every node by less than half k's margin (then it likely
+  // serves a step or more; returns 2), else the broad phase's (3). 0: over the budget.
+  int keptCandidates(Skin& k, double margin) {
+    const double skin_margin = kSkinFraction * max_thickness;
+    if (motion_cull && k.valid && k.lo.size() == nxs.size()) {
       bool inside = true;
       for (Eigen::Index j = 0; j < nxs.size() && inside; ++j)
-        inside = std::min(nxs[j], nxe[j]) >= skin.lo[j] && std::max(nxs[j], nxe[j]) <= skin.hi[j];
+        inside = std::min(nxs[j], nxe[j]) >= k.lo[j] && std::max(nxs[j], nxe[j]) <= k.hi[j];
       if (inside) {
         cull = true;
         from_step = false;
+        from_skin = false;
         round_closest_valid = false;
-        vf = skin.vf;
-        ee = skin.ee;
-        from_skin = true;
-        ++stats.skin_passes;
-        return true;
+        vf = k.vf;
+        ee = k.ee;
+        return 1;
       }
     }
-    skin.valid = false;
-    if (motion_cull && (nxe - nxs).cwiseAbs().maxCoeff() < margin / 2 && broadPhase(false, margin)) {
-      skin.lo = nxs.cwiseMin(nxe).array() - margin / 2;
-      skin.hi = nxs.cwiseMax(nxe).array() + margin / 2;
-      skin.vf = vf;
-      skin.ee = ee;
-      skin.reference = nxs;
+    k.valid = false;
+    if (motion_cull && (nxe - nxs).cwiseAbs().maxCoeff() < skin_margin / 2 && broadPhase(false, margin + skin_margin)) {
+      k.lo = nxs.cwiseMin(nxe).array() - skin_margin / 2;
+      k.hi = nxs.cwiseMax(nxe).array() + skin_margin / 2;
+      k.vf = vf;
+      k.ee = ee;
+      k.reference = nxs;
+      k.valid = true;
+      return 2;
+    }
+    return broadPhase(false, margin) ? 3 : 0;
+  }
+  // The candidates for the pass over (nxs, nxe) (keptCandidates). False: over the budget.
+  bool passCandidates(Stats& stats) {
+    const int found = keptCandidates(skin, 0);
+    if (found == 1) {
+      from_skin = true;
+      ++stats.skin_passes;
+    } else if (found == 2) {
+      from_skin = true;
       skin.lower.assign(vf.size() + ee.size(), 0.0);
       skin.lower_valid = false;
-      skin.valid = true;
-      from_skin = true;
-      return true;
     }
-    return broadPhase();
+    return found != 0;
   }
 
   // The step's candidates for (nxs, nxe), found anew, with their nearest points at the start and gaps at the end.
   // Returns false (no candidates: the step stays invalid) when the broad phase exceeds its budget.
-  bool findStep() {
+  bool findStep(Stats& stats) {
     step.margin = kStepMarginFraction * max_thickness;
     step.valid = false;
-    if (!broadPhase(false, step.margin)) return false;
+    const int found = keptCandidates(step_skin, step.margin);
+    if (!found) return false;
+    stats.skin_searches += found == 1;
     step.start = nxs;
     step.end = nxe;
     step.vf.swap(vf);
@@ -924,7 +936,7 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
   s.blendNodes(x1, s.nxe);
   // The shortcuts off: the exact broad phase, every time. Over the candidate budget: no pairs (the pass after the step
   // stops the run).
-  if (!motion_cull ? !s.broadPhase() : !s.reuseStep() && !s.findStep()) return false;
+  if (!motion_cull ? !s.broadPhase() : !s.reuseStep() && !s.findStep(stats_)) return false;
   // With the step's candidates: those apart at the start whose gap at x1 may be within the thickness.
   const auto* only = s.subsetOf(s.step.closing);
   const std::size_t before = out.size();

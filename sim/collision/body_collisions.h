@@ -46,6 +46,7 @@ namespace collision {
 struct Stats {
   long passes = 0;            // steps checked
   long skin_passes = 0;       // of them, those whose candidates came from an earlier step's broad phase (its skin)
+  long skin_searches = 0;     // backward Euler's steps whose near-pair candidates came from an earlier step's
   long contacts = 0;          // pairs within the thickness at a step's start (repulsion impulses)
   long ccd_hits = 0;          // collisions found by continuous detection and stopped by impulses
   long zone_activations = 0;  // steps that needed rigid impact zones
