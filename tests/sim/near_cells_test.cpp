@@ -5,10 +5,13 @@
 //  - on a mesh jelly striking a floor, a moving sphere, a box and a mesh, every point near() keeps on the blend of
 //    every point lies in a cell the collider may be near and in that cell's box, and the contact forces, the step
 //    ends' impacts, the colliders' work and a whole run are bit for bit those of the same colliders without the
-//    filter (every cell asked, every point blended: the contact code before the filter).
+//    filter (every cell asked, every point blended: the contact code before the filter);
+//  - a cell's points blended four at a time (the half-space filter's loop) are each point's own blend, bit for bit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
+#include <numeric>
 #include <random>
 
 #include "sim/bodies/mesh_jelly.h"
@@ -191,6 +194,48 @@ TEST(NearCells, WeightsMustBeAConvexCombination) {
   points.add(cell, {1, 0, 0, 0, 0, 0, 0, 0}, 0, inv_mass);
   EXPECT_EQ(points.size(), 2);
   EXPECT_EQ(points.cellCount(), 1);
+}
+
+TEST(NearCells, CellBlendsAreEachPointsBlendBitForBit) {
+  // The half-space filter blends a cell's points four at a time (WeightedPoints::cellBlendValues): the very sums
+  // blendValue takes point by point. Cells of 1 to 9 points (full and partial quads), random convex weights, random
+  // values of either sign.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(0, 1), value(-3, 3);
+  const int particles = 40;
+  const VecX inv_mass = VecX::Ones(particles);
+  VecX s(particles);
+  for (int i = 0; i < particles; ++i) s[i] = value(rng);
+  WeightedPoints points;
+  std::vector<int> order(particles);
+  for (int cell = 0; cell < 9; ++cell) {
+    std::iota(order.begin(), order.end(), 0);
+    std::shuffle(order.begin(), order.end(), rng);
+    std::array<int, 8> particle;
+    std::copy_n(order.begin(), 8, particle.begin());
+    for (int p = 0; p <= cell; ++p) {
+      std::array<double, 8> w;
+      double sum = 0;
+      for (double& wk : w) sum += (wk = unit(rng) * unit(rng));
+      for (double& wk : w) wk /= sum;
+      w[7] = 1;
+      for (int k = 0; k < 7; ++k) w[7] -= w[k];  // summing to 1 within round-off
+      if (w[7] < 0) w[7] = 0;
+      points.add(particle, w, 0, inv_mass);
+    }
+  }
+  ASSERT_EQ(points.cellCount(), 9);
+  for (int c = 0; c < points.cellCount(); ++c) {
+    const std::span<const int> cell = points.cellPoints(c);
+    ASSERT_EQ(int(cell.size()), c + 1);
+    double values[8], blends[16];
+    for (int k = 0; k < 8; ++k) values[k] = s[points.cellParticles(c)[k]];
+    points.cellBlendValues(c, values, blends);
+    for (std::size_t j = 0; j < cell.size(); ++j) {
+      const double expected = points.blendValue(s, cell[j]);
+      EXPECT_EQ(std::memcmp(&blends[j], &expected, sizeof expected), 0) << "cell " << c << " point " << j;
+    }
+  }
 }
 
 }  // namespace
