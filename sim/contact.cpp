@@ -93,16 +93,11 @@ void halfSpaceCandidates(const HalfSpace& half, const WeightedPoints& points, co
   if (d.size() != n) d.resize(n);  // once
   for (Eigen::Index i = 0; i < n; ++i) d[i] = half.normal.dot(particle(x, i) - half.point);
   const double reach = margin + roundOffSlack(x.cwiseAbs().maxCoeff() + half.point.cwiseAbs().maxCoeff());
-  thread_local std::vector<double> blends;  // a cell's points' blended distances
   for (int c = 0; c < points.cellCount(); ++c) {
     const std::array<int, 8>& k = points.cellParticles(c);
     const double dk[8] = {d[k[0]], d[k[1]], d[k[2]], d[k[3]], d[k[4]], d[k[5]], d[k[6]], d[k[7]]};
     if (*std::min_element(dk, dk + 8) >= reach) continue;
-    const std::span<const int> cell = points.cellPoints(c);
-    if (blends.size() < cell.size()) blends.resize(cell.size());
-    points.cellBlendValues(c, dk, blends.data());  // blendValue(d, p) of each
-    for (std::size_t j = 0; j < cell.size(); ++j)
-      if (blends[j] < reach) out.push_back(cell[j]);
+    points.cellPointsBelow(c, dk, reach, out);  // those with blendValue(d, p) < reach
   }
   std::sort(out.begin(), out.end());  // cell by cell: back to index order
 }

@@ -50,10 +50,13 @@ inline void blendInto(const WeightedPoint& w, const double* in, double* o) {
 }  // namespace
 
 // Compiled without FMA contraction (CMakeLists.txt): every clone takes blendValue's products and sums, lane by lane.
-__attribute__((target_clones("avx2", "default"))) void WeightedPoints::cellBlendValues(int c, const double* s,
-                                                                                       double* out) const {
+__attribute__((target_clones("avx2", "default"))) void WeightedPoints::cellPointsBelow(int c, const double* s,
+                                                                                       double limit,
+                                                                                       std::vector<int>& out) const {
   using Lanes = double __attribute__((vector_size(32)));  // GCC's vector extension: four doubles, lane by lane
-  const int count = cell_points_[c].size();
+  using Mask = long long __attribute__((vector_size(32)));
+  const std::vector<int>& ids = cell_points_[c];
+  const int count = ids.size();
   int first = 0;
   for (const WeightQuad& q : cell_weights_[c]) {
     Lanes sum = {0, 0, 0, 0};
@@ -62,7 +65,10 @@ __attribute__((target_clones("avx2", "default"))) void WeightedPoints::cellBlend
       std::memcpy(&w, q.weight[k], sizeof w);
       sum += w * s[k];
     }
-    for (int lane = 0; lane < 4 && first + lane < count; ++lane) out[first + lane] = sum[lane];
+    const Mask below = sum < limit;  // most quads keep nothing: one test for the four
+    if (below[0] | below[1] | below[2] | below[3])
+      for (int lane = 0; lane < 4 && first + lane < count; ++lane)
+        if (below[lane]) out.push_back(ids[first + lane]);
     first += 4;
   }
 }

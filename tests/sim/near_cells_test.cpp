@@ -6,10 +6,11 @@
 //    every point lies in a cell the collider may be near and in that cell's box, and the contact forces, the step
 //    ends' impacts, the colliders' work and a whole run are bit for bit those of the same colliders without the
 //    filter (every cell asked, every point blended: the contact code before the filter);
-//  - a cell's points blended four at a time (the half-space filter's loop) are each point's own blend, bit for bit.
+//  - a cell's points tested four at a time (the half-space filter's loop) are those each point's own blend keeps.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <numeric>
 #include <random>
@@ -196,10 +197,10 @@ TEST(NearCells, WeightsMustBeAConvexCombination) {
   EXPECT_EQ(points.cellCount(), 1);
 }
 
-TEST(NearCells, CellBlendsAreEachPointsBlendBitForBit) {
-  // The half-space filter blends a cell's points four at a time (WeightedPoints::cellBlendValues): the very sums
-  // blendValue takes point by point. Cells of 1 to 9 points (full and partial quads), random convex weights, random
-  // values of either sign.
+TEST(NearCells, CellPointsBelowKeepEachPointsOwnTest) {
+  // The half-space filter tests a cell's points four at a time (WeightedPoints::cellPointsBelow): the very sums and
+  // test blendValue(s, p) < limit takes point by point. Cells of 1 to 9 points (full and partial quads), random convex
+  // weights, random values of either sign.
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> unit(0, 1), value(-3, 3);
   const int particles = 40;
@@ -228,12 +229,21 @@ TEST(NearCells, CellBlendsAreEachPointsBlendBitForBit) {
   for (int c = 0; c < points.cellCount(); ++c) {
     const std::span<const int> cell = points.cellPoints(c);
     ASSERT_EQ(int(cell.size()), c + 1);
-    double values[8], blends[16];
+    double values[8];
     for (int k = 0; k < 8; ++k) values[k] = s[points.cellParticles(c)[k]];
-    points.cellBlendValues(c, values, blends);
-    for (std::size_t j = 0; j < cell.size(); ++j) {
-      const double expected = points.blendValue(s, cell[j]);
-      EXPECT_EQ(std::memcmp(&blends[j], &expected, sizeof expected), 0) << "cell " << c << " point " << j;
+    // Limits at each point's own blend (not below it: kept only if a sum rounded otherwise), one unit in the last
+    // place above it (kept), below and above every value.
+    std::vector<double> limits{-10.0, 10.0};
+    for (const int p : cell) {
+      limits.push_back(points.blendValue(s, p));
+      limits.push_back(std::nextafter(points.blendValue(s, p), 10.0));
+    }
+    for (const double limit : limits) {
+      std::vector<int> expected, got;
+      for (const int p : cell)
+        if (points.blendValue(s, p) < limit) expected.push_back(p);
+      points.cellPointsBelow(c, values, limit, got);
+      EXPECT_EQ(got, expected) << "cell " << c << " limit " << limit;
     }
   }
 }
