@@ -80,6 +80,9 @@ void BM_Step(benchmark::State& state) {
     if (sim.advanceTo(sim.time() + dt)) state.SkipWithError("the run stopped");
   state.counters["particles"] = system.particleCount();
   state.counters["springs"] = double(system.springs().size());
+  double short_runs = 0;  // the springs the force loop takes outside long runs (pair_schedule.h)
+  for (const PairRun& run : system.jacobianPattern().runs()) short_runs += run.length < kMinPairRun ? run.length : 0;
+  state.counters["springs_in_short_runs"] = short_runs;
   const WeightedPoints& points = system.embeddedPoints();
   state.counters["contact_points"] = points.size();
   if (points.empty()) return;

@@ -95,9 +95,9 @@ void halfSpaceCandidates(const HalfSpace& half, const WeightedPoints& points, co
   const double reach = margin + roundOffSlack(x.cwiseAbs().maxCoeff() + half.point.cwiseAbs().maxCoeff());
   for (int c = 0; c < points.cellCount(); ++c) {
     const std::array<int, 8>& k = points.cellParticles(c);
-    if (std::min({d[k[0]], d[k[1]], d[k[2]], d[k[3]], d[k[4]], d[k[5]], d[k[6]], d[k[7]]}) >= reach) continue;
-    for (const int p : points.cellPoints(c))
-      if (points.blendValue(d, p) < reach) out.push_back(p);
+    const double dk[8] = {d[k[0]], d[k[1]], d[k[2]], d[k[3]], d[k[4]], d[k[5]], d[k[6]], d[k[7]]};
+    if (*std::min_element(dk, dk + 8) >= reach) continue;
+    points.cellPointsBelow(c, dk, reach, out);  // those with blendValue(d, p) < reach
   }
   std::sort(out.begin(), out.end());  // cell by cell: back to index order
 }

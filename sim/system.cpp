@@ -44,6 +44,7 @@ void MassSpringSystem::addBody(Body body) {
     inv_mass.setZero();
   }
   appendTo(collider_inv_mass_, inv_mass);
+  particles_meet_colliders_ = (collider_inv_mass_.array() != 0).any();
   appendTo(drag_, drag);
   springs_.append(body.springs, first);
   // The springs go into the schedule's order once, here, so every force and Jacobian loop runs over them in turn.
@@ -66,7 +67,7 @@ void MassSpringSystem::smoothForce(double, const VecX& x, const VecX& v, VecX& f
 void MassSpringSystem::force(double t, const VecX& x, const VecX& v, VecX& f) const {
   smoothForce(t, x, v, f);
   // Contact support cancels the net push of the other forces, so it is added last.
-  addContactForces(colliders_, t, x, v, mass_, collider_inv_mass_, stick_time_, f);
+  addContactForces(particleColliders(), t, x, v, mass_, collider_inv_mass_, stick_time_, f);
   addContactForces(colliders_, points_, t, x, v, inv_mass_, stick_time_, f);
 }
 
@@ -101,7 +102,7 @@ void MassSpringSystem::contactConstraints(double t, const VecX& x, const VecX& v
   // The embedded points' supports, as the accelerations add them (after the particles'), all released: the implicit
   // step holds the points by colliderPairs' penalty instead.
   if (points_.empty() || !released) return;
-  addContactForces(colliders_, t, x, v, mass_, collider_inv_mass_, stick_time_, f);
+  addContactForces(particleColliders(), t, x, v, mass_, collider_inv_mass_, stick_time_, f);
   addContactForces(colliders_, points_, t, x, v, inv_mass_, stick_time_, f, released);
 }
 
@@ -164,7 +165,7 @@ void MassSpringSystem::acceleration(double t, const VecX& x, const VecX& v, VecX
 }
 
 void MassSpringSystem::resolveCollisions(double t, VecX& x, VecX& v) const {
-  wobble::resolveCollisions(colliders_, t, x, v, collider_inv_mass_);
+  wobble::resolveCollisions(particleColliders(), t, x, v, collider_inv_mass_);
   wobble::resolveCollisions(colliders_, points_, t, x, v, inv_mass_);
 }
 

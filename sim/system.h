@@ -2,6 +2,7 @@
 // drag and the colliders the scene names. It is the Dynamics that integrators step.
 #pragma once
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -105,6 +106,13 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   // inv_mass_ as colliders see particles: 0 also for a lattice particle under an embedded surface, which meets
   // colliders through points_ alone (so that the visible surface, not the lattice's corners, rests on a floor).
   VecX collider_inv_mass_;
+  // Whether any particle meets colliders (collider_inv_mass_ not all 0): a mesh jelly alone meets them through its
+  // points only, and the particle loops, which would skip every particle, are not run at all.
+  bool particles_meet_colliders_ = false;
+  std::span<const std::unique_ptr<Collider>> particleColliders() const {
+    if (particles_meet_colliders_) return colliders_;
+    return {};
+  }
   WeightedPoints points_;
   Springs springs_;
   PairSchedule schedule_;

@@ -1,6 +1,7 @@
 #include "sim/weighted_points.h"
 
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 #include "sim/colliders/collider.h"
@@ -23,9 +24,13 @@ void WeightedPoints::add(const std::array<int, 8>& particle, const std::array<do
   }
   points_.push_back(w);
   const auto [it, added] = cell_index_.try_emplace(w.particle, cellCount());
-  if (added) cells_.push_back(w.particle), cell_points_.emplace_back();
-  cell_of_.push_back(it->second);
-  cell_points_[it->second].push_back(size() - 1);
+  if (added) cells_.push_back(w.particle), cell_points_.emplace_back(), cell_weights_.emplace_back();
+  const int c = it->second;
+  cell_of_.push_back(c);
+  const int lane = cell_points_[c].size() % 4;
+  if (lane == 0) cell_weights_[c].push_back({});  // zeros
+  for (int k = 0; k < 8; ++k) cell_weights_[c].back().weight[k][lane] = w.weight[k];
+  cell_points_[c].push_back(size() - 1);
 }
 
 namespace {
@@ -43,6 +48,30 @@ inline void blendInto(const WeightedPoint& w, const double* in, double* o) {
 }
 
 }  // namespace
+
+// Compiled without FMA contraction (CMakeLists.txt): every clone takes blendValue's products and sums, lane by lane.
+__attribute__((target_clones("avx2", "default"))) void WeightedPoints::cellPointsBelow(int c, const double* s,
+                                                                                       double limit,
+                                                                                       std::vector<int>& out) const {
+  using Lanes = double __attribute__((vector_size(32)));  // GCC's vector extension: four doubles, lane by lane
+  using Mask = long long __attribute__((vector_size(32)));
+  const std::vector<int>& ids = cell_points_[c];
+  const int count = ids.size();
+  int first = 0;
+  for (const WeightQuad& q : cell_weights_[c]) {
+    Lanes sum = {0, 0, 0, 0};
+    for (int k = 0; k < 8; ++k) {
+      Lanes w;
+      std::memcpy(&w, q.weight[k], sizeof w);
+      sum += w * s[k];
+    }
+    const Mask below = sum < limit;  // most quads keep nothing: one test for the four
+    if (below[0] | below[1] | below[2] | below[3])
+      for (int lane = 0; lane < 4 && first + lane < count; ++lane)
+        if (below[lane]) out.push_back(ids[first + lane]);
+    first += 4;
+  }
+}
 
 void WeightedPoints::blendAll(const VecX& s, VecX& out) const {
   out.resize(3 * size());

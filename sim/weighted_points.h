@@ -59,6 +59,10 @@ class WeightedPoints {
     for (int k = 0; k < 8; ++k) sum += w.weight[k] * s[w.particle[k]];
     return sum;
   }
+  // Appends to out the points of cell c whose blendValue of s is below limit, in cellPoints(c)'s order, from the
+  // cell's particles' values s[0 .. 7] (cellParticles(c)'s order): the same sums and the same test as
+  // blendValue(s, p) < limit, taken four points at a time.
+  void cellPointsBelow(int c, const double* s, double limit, std::vector<int>& out) const;
   // Every point's blend of s, 3 per point (resized).
   void blendAll(const VecX& s, VecX& out) const;
   // The blends of the points listed, 3 per listed point, the same sums as blendAll's, at the head of out (which grows
@@ -80,6 +84,12 @@ class WeightedPoints {
   std::vector<std::array<int, 8>> cells_;  // the particles of each cell, as the first point on it listed them
   std::vector<int> cell_of_;               // per point
   std::vector<std::vector<int>> cell_points_;
+  // Each cell's points' weights four points at a time, weight[k][lane] (lanes past the last point 0): the layout
+  // cellPointsBelow reads with one vector operation per particle.
+  struct WeightQuad {
+    alignas(32) double weight[8][4];
+  };
+  std::vector<std::vector<WeightQuad>> cell_weights_;
   std::map<std::array<int, 8>, int> cell_index_;
 };
 

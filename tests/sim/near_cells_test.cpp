@@ -5,10 +5,14 @@
 //  - on a mesh jelly striking a floor, a moving sphere, a box and a mesh, every point near() keeps on the blend of
 //    every point lies in a cell the collider may be near and in that cell's box, and the contact forces, the step
 //    ends' impacts, the colliders' work and a whole run are bit for bit those of the same colliders without the
-//    filter (every cell asked, every point blended: the contact code before the filter).
+//    filter (every cell asked, every point blended: the contact code before the filter);
+//  - a cell's points tested four at a time (the half-space filter's loop) are those each point's own blend keeps.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <numeric>
 #include <random>
 
 #include "sim/bodies/mesh_jelly.h"
@@ -191,6 +195,57 @@ TEST(NearCells, WeightsMustBeAConvexCombination) {
   points.add(cell, {1, 0, 0, 0, 0, 0, 0, 0}, 0, inv_mass);
   EXPECT_EQ(points.size(), 2);
   EXPECT_EQ(points.cellCount(), 1);
+}
+
+TEST(NearCells, CellPointsBelowKeepEachPointsOwnTest) {
+  // The half-space filter tests a cell's points four at a time (WeightedPoints::cellPointsBelow): the very sums and
+  // test blendValue(s, p) < limit takes point by point. Cells of 1 to 9 points (full and partial quads), random convex
+  // weights, random values of either sign.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(0, 1), value(-3, 3);
+  const int particles = 40;
+  const VecX inv_mass = VecX::Ones(particles);
+  VecX s(particles);
+  for (int i = 0; i < particles; ++i) s[i] = value(rng);
+  WeightedPoints points;
+  std::vector<int> order(particles);
+  for (int cell = 0; cell < 9; ++cell) {
+    std::iota(order.begin(), order.end(), 0);
+    std::shuffle(order.begin(), order.end(), rng);
+    std::array<int, 8> particle;
+    std::copy_n(order.begin(), 8, particle.begin());
+    for (int p = 0; p <= cell; ++p) {
+      std::array<double, 8> w;
+      double sum = 0;
+      for (double& wk : w) sum += (wk = unit(rng) * unit(rng));
+      for (double& wk : w) wk /= sum;
+      w[7] = 1;
+      for (int k = 0; k < 7; ++k) w[7] -= w[k];  // summing to 1 within round-off
+      if (w[7] < 0) w[7] = 0;
+      points.add(particle, w, 0, inv_mass);
+    }
+  }
+  ASSERT_EQ(points.cellCount(), 9);
+  for (int c = 0; c < points.cellCount(); ++c) {
+    const std::span<const int> cell = points.cellPoints(c);
+    ASSERT_EQ(int(cell.size()), c + 1);
+    double values[8];
+    for (int k = 0; k < 8; ++k) values[k] = s[points.cellParticles(c)[k]];
+    // Limits at each point's own blend (not below it: kept only if a sum rounded otherwise), one unit in the last
+    // place above it (kept), below and above every value.
+    std::vector<double> limits{-10.0, 10.0};
+    for (const int p : cell) {
+      limits.push_back(points.blendValue(s, p));
+      limits.push_back(std::nextafter(points.blendValue(s, p), 10.0));
+    }
+    for (const double limit : limits) {
+      std::vector<int> expected, got;
+      for (const int p : cell)
+        if (points.blendValue(s, p) < limit) expected.push_back(p);
+      points.cellPointsBelow(c, values, limit, got);
+      EXPECT_EQ(got, expected) << "cell " << c << " limit " << limit;
+    }
+  }
 }
 
 }  // namespace
