@@ -4,9 +4,12 @@
 // (steps 31 to 40: the same states in every run; wall time, and CPU time of the whole process, both threads), with
 // self-contact on (/1) against off (/0, the same cloth from its own warm-up, layers passing through each other); the
 // last argument 0 turns the broad phase's culls off (sim/collision/body_collisions.h), to show what it saves:
-//   BM_Folded/100/x: 100 x 100 cloth, backward Euler at dt 1/60 (the 2x target);
-//   (256 x 256, the other target, is not registered: its folds spring open so violently on release that the
-//   warm-up does not finish; docs/body-contact.md, Cost.)
+//   BM_Folded/100/x: 100 x 100 cloth, backward Euler at dt 1/60 (the 2x target); at 256 x 256 its folds
+//   spring open so violently on release that the run stops (docs/body-contact.md, Cost), hence:
+//   BM_Stacked/{100,256}/x: the same cloth laid in four layers half a spacing apart, each fold one short spring and
+//   every spring at rest in that shape (foldedCloth's layer_gap), on a floor without friction, backward Euler at
+//   1/60 with CG up to 20 000 iterations: it drops 1 cm and its layers settle onto each other (the 256 x 256 target:
+//   at most 50 ms a step); the same warm-up and timed steps, and cg/step, the CG iterations a step.
 //   BM_FoldedRk4/32/x: 32 x 32 cloth, RK4 at 2.5e-4 s, below its stable step (theory: 3.0e-4 s; at 100 x 100 it is
 //   2.8e-6 s), detection once a step, not a stage; 400 fixed steps (0.1 s).
 // Counters per step: contacts (pairs within the thickness), CCD hits, impact-zone activations; min_dist is the
@@ -44,26 +47,31 @@ struct Folded {
   std::unique_ptr<Simulation> sim;
 };
 
-std::unique_ptr<Folded> folded(int n, bool self_contact, const char* integrator, double dt) {
+// stacked: the layers 0.5 spacings apart, the springs at rest in the folded shape, a floor without friction, and
+// CG up to 20 000 iterations (the stack's first step needs about 3 600 at 256 x 256).
+std::unique_ptr<Folded> folded(int n, bool self_contact, const char* integrator, double dt, bool stacked = false) {
   auto c = std::make_unique<Folded>();
-  c->system = testing::foldedCloth(n, self_contact);
-  c->sim = std::make_unique<Simulation>(*c->system, makeIntegrator(integrator), dt);
+  c->system = stacked ? testing::foldedCloth(n, self_contact, 4, 0.5, 0) : testing::foldedCloth(n, self_contact);
+  IntegratorOptions options;
+  if (stacked) options.cg_max_iterations = 20000;
+  c->sim = std::make_unique<Simulation>(*c->system, makeIntegrator(integrator, options), dt);
   c->sim->advanceTo(0.5);  // landed: the layers lie on each other
   return c;
 }
 
-void run(benchmark::State& state, const char* integrator, double dt) {
+void run(benchmark::State& state, const char* integrator, double dt, bool stacked = false) {
   const int n = int(state.range(0));
   const bool self_contact = state.range(1) != 0;
   collision::setBroadPhaseCulls(state.range(2) != 0);
-  auto c = folded(n, self_contact, integrator, dt);
+  auto c = folded(n, self_contact, integrator, dt, stacked);
   Simulation& sim = *c->sim;
   const collision::Stats before = sim.bodyContact() ? *sim.bodyContact() : collision::Stats{};
-  const long steps = sim.steps();
+  const long steps = sim.steps(), cg = sim.integrator().stats().cg_iterations;
   for (auto _ : state) {
     if (sim.advanceTo(sim.time() + dt)) state.SkipWithError("the run stopped");
   }
   const double taken = double(sim.steps() - steps);
+  if (stacked) state.counters["cg/step"] = double(sim.integrator().stats().cg_iterations - cg) / taken;
   if (const collision::Stats* s = sim.bodyContact()) {
     state.counters["contacts/step"] = double(s->contacts - before.contacts) / taken;
     state.counters["ccd_hits/step"] = double(s->ccd_hits - before.ccd_hits) / taken;
@@ -76,22 +84,22 @@ void run(benchmark::State& state, const char* integrator, double dt) {
 
 void BM_Folded(benchmark::State& state) { run(state, "backward-euler", 1.0 / 60); }
 void BM_FoldedRk4(benchmark::State& state) { run(state, "rk4", 2.5e-4); }
+void BM_Stacked(benchmark::State& state) { run(state, "backward-euler", 1.0 / 60, true); }
 
-BENCHMARK(BM_Folded)
+// Each iteration one step: wall time, and the process's CPU time (both threads).
+void perStep(benchmark::internal::Benchmark* b) {
+  b->MeasureProcessCPUTime()->UseRealTime()->Unit(benchmark::kMillisecond);
+}
+
+BENCHMARK(BM_Folded)->Args({100, 0, 1})->Args({100, 1, 1})->Args({100, 1, 0})->Iterations(10)->Apply(perStep);
+BENCHMARK(BM_Stacked)
     ->Args({100, 0, 1})
     ->Args({100, 1, 1})
-    ->Args({100, 1, 0})
+    ->Args({256, 0, 1})
+    ->Args({256, 1, 1})
     ->Iterations(10)
-    ->MeasureProcessCPUTime()
-    ->UseRealTime()
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_FoldedRk4)
-    ->Args({32, 0, 1})
-    ->Args({32, 1, 1})
-    ->Iterations(400)
-    ->MeasureProcessCPUTime()
-    ->UseRealTime()
-    ->Unit(benchmark::kMillisecond);
+    ->Apply(perStep);
+BENCHMARK(BM_FoldedRk4)->Args({32, 0, 1})->Args({32, 1, 1})->Iterations(400)->Apply(perStep);
 
 // jelly_stack (scenes/jelly_stack.toml), the upper jelly dropped onto the lower: timed once it rests on it (1.5 s).
 void BM_StackInSolve(benchmark::State& state) {

@@ -3,6 +3,10 @@
 // ribbon into `layers` stacked layers (half-circle folds, two particle spacings between layers) just above a floor,
 // with self-contact (thickness a quarter of the spacing). Its bending springs are at 1% of the cloth's stiffness: a
 // limp cloth, so that the folds collapse and the layers land on each other instead of springing open.
+// With layer_gap > 0 (less than 1) the layers lie that many spacings apart instead, each fold one short spring,
+// and every spring's rest length is its length in this folded shape: nothing springs open at release, the stack drops
+// onto the floor and its layers settle onto each other (at 256 x 256 the default folds spring open so violently that
+// the run stops: docs/body-contact.md, Cost). floor_friction: the floor's Coulomb coefficient.
 #pragma once
 #include <cmath>
 #include <memory>
@@ -13,7 +17,8 @@
 
 namespace wobble::testing {
 
-inline std::unique_ptr<MassSpringSystem> foldedCloth(int side, bool self_contact, int layers = 4) {
+inline std::unique_ptr<MassSpringSystem> foldedCloth(int side, bool self_contact, int layers = 4, double layer_gap = 0,
+                                                     double floor_friction = 0.5) {
   const double size = 2, spacing = size / (side - 1);
   ClothParams p;
   p.nx = p.ny = side;
@@ -28,21 +33,27 @@ inline std::unique_ptr<MassSpringSystem> foldedCloth(int side, bool self_contact
       cloth.springs.ks[k] *= 0.01;
       cloth.springs.kd[k] *= 0.01;
     }
-  // Fold along x: the path of length `size` runs along layer 0 to +x, half a circle up, layer 1 back to -x, ...
-  const double r = spacing, arc = M_PI * r, width = (size - (layers - 1) * arc) / layers;
+  // Fold along x: the path of length `size` runs along layer 0 to +x, a fold up, layer 1 back to -x, ...; a fold is
+  // half a circle of radius r, or with layer_gap one spring up `rise` and back half a spacing (each layer then a whole
+  // number of spacings long, so that the fold is one of the cloth's springs).
+  const bool stacked = layer_gap > 0;
+  const double r = spacing, arc = stacked ? spacing : M_PI * r, rise = stacked ? layer_gap * spacing : 2 * r;
+  const double shift = stacked ? spacing / 2 : 0;  // a stacked layer's particles halfway between those below
+  const double width =
+      stacked ? spacing * std::floor((side - layers) / double(layers)) : (size - (layers - 1) * arc) / layers;
   for (Eigen::Index i = 0; i < cloth.x.size() / 3; ++i) {
     double s = cloth.x[3 * i] + size / 2, x = 0, y = 0;
     for (int k = 0;; ++k) {
-      const double dir = k % 2 == 0 ? 1 : -1, start = k % 2 == 0 ? 0 : width;
+      const double dir = k % 2 == 0 ? 1 : -1, start = k % 2 == 0 ? 0 : width - shift;
       if (s <= width || k == layers - 1) {
         x = start + dir * s;
-        y = 2 * r * k;
+        y = rise * k;
         break;
       }
       s -= width;
       if (s <= arc) {
-        x = start + dir * (width + r * std::sin(s / r));
-        y = 2 * r * k + r * (1 - std::cos(s / r));
+        x = start + dir * (width + (stacked ? -shift * s / arc : r * std::sin(s / r)));
+        y = rise * k + (stacked ? rise * s / arc : r * (1 - std::cos(s / r)));
         break;
       }
       s -= arc;
@@ -50,12 +61,16 @@ inline std::unique_ptr<MassSpringSystem> foldedCloth(int side, bool self_contact
     cloth.x[3 * i] = x - width / 2;
     cloth.x[3 * i + 1] = y + 0.01;
   }
+  if (stacked)
+    for (std::size_t k = 0; k < cloth.springs.size(); ++k)
+      cloth.springs.rest[k] =
+          (cloth.x.segment<3>(3 * cloth.springs.a[k]) - cloth.x.segment<3>(3 * cloth.springs.b[k])).norm();
   cloth.contact.self_contact = self_contact;
   cloth.contact.thickness = 0.25 * spacing;
   auto system = std::make_unique<MassSpringSystem>();
   system->addBody(std::move(cloth));
   system->addCollider(
-      std::make_unique<PlaneCollider>("floor", ContactParams{0, 0.5, 0.005}, Vec3::Zero(), Vec3::UnitY()));
+      std::make_unique<PlaneCollider>("floor", ContactParams{0, floor_friction, 0.005}, Vec3::Zero(), Vec3::UnitY()));
   return system;
 }
 
