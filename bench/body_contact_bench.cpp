@@ -38,6 +38,7 @@
 #include "sim/collision/broad_phase.h"
 #include "sim/simulation.h"
 #include "tests/sim/folded_cloth.h"
+#include "tests/sim/jelly_stack.h"
 
 namespace wobble {
 namespace {
@@ -104,20 +105,10 @@ BENCHMARK(BM_FoldedRk4)->Args({32, 0, 1})->Args({32, 1, 1})->Iterations(400)->Ap
 // jelly_stack (scenes/jelly_stack.toml), the upper jelly dropped onto the lower: timed once it rests on it (1.5 s).
 void BM_StackInSolve(benchmark::State& state) {
   const double dt = 1.0 / 60;
-  MassSpringSystem system;
-  JellyParams base{.n = 5, .size = 1, .mass = 0.1, .ks = 3000, .kd = 2, .center = Vec3(0, 0.52, 0)};
-  system.addBody(buildJelly("base", base));
-  JellyParams top = base;
-  top.size = 0.8;
-  top.center = Vec3(0.05, 2.1, -0.05);
-  top.rotation_axis = Vec3::UnitY();
-  top.rotation_deg = 30;
-  system.addBody(buildJelly("top", top));
-  system.addCollider(
-      std::make_unique<PlaneCollider>("floor", ContactParams{0.2, 0.6, 0.01}, Vec3::Zero(), Vec3::UnitY()));
+  const auto system = testing::jellyStack();
   IntegratorOptions options;
   options.body_contact_in_solve = state.range(0) != 0;
-  Simulation sim(system, makeIntegrator("backward-euler", options), dt);
+  Simulation sim(*system, makeIntegrator("backward-euler", options), dt);
   if (sim.advanceTo(1.5)) state.SkipWithError("the warm-up stopped");
   const long steps = sim.steps();
   const IntegratorStats before = sim.integrator().stats();

@@ -11,11 +11,11 @@
 
 #include "sim/bodies/cloth.h"
 #include "sim/bodies/jelly.h"
-#include "sim/colliders/plane.h"
 #include "sim/collision/body_collisions.h"
 #include "sim/collision/ccd.h"
 #include "sim/simulation.h"
 #include "tests/sim/folded_cloth.h"
+#include "tests/sim/jelly_stack.h"
 #include "tests/sim/triangle_intersection.h"
 
 namespace wobble {
@@ -301,20 +301,10 @@ TEST(BodyContact, KeptCandidatesOfARestingStackFindTheSameContacts) {
     SCOPED_TRACE(in_solve ? "in_solve" : "in_solve off");
     const auto run = [&](bool cull) {
       collision::setBroadPhaseCulls(cull);
-      MassSpringSystem system;
-      JellyParams base{.n = 5, .size = 1, .mass = 0.1, .ks = 3000, .kd = 2, .center = Vec3(0, 0.52, 0)};
-      system.addBody(buildJelly("base", base));
-      JellyParams top = base;
-      top.size = 0.8;
-      top.center = Vec3(0.05, 2.1, -0.05);
-      top.rotation_axis = Vec3::UnitY();
-      top.rotation_deg = 30;
-      system.addBody(buildJelly("top", top));
-      system.addCollider(
-          std::make_unique<PlaneCollider>("floor", ContactParams{0.2, 0.6, 0.01}, Vec3::Zero(), Vec3::UnitY()));
+      const auto system = testing::jellyStack();
       IntegratorOptions options;
       options.body_contact_in_solve = in_solve;
-      Simulation sim(system, makeIntegrator("backward-euler", options), 1.0 / 60);
+      Simulation sim(*system, makeIntegrator("backward-euler", options), 1.0 / 60);
       EXPECT_FALSE(sim.advanceTo(3));
       collision::setBroadPhaseCulls(true);
       return std::tuple{VecX(sim.x()), VecX(sim.v()), *sim.bodyContact()};
