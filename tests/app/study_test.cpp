@@ -277,7 +277,9 @@ TEST(StabilityStudy, ContactCaseTakesTheScenesInSolve) {
     ASSERT_EQ(scene.integrator_options.body_contact_in_solve, in_solve);
     const StabilityCell c = classifyCell(*scene.system, "backward-euler", 1.0 / 60, 1.0, 0.5, scene.integrator_options);
     EXPECT_EQ(c.outcome, in_solve ? Outcome::Stable : Outcome::GainedEnergy) << in_solve << " " << c.note;
-    if (in_solve) EXPECT_LT(c.max_strain, 0.05);
+    if (in_solve) {
+      EXPECT_LT(c.max_strain, 0.05);
+    }
   }
 }
 
