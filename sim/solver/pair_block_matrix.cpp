@@ -1,5 +1,7 @@
 #include "sim/solver/pair_block_matrix.h"
 
+#include <type_traits>
+
 #include <algorithm>
 
 #include "sim/solver/parallel.h"
@@ -176,7 +178,7 @@ void StencilCouplings::index() const {
       first_.push_back(first_.back() + count[p + 1]);
     }
   entry_stencil_.resize(entries);
-  entry_weight_.resize(entries);
+  double_.entry_weight.resize(entries);
   std::vector<int> next(first_.begin(), first_.end() - 1);
   for (std::size_t k = 0; k < blocks_.size(); ++k) {
     const WeightedStencil& s = blocks_[k].stencil;
@@ -184,54 +186,70 @@ void StencilCouplings::index() const {
       if (s.w[i] != 0) {
         const int e = next[row[s.particle[i]]]++;
         entry_stencil_[e] = int(k);
-        entry_weight_[e] = s.w[i];
+        double_.entry_weight[e] = s.w[i];
       }
   }
   packed_first_.assign(1, 0);
   packed_particle_.clear();
-  packed_weight_.clear();
-  packed_block_.clear();
+  double_.packed_weight.clear();
+  double_.packed_block.clear();
   for (const StencilBlock& b : blocks_) {
-    packed_block_.push_back(b.block);
+    const Sym3& m = b.block;
+    double_.packed_block.insert(double_.packed_block.end(), {m.xx, m.yy, m.zz, m.xy, m.xz, m.yz});
     for (int i = 0; i < b.stencil.size; ++i)
       if (b.stencil.w[i] != 0) {
         packed_particle_.push_back(b.stencil.particle[i]);
-        packed_weight_.push_back(b.stencil.w[i]);
+        double_.packed_weight.push_back(b.stencil.w[i]);
       }
     packed_first_.push_back(int(packed_particle_.size()));
   }
-  u_.resize(3 * blocks_.size());
+  double_.u.resize(3 * blocks_.size());
+  single_.entry_weight.assign(double_.entry_weight.begin(), double_.entry_weight.end());
+  single_.packed_weight.assign(double_.packed_weight.begin(), double_.packed_weight.end());
+  single_.packed_block.assign(double_.packed_block.begin(), double_.packed_block.end());
+  single_.u.resize(3 * blocks_.size());
   indexed_ = true;
+}
+
+template <class S>
+void StencilCouplings::products(Values<S>& v, const S* x, S* y, bool parallel) const {
+  const int stencils = int(blocks_.size()), rows = int(touched_.size());
+  S* u_all = v.u.data();
+  forEachChunk(stencils, parallel, [&](int begin, int end) {
+    for (int k = begin; k < end; ++k) {
+      S d0 = 0, d1 = 0, d2 = 0;
+      for (int j = packed_first_[k]; j < packed_first_[k + 1]; ++j) {
+        const S* xj = x + 3 * packed_particle_[j];
+        const S w = v.packed_weight[j];
+        d0 += w * xj[0], d1 += w * xj[1], d2 += w * xj[2];
+      }
+      const S* b = &v.packed_block[6 * k];  // xx, yy, zz, xy, xz, yz
+      S* u = u_all + 3 * k;
+      u[0] = b[0] * d0 + b[3] * d1 + b[4] * d2;
+      u[1] = b[3] * d0 + b[1] * d1 + b[5] * d2;
+      u[2] = b[4] * d0 + b[5] * d1 + b[2] * d2;
+    }
+  });
+  forEachChunk(rows, parallel, [&](int begin, int end) {
+    for (int r = begin; r < end; ++r) {
+      S* yp = y + 3 * touched_[r];
+      for (int e = first_[r]; e < first_[r + 1]; ++e) {
+        const S w = v.entry_weight[e];
+        const S* u = u_all + 3 * entry_stencil_[e];
+        yp[0] += w * u[0], yp[1] += w * u[1], yp[2] += w * u[2];
+      }
+    }
+  });
 }
 
 template <class T>
 void StencilCouplings::addProducts(const T* x, T* y, bool parallel) const {
   if (blocks_.empty()) return;
   if (!indexed_) index();
-  const int stencils = int(blocks_.size()), rows = int(touched_.size());
   // Threads pay only for many stencils; the bytes are the same either way.
-  parallel = parallel && stencils >= kParallelStencils;
-  forEachChunk(stencils, parallel, [&](int begin, int end) {
-    for (int k = begin; k < end; ++k) {
-      Vec3 d = Vec3::Zero();
-      for (int j = packed_first_[k]; j < packed_first_[k + 1]; ++j) {
-        const T* xj = x + 3 * packed_particle_[j];
-        d += packed_weight_[j] * Vec3(xj[0], xj[1], xj[2]);
-      }
-      const Vec3 u = packed_block_[k] * d;
-      u_[3 * k] = u.x(), u_[3 * k + 1] = u.y(), u_[3 * k + 2] = u.z();
-    }
-  });
-  forEachChunk(rows, parallel, [&](int begin, int end) {
-    for (int r = begin; r < end; ++r) {
-      T* yp = y + 3 * touched_[r];
-      for (int e = first_[r]; e < first_[r + 1]; ++e) {
-        const double w = entry_weight_[e];
-        const double* u = &u_[3 * entry_stencil_[e]];
-        for (int c = 0; c < 3; ++c) yp[c] += T(w * u[c]);
-      }
-    }
-  });
+  parallel = parallel && int(blocks_.size()) >= kParallelStencils;
+  if constexpr (std::is_same_v<T, float>) products(single_, x, y, parallel);
+  else products(double_, x, y, parallel);
 }
 
 template void StencilCouplings::addProducts<double>(const double*, double*, bool) const;

@@ -40,24 +40,33 @@ class StencilCouplings {
   std::size_t size() const { return blocks_.size(); }
   std::vector<StencilBlock>::const_iterator begin() const { return blocks_.begin(); }
   std::vector<StencilBlock>::const_iterator end() const { return blocks_.end(); }
-  // y += the couplings' part of A x (T: double, or float with each term computed in double and rounded).
+  // y += the couplings' part of A x (T: double, or float throughout, from float copies of the weights and blocks).
   template <class T>
   void addProducts(const T* x, T* y, bool parallel) const;
 
  private:
+  // The values a product reads, in the precision it runs in (double; float for the CG's inner iterations, whose
+  // springs' blocks are float too: half the memory traffic, which is what the product waits on).
+  template <class S>
+  struct Values {
+    std::vector<S> entry_weight;   // per entry of the gather index
+    std::vector<S> packed_weight;  // per packed particle
+    std::vector<S> packed_block;   // stencil k's block: xx, yy, zz, xy, xz, yz at 6 k (contiguous)
+    std::vector<S> u;              // u_k, three values a stencil: scratch of the product
+  };
   void index() const;
+  template <class S>
+  void products(Values<S>& values, const S* x, S* y, bool parallel) const;  // values: the mutable double_ or single_
   std::vector<StencilBlock> blocks_;
   // The gather index (mutable: built on the first product after a change): the touched particles, and per particle
   // its entries [first_[r], first_[r + 1]) of (stencil, weight) in stencil order.
   mutable bool indexed_ = false;
   mutable std::vector<int> touched_, first_, entry_stencil_;
-  mutable std::vector<double> entry_weight_;
   // The stencils packed for the first pass (a WeightedStencil has room for 32 particles, most use 4): stencil k's
   // particles and weights [packed_first_[k], packed_first_[k + 1]), weights of 0 left out.
   mutable std::vector<int> packed_first_, packed_particle_;
-  mutable std::vector<double> packed_weight_;
-  mutable std::vector<Sym3> packed_block_;  // stencil k's block, contiguous (a StencilBlock spans several cache lines)
-  mutable std::vector<double> u_;  // u_k, three values a stencil: scratch of the product
+  mutable Values<double> double_;
+  mutable Values<float> single_;
 };
 
 class PairBlockMatrix {

@@ -15,10 +15,9 @@
 namespace wobble {
 namespace {
 
-// The one-thread loop the threaded product must reproduce: stencil by stencil, u = B sum_j w_j x_j (in double),
-// y_i += w_i u rounded into T.
-template <class T>
-void serialStencilProducts(const StencilCouplings& stencils, const T* x, T* y) {
+// The one-thread loop the threaded product must reproduce: stencil by stencil, u = B sum_j w_j x_j, y_i += w_i u
+// (double).
+void serialStencilProducts(const StencilCouplings& stencils, const double* x, double* y) {
   for (const StencilBlock& b : stencils) {
     const WeightedStencil& s = b.stencil;
     Vec3 d = Vec3::Zero();
@@ -27,7 +26,26 @@ void serialStencilProducts(const StencilCouplings& stencils, const T* x, T* y) {
     const Vec3 u = b.block * d;
     for (int i = 0; i < s.size; ++i)
       if (s.w[i] != 0)
-        for (int k = 0; k < 3; ++k) y[3 * s.particle[i] + k] += T(s.w[i] * u[k]);
+        for (int k = 0; k < 3; ++k) y[3 * s.particle[i] + k] += s.w[i] * u[k];
+  }
+}
+
+// The float product's arithmetic (the CG's inner iterations): float weights and blocks, float sums, stencil by
+// stencil.
+void serialStencilProducts(const StencilCouplings& stencils, const float* x, float* y) {
+  for (const StencilBlock& b : stencils) {
+    const WeightedStencil& s = b.stencil;
+    float d[3] = {0, 0, 0};
+    for (int j = 0; j < s.size; ++j)
+      if (s.w[j] != 0)
+        for (int k = 0; k < 3; ++k) d[k] += float(s.w[j]) * x[3 * s.particle[j] + k];
+    const float xx = float(b.block.xx), yy = float(b.block.yy), zz = float(b.block.zz), xy = float(b.block.xy),
+                xz = float(b.block.xz), yz = float(b.block.yz);
+    const float u[3] = {xx * d[0] + xy * d[1] + xz * d[2], xy * d[0] + yy * d[1] + yz * d[2],
+                        xz * d[0] + yz * d[1] + zz * d[2]};
+    for (int i = 0; i < s.size; ++i)
+      if (s.w[i] != 0)
+        for (int k = 0; k < 3; ++k) y[3 * s.particle[i] + k] += float(s.w[i]) * u[k];
   }
 }
 
