@@ -371,13 +371,16 @@ struct BodyCollisions::Impl {
                     std::size_t(std::max(0, settings.candidates_per_vertex)) * std::size_t(nodeCount()));
   }
 
-  // Returns false when the lists would exceed the candidate budget: vf and ee are then incomplete, and overwhelmed
-  // says so.
-  bool broadPhase(bool after_impulses = false, double margin = 0) {
+  // A new round's candidates in vf and ee (a broad phase's or a kept list's): what was known of the last is void.
+  void newCandidates() {
     cull = motion_cull;
     from_step = false;
     from_skin = false;
     round_closest_valid = false;
+  }
+  // Returns false when the lists would exceed the candidate budget (vf and ee are then left empty).
+  bool broadPhase(bool after_impulses = false, double margin = 0) {
+    newCandidates();
     const bool moved_only = after_impulses && cull;
     const double pad = 0.5 * max_thickness + margin;
     const auto fill = [&](auto& boxes, const auto& items) {
@@ -413,7 +416,7 @@ struct BodyCollisions::Impl {
       mark(edges, edge_moved);
       mark(triangles, triangle_moved);
     }
-    overwhelmed = !pairs(
+    bool overwhelmed = !pairs(
         vertex_boxes, triangle_boxes, false, vertex_moved, triangle_moved,
         [&](int v, int t) {
           if (!bodiesMeet(vertex_body[v], triangle_body[t])) return false;
@@ -426,7 +429,7 @@ struct BodyCollisions::Impl {
         },
         vf, budget);
     if (!overwhelmed)
-      overwhelmed = !pairs(
+      bool overwhelmed = !pairs(
           edge_boxes, edge_boxes, true, edge_moved, edge_moved,
           [&](int e, int f) {
             if (!bodiesMeet(edge_body[e], edge_body[f])) return false;
@@ -440,7 +443,6 @@ struct BodyCollisions::Impl {
     if (overwhelmed) vf.clear(), ee.clear();
     return !overwhelmed;
   }
-  bool overwhelmed = false;  // the last broad phase exceeded the candidate budget
 
   // Why the pass stops when the broad phase exceeds its budget: the vertex that moved furthest in the step.
   Failure overwhelmedFailure() const {
@@ -558,10 +560,7 @@ struct BodyCollisions::Impl {
       for (Eigen::Index j = 0; j < nxs.size() && inside; ++j)
         inside = std::min(nxs[j], nxe[j]) >= k.lo[j] && std::max(nxs[j], nxe[j]) <= k.hi[j];
       if (inside) {
-        cull = true;
-        from_step = false;
-        from_skin = false;
-        round_closest_valid = false;
+        newCandidates();
         vf = k.vf;
         ee = k.ee;
         return 1;

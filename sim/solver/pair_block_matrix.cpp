@@ -1,8 +1,7 @@
 #include "sim/solver/pair_block_matrix.h"
 
-#include <type_traits>
-
 #include <algorithm>
+#include <type_traits>
 
 #include "sim/solver/parallel.h"
 
