@@ -60,6 +60,15 @@ std::unique_ptr<Folded> folded(int n, bool self_contact, const char* integrator,
   return c;
 }
 
+// An implicit step's counters over `taken` steps: CG iterations and linear solves a step.
+void solverCounters(benchmark::State& state, const IntegratorStats& before, const IntegratorStats& after,
+                    double taken) {
+  state.counters["cg/step"] = double(after.cg_iterations - before.cg_iterations) / taken;
+  state.counters["solves/step"] =
+      1 + double(after.body_contact_solves - before.body_contact_solves + after.impact_solves - before.impact_solves) /
+              taken;
+}
+
 void run(benchmark::State& state, const char* integrator, double dt, bool stacked = false) {
   const int n = int(state.range(0));
   const bool self_contact = state.range(1) != 0;
@@ -67,12 +76,13 @@ void run(benchmark::State& state, const char* integrator, double dt, bool stacke
   auto c = folded(n, self_contact, integrator, dt, stacked);
   Simulation& sim = *c->sim;
   const collision::Stats before = sim.bodyContact() ? *sim.bodyContact() : collision::Stats{};
-  const long steps = sim.steps(), cg = sim.integrator().stats().cg_iterations;
+  const long steps = sim.steps();
+  const IntegratorStats solver = sim.integrator().stats();
   for (auto _ : state) {
     if (sim.advanceTo(sim.time() + dt)) state.SkipWithError("the run stopped");
   }
   const double taken = double(sim.steps() - steps);
-  if (stacked) state.counters["cg/step"] = double(sim.integrator().stats().cg_iterations - cg) / taken;
+  if (sim.integrator().stats().cg_iterations > 0) solverCounters(state, solver, sim.integrator().stats(), taken);
   if (const collision::Stats* s = sim.bodyContact()) {
     state.counters["contacts/step"] = double(s->contacts - before.contacts) / taken;
     state.counters["ccd_hits/step"] = double(s->ccd_hits - before.ccd_hits) / taken;
@@ -116,10 +126,7 @@ void BM_StackInSolve(benchmark::State& state) {
     if (sim.advanceTo(sim.time() + dt)) state.SkipWithError("the run stopped");
   const double taken = double(sim.steps() - steps);
   const IntegratorStats& after = sim.integrator().stats();
-  state.counters["cg/step"] = double(after.cg_iterations - before.cg_iterations) / taken;
-  state.counters["solves/step"] =
-      1 + double(after.body_contact_solves - before.body_contact_solves + after.impact_solves - before.impact_solves) /
-              taken;
+  solverCounters(state, before, after, taken);
 }
 
 BENCHMARK(BM_StackInSolve)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
