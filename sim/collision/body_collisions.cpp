@@ -429,7 +429,7 @@ struct BodyCollisions::Impl {
         },
         vf, budget);
     if (!overwhelmed)
-      bool overwhelmed = !pairs(
+      overwhelmed = !pairs(
           edge_boxes, edge_boxes, true, edge_moved, edge_moved,
           [&](int e, int f) {
             if (!bodiesMeet(edge_body[e], edge_body[f])) return false;
