@@ -92,11 +92,12 @@ class HashGrid {
 };
 
 // Every (q, t) with q a query that wanted(q) and t a target of the grid (its index through target_index when that
-// is not empty) whose boxes overlap and accepted(q, t) holds, appended by ascending q, then t.
+// is not empty) whose boxes overlap and accepted(q, t) holds, appended by ascending q, then t. above: only t > q (one
+// list on both sides, each pair once), tested before the rest.
 // Returns false (out incomplete) once more than limit pairs are found.
 template <class Wanted, class Accepted>
 bool lookUp(const HashGrid& grid, const std::vector<Box>& queries, const std::vector<Box>& targets,
-            const std::vector<int>& target_index, bool parallel, Wanted&& wanted, Accepted&& accepted,
+            const std::vector<int>& target_index, bool above, bool parallel, Wanted&& wanted, Accepted&& accepted,
             std::vector<std::pair<int, int>>& out, std::size_t limit) {
   static std::atomic<std::uint64_t> calls{0};
   const std::uint64_t call = ++calls;
@@ -116,6 +117,7 @@ bool lookUp(const HashGrid& grid, const std::vector<Box>& queries, const std::ve
       const Box& box = queries[q];
       grid.forCandidates(box, [&](int t) {
         if (!target_index.empty()) t = target_index[t];
+        if (above && t <= q) return;
         if (stamp[t] == mark) return;
         stamp[t] = mark;
         if (box.overlaps(targets[t]) && accepted(q, t)) part.emplace_back(q, t);
@@ -137,8 +139,8 @@ bool overlappingPairs(const std::vector<Box>& queries, const std::vector<Box>& t
   out.clear();
   if (queries.empty() || targets.empty()) return true;
   return lookUp(
-      HashGrid(targets), queries, targets, {}, parallel, [](int) { return true; },
-      [&](int q, int t) { return (!same || q < t) && keep(q, t); }, out, limit);
+      HashGrid(targets), queries, targets, {}, same, parallel, [](int) { return true; },
+      [&](int q, int t) { return keep(q, t); }, out, limit);
 }
 
 bool overlappingMarkedPairs(const std::vector<Box>& queries, const std::vector<Box>& targets, bool same, bool parallel,
@@ -150,7 +152,7 @@ bool overlappingMarkedPairs(const std::vector<Box>& queries, const std::vector<B
   // Marked queries against every target; with one list on both sides that finds every pair with a marked element,
   // each taken as (smaller, larger).
   if (!lookUp(
-          HashGrid(targets), queries, targets, {}, parallel, [&](int q) { return query_marked[q] != 0; },
+          HashGrid(targets), queries, targets, {}, false, parallel, [&](int q) { return query_marked[q] != 0; },
           [&](int q, int t) { return same ? q != t && keep(std::min(q, t), std::max(q, t)) : keep(q, t); }, out, limit))
     return false;
   if (same) {
@@ -166,7 +168,7 @@ bool overlappingMarkedPairs(const std::vector<Box>& queries, const std::vector<B
       }
     if (!marked.empty() &&
         !lookUp(
-            HashGrid(marked), queries, targets, index, parallel, [&](int q) { return query_marked[q] == 0; },
+            HashGrid(marked), queries, targets, index, false, parallel, [&](int q) { return query_marked[q] == 0; },
             [&](int q, int t) { return keep(q, t); }, out, limit))
       return false;
   }
