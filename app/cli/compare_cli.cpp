@@ -45,11 +45,12 @@ void addCompareCommand(CLI::App& app, int& status) {
     installInterruptHandlers();
     const CompareReport r = runCompare(*options);
     for (const CompareVariant& v : r.variants) {
-      const RunReport& run = v.report;
+      const RunReport& result = v.report;
       std::printf("%s: %s: %ld steps, %.3f s simulated in %.2f s", (r.out / v.folder).c_str(), v.label.c_str(),
-                  run.steps, run.simulated_time, v.wall_seconds);
-      if (run.blow_up)
-        std::printf("; blew up at t = %s s (step %ld)", labelSeconds(run.blow_up->time).c_str(), run.blow_up->step);
+                  result.steps, result.simulated_time, v.wall_seconds);
+      if (result.blow_up)
+        std::printf("; blew up at t = %s s (step %ld)", labelSeconds(result.blow_up->time).c_str(),
+                    result.blow_up->step);
       else if (v.lost_shape_frame)
         std::printf("; lost its shape (strain %s)", shortNumber(v.lost_shape_strain).c_str());
       std::printf("\n");

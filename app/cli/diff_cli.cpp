@@ -73,12 +73,12 @@ void addDiffCommand(CLI::App& app, int& status) {
       "Folders: files of the same name are compared; a file in only one of them fails. See docs/rendering-tests.md.\n"
       "Exit status: 0 pass, 1 warning, 2 fail (also bad arguments), 4 file error (the worst pair's).");
   cmd->callback([o, &status] {
-    DiffCommandOptions c = o->command;
-    c.metric = o->metric == "flip" ? DiffMetric::Flip : DiffMetric::Idiff;
-    if (!o->channels.empty()) c.idiff.channels.channels = render::splitChannelList(o->channels);
-    if (c.metric == DiffMetric::Flip) {
-      if (!o->fail.empty()) c.flip_fail = parseFlipThresholds("--fail", o->fail);
-      if (!o->warn.empty()) c.flip_warn = parseFlipThresholds("--warn", o->warn);
+    DiffCommandOptions command = o->command;
+    command.metric = o->metric == "flip" ? DiffMetric::Flip : DiffMetric::Idiff;
+    if (!o->channels.empty()) command.idiff.channels.channels = render::splitChannelList(o->channels);
+    if (command.metric == DiffMetric::Flip) {
+      if (!o->fail.empty()) command.flip_fail = parseFlipThresholds("--fail", o->fail);
+      if (!o->warn.empty()) command.flip_warn = parseFlipThresholds("--warn", o->warn);
     } else {
       const auto number = [](const std::string& flag, const std::string& text, float& to) {
         if (text.empty()) return;
@@ -90,10 +90,10 @@ void addDiffCommand(CLI::App& app, int& status) {
         }
         throw InputError(flag + " '" + text + "': expected a number >= 0 (the idiff metric's pixel threshold)");
       };
-      number("--fail", o->fail, c.idiff.fail);
-      number("--warn", o->warn, c.idiff.warn);
+      number("--fail", o->fail, command.idiff.fail);
+      number("--warn", o->warn, command.idiff.warn);
     }
-    status = runDiff(c, std::cout).exitCode();
+    status = runDiff(command, std::cout).exitCode();
   });
 }
 

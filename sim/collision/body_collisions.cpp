@@ -820,10 +820,10 @@ struct BodyCollisions::Impl {
     const auto* only = subsetOf(step.hitting);
     // The skin's candidates: those its bounds keep further apart than twice eta all along the step are skipped.
     const bool skip = all && from_skin && skin.lower_valid;
-    const double moved = skip ? 2 * skinDrift({&nxs, &nxe}) : 0;
+    const double drifted = skip ? 2 * skinDrift({&nxs, &nxe}) : 0;
     std::vector<Contact> hits = gather(
         [&](int k, const PairInfo& p) -> std::optional<Contact> {
-          if (skip && skin.lower[k] - moved > 2 * kEtaFraction * p.thickness) return std::nullopt;
+          if (skip && skin.lower[k] - drifted > 2 * kEtaFraction * p.thickness) return std::nullopt;
           if (!all) {
             bool moved = false;
             for (const int i : p.stencil.vertex) moved |= dirty[i] != 0;

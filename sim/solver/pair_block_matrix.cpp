@@ -74,10 +74,10 @@ void PairBlockMatrix::diagonal(std::vector<Sym3>& out, bool parallel) const {
         addPairs(runs);
       },
       addPairs);
-  for (const StencilBlock& b : stencils_) {
-    const WeightedStencil& s = b.stencil;
+  for (const StencilBlock& coupling : stencils_) {
+    const WeightedStencil& s = coupling.stencil;
     for (int i = 0; i < s.size; ++i)
-      if (s.w[i] != 0) out[s.particle[i]] += (s.w[i] * s.w[i]) * b.block;
+      if (s.w[i] != 0) out[s.particle[i]] += (s.w[i] * s.w[i]) * coupling.block;
   }
 }
 
