@@ -933,9 +933,10 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
   if (!x1.allFinite()) return false;
   s.blendNodes(x0, s.nxs);
   s.blendNodes(x1, s.nxe);
-  // The shortcuts off: the exact broad phase, every time. Over the candidate budget: no pairs (the pass after the step
-  // stops the run).
-  if (!motion_cull ? !s.broadPhase() : !s.reuseStep() && !s.findStep(stats_)) return false;
+  // The shortcuts off: the exact broad phase, every time; so too when the step's list, padded by its margin, would be
+  // over the candidate budget (the exact one may fit, and then the pass after the step goes on: the solve must have
+  // its pairs). Over the budget even so: no pairs (the pass after the step stops the run).
+  if (!motion_cull ? !s.broadPhase() : !s.reuseStep() && !s.findStep(stats_) && !s.broadPhase()) return false;
   // With the step's candidates: those apart at the start whose gap at x1 may be within the thickness.
   const auto* only = s.subsetOf(s.step.closing);
   const std::size_t before = out.size();
