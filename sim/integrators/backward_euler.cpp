@@ -15,7 +15,10 @@
 // has S_i = 0, dv_i = 0; a particle whose contact support is active at the start (ForceJacobian::contactConstraints)
 // has S_i = I - n n^T and its normal dv prescribed (the surface's normal acceleration times h; on two surfaces at
 // once S_i = d d^T, d the line both leave free, on three S_i = 0, every normal component prescribed: B&W section
-// 5.3, contact_filter.h), which is what the explicit support force does instantaneously; friction stays explicit.
+// 5.3, contact_filter.h), which is what the explicit support force does instantaneously. Their friction is taken
+// out of F0 as well and held in the solve (docs/contact.md): a contact whose static friction sticks at the start is
+// held (S_i = 0, its tangential change the explicit law's), a sliding one slowed by a tangential damper of Coulomb's
+// force at its start speed (frictionBlocks).
 // Without that, the support sized to cancel a stiff spring's push at the start would act for the whole step while the
 // spring relaxes and launch the body; for the same reason a support on a particle leaving its surface within the step
 // (no constraint) is taken out of F0 (ReleasedSupport). Impacts
@@ -77,6 +80,7 @@ class BackwardEuler final : public Integrator {
 
   std::string_view name() const override { return "backward-euler"; }
   bool solvesBodyContact() const override { return options_.body_contact_in_solve; }
+  bool linearizesItsStep() const override { return !options_.newton; }
 
   void step(const Dynamics& dynamics, double t, double h, VecX& x, VecX& v) override {
     const ForceJacobian* jacobian = dynamics.forceJacobian();
