@@ -27,8 +27,8 @@ Response response(const SurfacePoint& s, const ContactParams& c, const Vec3& v) 
 
 }  // namespace
 
-Vec3 supportForce(const SurfacePoint& s, const ContactParams& c, const Vec3& f, const Vec3& v, double m,
-                  double stick_time) {
+SupportParts supportParts(const SurfacePoint& s, const ContactParams& c, const Vec3& f, const Vec3& v, double m,
+                          double stick_time) {
   // Net force relative to the surface's frame; its normal part pushes into the surface (activeSupport).
   const Vec3 g = f - m * s.acceleration;
   const double push = s.normal.dot(g), support = -push;
@@ -37,12 +37,19 @@ Vec3 supportForce(const SurfacePoint& s, const ContactParams& c, const Vec3& f, 
   const Vec3 gt = g - push * s.normal;
   const double limit = c.friction * support;
   Vec3 friction = -(gt + (m / stick_time) * vt);
-  if (friction.norm() > limit) {
+  const bool sticks = !(friction.norm() > limit);
+  if (!sticks) {
     const double speed = vt.norm();
     const Vec3 direction = speed > 0 ? Vec3(vt / speed) : gt.normalized();
     friction = -limit * direction;
   }
-  return support * s.normal + friction;
+  return {support, friction, limit, sticks};
+}
+
+Vec3 supportForce(const SurfacePoint& s, const ContactParams& c, const Vec3& f, const Vec3& v, double m,
+                  double stick_time) {
+  const SupportParts p = supportParts(s, c, f, v, m, stick_time);
+  return p.support * s.normal + p.friction;
 }
 
 std::optional<SurfacePoint> activeSupport(const Collider& collider, double t, const Vec3& x, const Vec3& f, double m) {

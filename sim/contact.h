@@ -28,7 +28,16 @@ using Colliders = std::span<const std::unique_ptr<Collider>>;
 // The one definition of an active contact, for the explicit forces here and the implicit constraints.
 std::optional<SurfacePoint> activeSupport(const Collider& collider, double t, const Vec3& x, const Vec3& f, double m);
 
-// The support and friction force on a point of mass m under net force f, moving at v, that s supports (activeSupport).
+// The support and friction force on a point of mass m under net force f, moving at v, that s supports (activeSupport):
+// support * s.normal + friction.
+struct SupportParts {
+  double support;  // N, along the normal
+  Vec3 friction;   // N, tangential
+  double limit;    // N: mu times the support
+  bool sticks;     // static friction: the force that stops the tangential motion over stick_time is within the limit
+};
+SupportParts supportParts(const SurfacePoint& s, const ContactParams& c, const Vec3& f, const Vec3& v, double m,
+                          double stick_time);
 Vec3 supportForce(const SurfacePoint& s, const ContactParams& c, const Vec3& f, const Vec3& v, double m,
                   double stick_time);
 

@@ -3,7 +3,10 @@
 namespace wobble {
 
 void constrainFilter(const std::vector<ContactConstraint>& constraints, ParticleFilter& filter) {
-  for (const ContactConstraint& c : constraints) filter.constrain(c.particle, c.normal);
+  for (const ContactConstraint& c : constraints) {
+    filter.constrain(c.particle, c.normal);
+    if (c.stick) filter.hold(c.particle);
+  }
 }
 
 void addPrescribedChange(const std::vector<ContactConstraint>& constraints, const ParticleFilter& filter, double h,
@@ -12,8 +15,9 @@ void addPrescribedChange(const std::vector<ContactConstraint>& constraints, cons
     const ContactConstraint& c = constraints[k];
     std::size_t end = k + 1;
     while (end < constraints.size() && constraints[end].particle == c.particle) ++end;
-    if (end == k + 1) {  // one surface: z along its normal
+    if (end == k + 1) {  // one surface: z along its normal (and, held by static friction, tangentially too)
       particle(dv, c.particle) += h * c.normal_acceleration * c.normal;
+      if (c.stick) particle(dv, c.particle) += h * c.tangential_acceleration;
     } else {
       // Several: z in the span R of what the filter removes, with n_i . z = h a_i for every constraint i, from the
       // Gram system sum (R n_i)(R n_i)^T z = sum h a_i R n_i on R (S added: the same system made invertible, and z

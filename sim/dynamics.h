@@ -29,6 +29,20 @@ struct ContactConstraint {
   // The surface's index among the system's colliders: at most one constraint per particle and surface.
   int collider = 0;
   bool impact = false;  // from addImpactConstraints (else a resting contact at the step's start)
+  // Friction of a resting contact (contact_constraints.h), which an implicit step must not hold as the explicit force
+  // the accelerations add: sized to cancel the springs' tangential pull at the start, held for a whole long step while
+  // they relax, it drives the body (a cloth landing on a floor with friction 0.5 gained 60 000 J in a step).
+  Vec3 friction = Vec3::Zero();  // N: the friction force the accelerations add at the start (taken out of it)
+  // Static friction holds at the start: the particle's tangential velocity changes by h times this too (it is
+  // held), the explicit law's rate: the surface's tangential acceleration, less the relative tangential velocity
+  // over the stick time (2 h of the system's step, contact.h).
+  bool stick = false;
+  Vec3 tangential_acceleration = Vec3::Zero();  // m/s^2, with stick
+  // Sliding at the start: kinetic friction as a damper on the tangential velocity relative to the surface at the
+  // step's end, -damping (I - n n^T) (v1 - u1), u1 = surface_velocity + h surface_acceleration: linear in v, so
+  // exact in the step and dissipative.
+  double damping = 0;  // N s/m
+  Vec3 surface_velocity = Vec3::Zero(), surface_acceleration = Vec3::Zero();
 };
 
 // A support that the accelerations apply at a step's start but an implicit step must not hold (contact_constraints.h):

@@ -75,9 +75,15 @@ void Simulation::checkEnergy() {
   const double margin =
       std::max(kEnergyGainRelative * (std::abs(energy_start_) + collider_work_unsigned_), lift_margin_);
   if (energy - energy_start_ - collider_work_ > margin)
-    energy_gain_ =
-        EnergyGain{std::string(integrator_->name()), steps_, t_, energy_start_, energy, collider_work_, margin,
-                   collisions_ && contactSolveOff()};
+    energy_gain_ = EnergyGain{std::string(integrator_->name()),
+                              steps_,
+                              t_,
+                              energy_start_,
+                              energy,
+                              collider_work_,
+                              margin,
+                              collisions_ && contactSolveOff(),
+                              integrator_->linearizesItsStep()};
 }
 
 std::string EnergyGain::message(double dt) const {
@@ -95,6 +101,7 @@ std::string EnergyGain::message(double dt) const {
     for (const std::string_view name : names)
       if (integratorTraits(name).a_stable) out << ", " << name << " (--integrator " << name << ")";
   if (contact_solve_off) out << ", contact between bodies in the solve ([contact] in_solve = true)";
+  if (linearized) out << ", the exact step instead of its linearization ([simulation] newton = true)";
   out << ", or a lower restitution.";
   return out.str();
 }

@@ -38,13 +38,14 @@ inline constexpr double kEnergyGainLift = 0.01;  // m: the colliders' default co
 
 struct EnergyGain {
   std::string integrator;
-  long step;               // 1-based index of the step at whose end the check failed
-  double time;             // simulated time there
-  double start;            // J, total energy at t = 0
-  double energy;           // J, total energy there
-  double collider_work;    // J, work done on the bodies by moving colliders up to there
-  double margin;           // J, the gain allowed
-  bool contact_solve_off;  // the integrator could carry contact between bodies in its solve, but was told not to
+  long step;                // 1-based index of the step at whose end the check failed
+  double time;              // simulated time there
+  double start;             // J, total energy at t = 0
+  double energy;            // J, total energy there
+  double collider_work;     // J, work done on the bodies by moving colliders up to there
+  double margin;            // J, the gain allowed
+  bool contact_solve_off;   // the integrator could carry contact between bodies in its solve, but was told not to
+  bool linearized = false;  // the integrator solved a linearized step (Integrator::linearizesItsStep)
   double gained() const { return energy - start - collider_work; }
   // One paragraph for the user: what happened, where, and what to try.
   std::string message(double dt) const;

@@ -15,7 +15,10 @@
 // has S_i = 0, dv_i = 0; a particle whose contact support is active at the start (ForceJacobian::contactConstraints)
 // has S_i = I - n n^T and its normal dv prescribed (the surface's normal acceleration times h; on two surfaces at
 // once S_i = d d^T, d the line both leave free, on three S_i = 0, every normal component prescribed: B&W section
-// 5.3, contact_filter.h), which is what the explicit support force does instantaneously; friction stays explicit.
+// 5.3, contact_filter.h), which is what the explicit support force does instantaneously. Their friction is taken
+// out of F0 as well and held in the solve (docs/contact.md): a contact whose static friction sticks at the start is
+// held (S_i = 0, its tangential change the explicit law's), a sliding one slowed by a tangential damper of Coulomb's
+// force at its start speed (frictionBlocks).
 // Without that, the support sized to cancel a stiff spring's push at the start would act for the whole step while the
 // spring relaxes and launch the body; for the same reason a support on a particle leaving its surface within the step
 // (no constraint) is taken out of F0 (ReleasedSupport). Impacts
@@ -77,6 +80,7 @@ class BackwardEuler final : public Integrator {
 
   std::string_view name() const override { return "backward-euler"; }
   bool solvesBodyContact() const override { return options_.body_contact_in_solve; }
+  bool linearizesItsStep() const override { return !options_.newton; }
 
   void step(const Dynamics& dynamics, double t, double h, VecX& x, VecX& v) override {
     const ForceJacobian* jacobian = dynamics.forceJacobian();
@@ -95,7 +99,8 @@ class BackwardEuler final : public Integrator {
     if (!matrix_.fits(jacobian->jacobianPattern())) {  // a new topology: size the matrix once
       matrix_.reset(jacobian->jacobianPattern());
       contacts_.reserve(jacobian->mass().size());  // one per particle and surface it touches: most touch one
-      dv_.resize(0);                               // no warm start, no error estimate
+      sliding_.reserve(jacobian->mass().size());
+      dv_.resize(0);  // no warm start, no error estimate
       history_ = 0;
       carried_.clear();  // their particles' numbers are another topology's
       const int n = static_cast<int>(jacobian->mass().size());
@@ -116,6 +121,10 @@ class BackwardEuler final : public Integrator {
     // A support on a particle leaving its surface would act for the whole step (contact_constraints.h): taken out.
     for (const ReleasedSupport& r : released_)
       particle(f0_, r.particle) -= jacobian->inverseMass()[r.particle] * r.force;
+    // Friction likewise (ContactConstraint::friction): the filter holds a sticking contact, a damper in the solve
+    // slows a sliding one (frictionBlocks).
+    for (const ContactConstraint& c : contacts_)
+      if (c.friction != Vec3::Zero()) particle(f0_, c.particle) -= jacobian->inverseMass()[c.particle] * c.friction;
     // Linearized step at (x0, v0): A dv = h (F0 + h dF/dx v0), with dv's filtered-out part prescribed.
     assemble(*jacobian, t, x, v, h, &v, &kv_);
     rhs_.resize(x.size());
@@ -127,6 +136,7 @@ class BackwardEuler final : public Integrator {
         particle(dv_, p) = filter_.apply(p, particle(dv_, p));
       }
     });
+    frictionBlocks(h, v);
     addPrescribedChange(contacts_, filter_, h, dv_);
     // Contact between bodies: the pairs near the predicted end x0 + h (v0 + dv), dv the warm start (the last step's
     // velocity change); those the last step ended pressed (a resting body's every step) go active into the first
@@ -175,6 +185,45 @@ class BackwardEuler final : public Integrator {
     });
   }
 
+  // Kinetic friction of the contacts sliding at the step's start (ContactConstraint::damping): the damper
+  // F_p = -c P (v_p - u1), P = I - n n^T, its Jacobian h c P in the matrix (exact over the step, positive
+  // semidefinite: it only takes energy out), its start force in the right-hand side. Baraff & Witkin (1998) hold
+  // contacts by the filter and leave friction explicit; an explicit friction sized from the start's forces and held for
+  // a 1/60 s step while the springs relax pushed a landing cloth sideways and stretched it (docs/contact.md). The
+  // matrix takes h c P as h c on the particle's own weight (self: one number a particle): the filter removes the
+  // normal n from the solve (S = I - n n^T, or on two surfaces the line both leave free), where P and I agree, and
+  // the prescribed normal change z along n meets S (h c z) = 0 either way. Sets sliding_ and adds the forces at v to
+  // rhs_ and the weights to the matrix.
+  void frictionBlocks(double h, const VecX& v) {
+    sliding_.clear();
+    for (const ContactConstraint& c : contacts_) {
+      if (c.stick || !(c.damping > 0)) continue;
+      sliding_.push_back({c, true});
+      const Vec3 u = frictionSlide(c, h, v);
+      particle(rhs_, c.particle) -= (h * c.damping) * (u - c.normal.dot(u) * c.normal);
+    }
+    addFrictionWeights(h);
+  }
+  // matrix_.self() += h c for every sliding contact whose normal the filter removes (after an assembly).
+  void addFrictionWeights(double h) {
+    for (const SlidingContact& s : sliding_)
+      if (s.in_matrix) matrix_.self()[s.contact.particle] += h * s.contact.damping;
+  }
+  // After the filter is rebuilt for impacts: a sliding contact whose normal it no longer removes (its constraint gone
+  // with an impact, contact_constraints.h) leaves the matrix, where h c would damp its normal velocity too; its
+  // friction stays the start's force in the right-hand side (at most Coulomb's).
+  void dropFreedFriction(double h) {
+    for (SlidingContact& s : sliding_)
+      if (s.in_matrix && filter_.apply(s.contact.particle, s.contact.normal).squaredNorm() > 1e-12) {
+        matrix_.self()[s.contact.particle] -= h * s.contact.damping;
+        s.in_matrix = false;
+      }
+  }
+  // The particle's velocity in v relative to the surface at the step's end (u1).
+  static Vec3 frictionSlide(const ContactConstraint& c, double h, const VecX& v) {
+    return particle(v, c.particle) - (c.surface_velocity + h * c.surface_acceleration);
+  }
+
   // Impacts (contact_constraints.h): while the solved step ends a particle inside a surface, constrain it along the
   // normal to its bounce and solve again (warm-started), so the springs share its impulse with the body within the
   // step; likewise while it ends two bodies' surface elements within their thickness (ForceJacobian::bodyContacts:
@@ -201,6 +250,7 @@ class BackwardEuler final : public Integrator {
         ++stats_.impact_solves;
         filter_.reset(jacobian.inverseMass());  // afresh: an impact replaces a resting contact's constraint
         constrainFilter(contacts_, filter_);
+        dropFreedFriction(h);
         for (const ContactConstraint& c : contacts_)
           particle(dv_, c.particle) = filter_.apply(c.particle, particle(dv_, c.particle));
         addPrescribedChange(contacts_, filter_, h, dv_);
@@ -377,6 +427,11 @@ class BackwardEuler final : public Integrator {
     ++stats_.evaluations;
     jacobian.smoothForce(t + h, x1_, v1_, fs_);
     addPairForces(x1_, v1_, fs_);
+    for (const SlidingContact& s : sliding_)  // their friction (frictionBlocks)
+      if (s.in_matrix) {
+        const Vec3 u = frictionSlide(s.contact, h, v1_);
+        particle(fs_, s.contact.particle) -= s.contact.damping * (u - s.contact.normal.dot(u) * s.contact.normal);
+      }
     r.resize(x.size());
     double worst = 0;
     for (int p = 0; p < n_; ++p) {
@@ -398,6 +453,7 @@ class BackwardEuler final : public Integrator {
     while (norm > options_.newton_tolerance * std::max(1.0, v1_.lpNorm<Eigen::Infinity>()) &&
            stats_.last_linear_solves < options_.newton_max_iterations) {
       assemble(jacobian, t + h, x1_, v1_, h, nullptr, nullptr);
+      addFrictionWeights(h);
       delta_.setZero(x.size());
       rhs_ = -r_;
       solve(rhs_, delta_);
@@ -449,10 +505,15 @@ class BackwardEuler final : public Integrator {
     double damping;
     bool operator<(const CarriedPair& o) const { return element < o.element; }
   };
-  std::vector<CarriedPair> carried_;  // the last step's active pairs, sorted
-  std::vector<ContactPair> pairs_;    // this step's contact between bodies, in the order found
-  std::vector<PairTerm> terms_;       // the same order
-  VecX rhs_base_;                     // the right-hand side without them (saved at the first pair of a step)
+  struct SlidingContact {
+    ContactConstraint contact;
+    bool in_matrix;  // its damper is in the matrix (dropFreedFriction)
+  };
+  std::vector<SlidingContact> sliding_;  // the contacts sliding at the step's start (frictionBlocks)
+  std::vector<CarriedPair> carried_;     // the last step's active pairs, sorted
+  std::vector<ContactPair> pairs_;       // this step's contact between bodies, in the order found
+  std::vector<PairTerm> terms_;          // the same order
+  VecX rhs_base_;                        // the right-hand side without them (saved at the first pair of a step)
   bool rhs_saved_ = false;
   VecX f0_, kv_, rhs_, dv_;
   VecX end_x_, end_v_;  // the candidate step's end state, for impacts

@@ -73,6 +73,10 @@ class Integrator {
   // Whether step() keeps the surfaces of bodies apart itself (ForceJacobian::bodyContacts): then the pass after the
   // step (sim/collision/body_collisions.h) only checks for collisions and leaves out its repulsion.
   virtual bool solvesBodyContact() const { return false; }
+  // Whether step() solves one linearization of an implicit method's equations rather than the equations themselves
+  // (backward Euler without newton): a spring that turns or shortens by much of its length within a step may then
+  // store energy the linearization makes up (docs/contact.md, Friction under backward Euler).
+  virtual bool linearizesItsStep() const { return false; }
   const IntegratorStats& stats() const { return stats_; }
 
  protected:

@@ -30,6 +30,11 @@ class ParticleFilter {
     kind_[p] = Normal;
     particle(direction_, p) = normal;
   }
+  // Holds p in every direction (S_p = 0: all of its velocity change prescribed, e.g. by static friction).
+  void hold(int p) {
+    if (kind_[p] == Free) ++constrained_;
+    kind_[p] = Held;
+  }
   Kind kind(int p) const { return Kind(kind_[p]); }
   Vec3 normal(int p) const { return particle(direction_, p); }     // Normal: the constrained direction
   Vec3 direction(int p) const { return particle(direction_, p); }  // Line: the free direction d

@@ -81,9 +81,22 @@ DenseStep denseStep(const MassSpringSystem& system, double t, const VecX& x, con
   std::vector<ContactConstraint> contacts;
   system.contactConstraints(t, x, v, contacts);
   EXPECT_EQ(contacts.size(), 15u);  // the bottom layer, 16 particles but the pinned one, is held by the floor
+  // Friction (docs/contact.md): out of F0; a sticking contact holds the particle, its tangential change prescribed
+  // too; a sliding one is a damper -c P (v1 - u1) on the tangential velocity relative to the surface.
   for (const ContactConstraint& c : contacts) {
-    d.s.block<3, 3>(3 * c.particle, 3 * c.particle) -= c.normal * c.normal.transpose();
+    const Eigen::Matrix3d p = Eigen::Matrix3d::Identity() - c.normal * c.normal.transpose();
+    auto s = d.s.block<3, 3>(3 * c.particle, 3 * c.particle);
+    s -= c.normal * c.normal.transpose();
     particle(d.z, c.particle) = h * c.normal_acceleration * c.normal;
+    d.b.segment<3>(3 * c.particle) -= h * c.friction;
+    if (c.stick) {
+      s.setZero();
+      particle(d.z, c.particle) += h * c.tangential_acceleration;
+    } else if (c.damping > 0) {
+      d.a.block<3, 3>(3 * c.particle, 3 * c.particle) += h * c.damping * p;
+      d.b.segment<3>(3 * c.particle) -=
+          h * c.damping * p * (particle(v, c.particle) - c.surface_velocity - h * c.surface_acceleration);
+    }
   }
   return d;
 }
@@ -97,8 +110,8 @@ VecX stepDv(const MassSpringSystem& system, const Landed& l, const IntegratorOpt
   return v - l.v;
 }
 
-TEST(BackwardEulerSolver, MatchesADirectSolveOfTheFilteredSystem) {
-  const Landed l = landedJelly();
+// The step solved to 1e-12 against the dense direct solve.
+void expectMatchesADirectSolve(const Landed& l) {
   const DenseStep d = denseStep(*l.system, l.t, l.x, l.v, l.h);
   const VecX exact = d.solve();
   IntegratorOptions tight;
@@ -106,6 +119,21 @@ TEST(BackwardEulerSolver, MatchesADirectSolveOfTheFilteredSystem) {
   tight.cg_error_fraction = 0;
   const VecX dv = stepDv(*l.system, l, tight);
   EXPECT_LT((dv - exact).cwiseAbs().maxCoeff(), 1e-9 * exact.cwiseAbs().maxCoeff());
+}
+
+TEST(BackwardEulerSolver, MatchesADirectSolveOfTheFilteredSystem) { expectMatchesADirectSolve(landedJelly()); }
+
+// The same with the jelly sliding sideways at 0.5 m/s over the floor (friction 0.5): its contacts slide, and their
+// kinetic friction is a damper in the solve.
+TEST(BackwardEulerSolver, MatchesADirectSolveWithSlidingFriction) {
+  Landed l = landedJelly();
+  for (int p = 0; p < l.system->particleCount(); ++p)
+    if (l.system->inverseMass()[p] > 0) l.v[3 * p] += 0.5;
+  std::vector<ContactConstraint> contacts;
+  l.system->contactConstraints(l.t, l.x, l.v, contacts);
+  ASSERT_TRUE(std::any_of(contacts.begin(), contacts.end(),
+                          [](const ContactConstraint& c) { return !c.stick && c.damping > 0; }));
+  expectMatchesADirectSolve(l);
 }
 
 // At the default tolerance the step is only as exact as the tolerance says, and it says so truthfully.
@@ -142,12 +170,18 @@ TEST(BackwardEulerSolver, ContactFilterHoldsTheNormalVelocity) {
   ASSERT_FALSE(contacts.empty());
   const VecX dv = stepDv(*l.system, l, IntegratorOptions{});
   double tangential = 0;
+  int sliding = 0;
   for (const ContactConstraint& c : contacts) {
     EXPECT_NEAR(c.normal.dot(particle(dv, c.particle)), l.h * c.normal_acceleration, 1e-15) << c.particle;
-    tangential =
-        std::max(tangential, (particle(dv, c.particle) - c.normal.dot(particle(dv, c.particle)) * c.normal).norm());
+    const Vec3 t = particle(dv, c.particle) - c.normal.dot(particle(dv, c.particle)) * c.normal;
+    if (c.stick) {  // held by static friction: the tangential change is the prescribed one too
+      EXPECT_LT((t - l.h * c.tangential_acceleration).norm(), 1e-15) << c.particle;
+    } else {
+      tangential = std::max(tangential, t.norm());
+      ++sliding;
+    }
   }
-  EXPECT_GT(tangential, 0);
+  if (sliding > 0) EXPECT_GT(tangential, 0);
   EXPECT_EQ(particle(dv, 0), Vec3::Zero());
 }
 
