@@ -181,7 +181,9 @@ TEST(BackwardEulerSolver, ContactFilterHoldsTheNormalVelocity) {
       ++sliding;
     }
   }
-  if (sliding > 0) EXPECT_GT(tangential, 0);
+  if (sliding > 0) {
+    EXPECT_GT(tangential, 0);
+  }
   EXPECT_EQ(particle(dv, 0), Vec3::Zero());
 }
 

@@ -79,7 +79,9 @@ TEST(FloorFriction, LinearizedStepsNeverThrowALandingCloth) {
     EXPECT_LE(l.most_mechanical, l.start + kTolerance) << "friction " << friction << ", start " << l.start << " J";
     EXPECT_LE(l.top, l.start_top) << "friction " << friction;
     // What the linearization may make up the run's check reports, and says how to solve the step exactly.
-    if (l.gain) EXPECT_NE(l.gain->message(kDt).find("[simulation] newton = true"), std::string::npos);
+    if (l.gain) {
+      EXPECT_NE(l.gain->message(kDt).find("[simulation] newton = true"), std::string::npos);
+    }
   }
 }
 
