@@ -9,6 +9,8 @@
 // when parallel, each part's arithmetic in one fixed order, and the separator's sums part 0 then part 1: the same
 // bytes whatever the thread count.
 #pragma once
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "sim/solver/block_ldlt.h"
@@ -33,11 +35,21 @@ class CoarseCorrection {
   int aggregateCount() const { return aggregates_; }
   // How many times the aggregates and the coarse pattern were built (once per topology).
   int patternSetups() const { return pattern_setups_; }
+  // How many times the coarse pattern was built: with the aggregates, and again when stencils join aggregates it does
+  // not.
+  int coarsePatterns() const { return coarse_patterns_; }
+  // Pairs of aggregates in the coarse pattern for stencils alone (no spring joins them).
+  int stencilPairs() const { return stencil_pairs_; }
   // How many times the coarse matrix was filled and factorized.
   int factorizations() const { return factorizations_; }
 
  private:
-  void buildPattern(const PairSchedule& pattern);
+  void buildAggregates(const PairSchedule& pattern);  // and the springs' coarse pairs
+  void buildCoarsePattern();                          // from coarse_pairs_: dissection, fill order, BlockLdlt::analyze
+  int pairBlock(int i, int j) const;                  // block (I, J) of a pair I < J; -1 when not in the pattern
+  // Adds to coarse_pairs_ the pairs of aggregates the stencils join that it lacks; whether any was added.
+  bool coverStencils(const StencilCouplings& stencils);
+  void addStencils(const StencilCouplings& stencils, const ParticleFilter& s);  // their Galerkin blocks
   template <class T>
   void solveFor(const T* r, bool parallel);
   template <class T>
@@ -45,9 +57,16 @@ class CoarseCorrection {
 
   const PairSchedule* pattern_ = nullptr;
   std::size_t pattern_pairs_ = 0;
-  int pattern_setups_ = 0, factorizations_ = 0;
+  int pattern_setups_ = 0, coarse_patterns_ = 0, factorizations_ = 0;
   int aggregates_ = 0;
   std::vector<int> aggregate_;  // per particle
+  // The coarse pattern's pairs of aggregates (I < J): those the springs join, then those stencils joined since the
+  // aggregates were built (stencil_pairs_ of them, kept while the topology stands), each with its block (I, J);
+  // (J, I) follows. Per aggregate I, its pairs (J, block) with J > I in [neighbour_start_[I], neighbour_start_[I + 1]).
+  std::map<std::pair<int, int>, int> coarse_pairs_;
+  int stencil_pairs_ = 0;
+  std::vector<int> neighbour_start_;
+  std::vector<std::pair<int, int>> neighbours_;
   // Per pair (schedule order): its block between two aggregates (I < J: index of (I, J); (J, I) follows), or -1
   // when both particles are in one aggregate; whether its a is in J (the pair runs against the block's order).
   std::vector<int> pair_block_;

@@ -76,6 +76,7 @@ class FilteredPcg {
   CoarseCorrection coarse_;
   bool single_pays_ = false;  // the last solve took at least kSingleIterations
   int coarse_uses_ = 0;       // two-level solves since the coarse level was set up; 0 when the last solve had none
+  long coarse_stencils_ = 0;  // the stencils' generation the coarse level was set up with
   std::vector<Sym3> diagonal_;
   std::vector<int> constrained_;  // the particles S filters (not free), in order
   Iterates<double> double_;

@@ -33,7 +33,11 @@ struct SmallSystem {
 
 // several: besides, particles on two surfaces at once (a line left free) and on three (held), among them a whole
 // row of the cloth, so that some aggregates have only a line of them free (particle_filter.h).
-std::unique_ptr<SmallSystem> smallSystem(bool several = false) {
+// stencils: contact couplings besides (StencilCouplings), between particles of distant aggregates that no spring
+// joins, some filtered (addStencils below).
+void addStencils(SmallSystem& sys);
+
+std::unique_ptr<SmallSystem> smallSystem(bool several = false, bool stencils = false) {
   auto out = std::make_unique<SmallSystem>();
   ClothParams p;
   p.nx = p.ny = 12;
@@ -73,7 +77,33 @@ std::unique_ptr<SmallSystem> smallSystem(bool several = false) {
   }
   out->b.resize(3 * n);
   for (int i = 0; i < 3 * n; ++i) out->b[i] = normal(random);
+  if (stencils) addStencils(*out);
   return out;
+}
+
+// Point-triangle stencils (w = 1, -a, -b, -c) between the cloth's opposite sides (no spring joins their aggregates),
+// one with a contact-filtered point (13: along a normal), one with a particle on two surfaces (30: a line) and a held
+// one (90) when the filter has them, one among neighbours, and a 12-particle stencil (a mesh jelly's embedded points)
+// across the cloth; blocks k n n^T plus a tangential damper c (I - n n^T), of the size of the matrix's pair blocks.
+void addStencils(SmallSystem& sys) {
+  const auto block = [](const Vec3& n, double k, double c) {
+    const Vec3 u = n.normalized();
+    return Sym3::fromDense(k * u * u.transpose() + c * (Eigen::Matrix3d::Identity() - u * u.transpose()));
+  };
+  const auto triangle = [](int p, int q1, int q2, int q3, double a, double b) {
+    WeightedStencil w;
+    w.add(p, 1), w.add(q1, -a), w.add(q2, -b), w.add(q3, -(1 - a - b));
+    return w;
+  };
+  StencilCouplings& s = sys.a.stencils();
+  s.push_back({triangle(13, 130, 131, 118, 0.2, 0.3), block(Vec3(0.1, 1, 0.2), 3e3, 50)});
+  s.push_back({triangle(30, 120, 121, 133, 0.5, 0.25), block(Vec3(-0.3, 1, 0.1), 1e3, 0)});
+  s.push_back({triangle(90, 5, 6, 17, 0.6, 0.1), block(Vec3(0, 1, -0.4), 2e3, 20)});
+  s.push_back({triangle(66, 67, 78, 79, 0.3, 0.3), block(Vec3(0.2, 1, 0), 1e3, 10)});
+  s.push_back({triangle(1, 140, 100, 40, 0.3, 0.4), block(Vec3(0, 1, 0.3), 4e3, 0)});
+  WeightedStencil wide;
+  for (int i = 0; i < 6; ++i) wide.add(2 + 11 * i, 1.0 / 6), wide.add(137 - 11 * i, -1.0 / 6);
+  s.push_back({wide, block(Vec3(0.3, 1, -0.1), 2e3, 30)});
 }
 
 Eigen::MatrixXd dense(const PairBlockMatrix& a) {
@@ -88,7 +118,20 @@ Eigen::MatrixXd dense(const PairBlockMatrix& a) {
     m.block<3, 3>(3 * i, 3 * j) -= w;
     m.block<3, 3>(3 * j, 3 * i) -= w;
   }
+  // The stencils by their definition: w_i w_j B at (p_i, p_j).
+  for (const StencilBlock& b : a.stencils())
+    for (int i = 0; i < b.stencil.size; ++i)
+      for (int j = 0; j < b.stencil.size; ++j)
+        m.block<3, 3>(3 * b.stencil.particle[i], 3 * b.stencil.particle[j]) +=
+            b.stencil.w[i] * b.stencil.w[j] * b.block.dense();
   return m;
+}
+
+// Z: per particle a unit 3 x 3 block in its aggregate's columns.
+Eigen::MatrixXd prolongation(const CoarseCorrection& coarse, int n) {
+  Eigen::MatrixXd z = Eigen::MatrixXd::Zero(3 * n, 3 * coarse.aggregateCount());
+  for (int p = 0; p < n; ++p) z.block<3, 3>(3 * p, 3 * coarse.aggregates()[p]) = Eigen::Matrix3d::Identity();
+  return z;
 }
 
 Eigen::MatrixXd filterMatrix(const ParticleFilter& s, int n) {
@@ -118,6 +161,14 @@ void expectDenseSolve(const SmallSystem& sys) {
 }
 
 TEST(TwoLevelPcg, MatchesADenseSolveOfTheFilteredSystem) { expectDenseSolve(*smallSystem()); }
+
+// With contact stencils in the matrix (the coarse level then has blocks for them, some between aggregates no spring
+// joins), on particles on one, two and three surfaces.
+TEST(TwoLevelPcg, MatchesADenseSolveWithStencils) {
+  const auto sys = smallSystem(true, true);
+  ASSERT_EQ(sys->a.stencils().size(), 6u);
+  expectDenseSolve(*sys);
+}
 
 // The same with particles on two and three surfaces at once: block-Jacobi's filtered blocks and the coarse level's
 // filtered matrix of a line's and a held particle's filter.
@@ -244,6 +295,51 @@ TEST(TwoLevelPcg, CoarseCorrectionIsSymmetricAndExactOnTheCoarseSpace) {
   EXPECT_EQ(std::memcmp(serial.data(), coarse.corrections(), sizeof(double) * serial.size()), 0);
 
   coarse.setUp(sys->a, sys->s);  // the same pattern: aggregates and coarse pattern kept
+  EXPECT_EQ(coarse.patternSetups(), 1);
+}
+
+// With stencils, the coarse matrix is the Galerkin matrix Z^T S A S Z of A with its stencils, A formed densely here
+// from its product applied to unit vectors: the coarse solve inverts Z^T S A S Z on every coarse direction S keeps
+// (Q A_s S Z c = S Z c for each unit c, A_s = S A S), with stencils between aggregates that the springs do not join
+// (the coarse pattern is extended once, and kept for the same stencils) and on filtered particles.
+TEST(TwoLevelPcg, CoarseMatrixWithStencilsIsTheGalerkinMatrix) {
+  const auto sys = smallSystem(true, true);
+  const int n = sys->system.particleCount();
+  Eigen::MatrixXd a(3 * n, 3 * n);
+  VecX unit = VecX::Zero(3 * n), column;
+  for (int j = 0; j < 3 * n; ++j) {
+    unit[j] = 1;
+    sys->a.multiply(unit, column, false);
+    a.col(j) = column;
+    unit[j] = 0;
+  }
+  ASSERT_LT((a - dense(sys->a)).norm(), 1e-9 * a.norm());  // the product and the stencils' definition agree
+  CoarseCorrection coarse;
+  coarse.setUp(sys->a, sys->s);
+  EXPECT_EQ(coarse.coarsePatterns(), 2);  // the springs' pattern, then extended for the stencils
+  EXPECT_GT(coarse.stencilPairs(), 0);
+  const int m = coarse.aggregateCount();
+  const Eigen::MatrixXd s = filterMatrix(sys->s, n), sz = s * prolongation(coarse, n);
+  const Eigen::MatrixXd galerkin = sz.transpose() * a * sz;
+  // The stencils change the Galerkin matrix (else this would test the springs alone).
+  PairBlockMatrix springs_only = sys->a;
+  springs_only.stencils().clear();
+  EXPECT_GT((galerkin - sz.transpose() * dense(springs_only) * sz).norm(), 0.1 * galerkin.norm());
+  // Directions of the coarse space S keeps: the range of Z^T S Z.
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> gram(sz.transpose() * sz);
+  int kept = 0;
+  for (int k = 0; k < 3 * m; ++k) {
+    if (gram.eigenvalues()[k] < 1e-9) continue;
+    ++kept;
+    const VecX c = gram.eigenvectors().col(k);
+    const VecX v = sz * c;
+    coarse.solve(VecX(s * a * v));
+    const Eigen::Map<const VecX> u(coarse.corrections(), 3 * m);
+    EXPECT_LT((sz * u - v).norm(), 1e-9 * v.norm()) << "coarse direction " << k;
+  }
+  EXPECT_GT(kept, 3 * m - 6);
+  coarse.setUp(sys->a, sys->s);  // the same stencils: the pattern covers them
+  EXPECT_EQ(coarse.coarsePatterns(), 2);
   EXPECT_EQ(coarse.patternSetups(), 1);
 }
 
