@@ -8,10 +8,8 @@
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
 #include <algorithm>
-#include <cstdlib>
 #include <map>
 #include <stdexcept>
-#include <string>
 #include <utility>
 
 namespace wobble {
@@ -27,10 +25,9 @@ void add(Eigen::Matrix3d& m, const Sym3& b, double sign) {
 
 // A stencil's particles grouped by aggregate (each aggregate once, in the order of its first particle): per
 // aggregate I its M_I = sum over the stencil's particles p_i in I of w_i S_(p_i), as W_I I + the filtered particles'
-// w_i (S_(p_i) - I) (filter given; filtered: whether any particle is filtered). Weights of 0 are left out.
+// w_i (S_(p_i) - I) (filter given). Weights of 0 are left out.
 struct StencilAggregates {
   int size = 0;
-  bool filtered = false;
   int aggregate[WeightedStencil::kCapacity];
   double weight[WeightedStencil::kCapacity];
   Eigen::Matrix3d filtered_part[WeightedStencil::kCapacity];
@@ -47,10 +44,8 @@ struct StencilAggregates {
         ++size;
       }
       weight[x] += st.w[i];
-      if (s && s->kind(p) != ParticleFilter::Free) {
-        filtered = true;
+      if (s && s->kind(p) != ParticleFilter::Free)
         filtered_part[x] += st.w[i] * (s->matrix(p) - Eigen::Matrix3d::Identity());
-      }
     }
   }
 };
@@ -159,9 +154,9 @@ bool CoarseCorrection::fits(const PairBlockMatrix& a) const {
 void CoarseCorrection::setUp(const PairBlockMatrix& a, const ParticleFilter& s, bool parallel) {
   const PairSchedule& pattern = *a.pattern();
   if (!fits(a)) buildAggregates(pattern), buildCoarsePattern();
-  static const char* mode_env = std::getenv("WOBBLE_COARSE_STENCILS");  // TEMP: measurement
-  const std::string mode = mode_env ? mode_env : "full";
-  if (mode == "full" && coverStencils(a.stencils())) buildCoarsePattern();
+  // The stencils' pairs of aggregates: the pattern extended when it lacks any (the pairs added are kept while the
+  // topology stands, so that contact that comes and goes over the same places does not rebuild it every time).
+  if (coverStencils(a.stencils())) buildCoarsePattern();
   ++factorizations_;
   for (Eigen::Matrix3d& b : blocks_) b.setZero();
   const int n = pattern.particles();
@@ -202,7 +197,7 @@ void CoarseCorrection::setUp(const PairBlockMatrix& a, const ParticleFilter& s, 
     blocks_[block] -= pair_flipped_[e] ? Eigen::Matrix3d(ab.transpose()) : ab;
     blocks_[block + 1] -= pair_flipped_[e] ? ab : Eigen::Matrix3d(ab.transpose());
   }
-  if (mode != "off") addStencils(a.stencils(), s);
+  addStencils(a.stencils(), s);
   // An aggregate whose particles are all held, or all constrained along one normal or one line, has coarse directions
   // that S removes (Z^T S Z, the Gram matrix of its three columns, is singular there; so are its rows and columns of
   // the matrix): the identity there keeps the matrix invertible and leaves those directions at 0.
@@ -226,60 +221,65 @@ void CoarseCorrection::setUp(const PairBlockMatrix& a, const ParticleFilter& s, 
 
 bool CoarseCorrection::coverStencils(const StencilCouplings& stencils) {
   bool added = false;
+  group_start_.assign(1, 0);
+  group_aggregate_.clear();
+  group_weight_.clear();
+  group_pair_block_.clear();
   for (const StencilBlock& sb : stencils) {
     const StencilAggregates g(sb.stencil, aggregate_.data());
-    for (int x = 0; x < g.size; ++x)
+    for (int x = 0; x < g.size; ++x) {
+      group_aggregate_.push_back(g.aggregate[x]);
+      group_weight_.push_back(g.weight[x]);
       for (int y = x + 1; y < g.size; ++y) {
         const int i = std::min(g.aggregate[x], g.aggregate[y]), j = std::max(g.aggregate[x], g.aggregate[y]);
-        if (pairBlock(i, j) >= 0) continue;
-        // Not in the factor's pattern: a new pair of blocks (a repeat of one added by an earlier stencil is found).
-        const int next = aggregates_ + 2 * int(coarse_pairs_.size());
-        if (coarse_pairs_.try_emplace({i, j}, next).second) ++stencil_pairs_, added = true;
+        int block = pairBlock(i, j);
+        if (block < 0) {
+          // Not in the factor's pattern: a new pair of blocks, numbered after the others (which keep theirs), or one
+          // an earlier stencil added.
+          const auto [it, is_new] = coarse_pairs_.try_emplace({i, j}, aggregates_ + 2 * int(coarse_pairs_.size()));
+          if (is_new) ++stencil_pairs_, added = true;
+          block = it->second;
+        }
+        group_pair_block_.push_back(block);
       }
+    }
+    group_start_.push_back(int(group_aggregate_.size()));
   }
   return added;
 }
 
 void CoarseCorrection::addStencils(const StencilCouplings& stencils, const ParticleFilter& s) {
+  const int* pair_block = group_pair_block_.data();
+  int k = 0;
   for (const StencilBlock& sb : stencils) {
-    StencilAggregates g(sb.stencil, aggregate_.data(), &s);
-    bool missing = false;  // TEMP: measurement of the existing-blocks variant
-    for (int x = 0; x < g.size; ++x)
-      for (int y = x + 1; y < g.size; ++y)
-        missing = missing ||
-                  pairBlock(std::min(g.aggregate[x], g.aggregate[y]), std::max(g.aggregate[x], g.aggregate[y])) < 0;
-    if (missing) {
-      const Eigen::Matrix3d b = sb.block.dense();
-      for (int x = 0; x < g.size; ++x) {
-        const Eigen::Matrix3d m =
-            g.weight[x] * Eigen::Matrix3d::Identity() + (g.filtered ? g.filtered_part[x] : Eigen::Matrix3d::Zero());
-        blocks_[g.aggregate[x]] += m * b * m;
-      }
-      continue;
-    }
-    if (!g.filtered) {  // M_I = W_I I: W_I W_J B
-      for (int x = 0; x < g.size; ++x) {
-        add(blocks_[g.aggregate[x]], sb.block, g.weight[x] * g.weight[x]);
-        for (int y = x + 1; y < g.size; ++y) {
-          const int block =
-              pairBlock(std::min(g.aggregate[x], g.aggregate[y]), std::max(g.aggregate[x], g.aggregate[y]));
-          add(blocks_[block], sb.block, g.weight[x] * g.weight[y]);
-          add(blocks_[block + 1], sb.block, g.weight[x] * g.weight[y]);
+    const int first = group_start_[k], size = group_start_[k + 1] - first;
+    const int* aggregate = group_aggregate_.data() + first;
+    const double* weight = group_weight_.data() + first;
+    ++k;
+    bool filtered = false;
+    for (int i = 0; i < sb.stencil.size && !filtered; ++i)
+      filtered = sb.stencil.w[i] != 0 && s.kind(sb.stencil.particle[i]) != ParticleFilter::Free;
+    if (!filtered) {  // M_I = W_I I: W_I W_J B
+      for (int x = 0; x < size; ++x) {
+        add(blocks_[aggregate[x]], sb.block, weight[x] * weight[x]);
+        for (int y = x + 1; y < size; ++y, ++pair_block) {
+          add(blocks_[*pair_block], sb.block, weight[x] * weight[y]);
+          add(blocks_[*pair_block + 1], sb.block, weight[x] * weight[y]);
         }
       }
       continue;
     }
+    const StencilAggregates g(sb.stencil, aggregate_.data(), &s);  // the same groups, in the same order
     const Eigen::Matrix3d b = sb.block.dense();
     Eigen::Matrix3d m[WeightedStencil::kCapacity];
-    for (int x = 0; x < g.size; ++x) m[x] = g.weight[x] * Eigen::Matrix3d::Identity() + g.filtered_part[x];
-    for (int x = 0; x < g.size; ++x) {
-      blocks_[g.aggregate[x]] += m[x] * b * m[x];
-      for (int y = x + 1; y < g.size; ++y) {
-        const bool ordered = g.aggregate[x] < g.aggregate[y];
-        const int block = pairBlock(std::min(g.aggregate[x], g.aggregate[y]), std::max(g.aggregate[x], g.aggregate[y]));
+    for (int x = 0; x < size; ++x) m[x] = g.weight[x] * Eigen::Matrix3d::Identity() + g.filtered_part[x];
+    for (int x = 0; x < size; ++x) {
+      blocks_[aggregate[x]] += m[x] * b * m[x];
+      for (int y = x + 1; y < size; ++y, ++pair_block) {
         const Eigen::Matrix3d xy = m[x] * b * m[y];  // block (I, J) for I = x's aggregate, J = y's
-        blocks_[block] += ordered ? xy : Eigen::Matrix3d(xy.transpose());
-        blocks_[block + 1] += ordered ? Eigen::Matrix3d(xy.transpose()) : xy;
+        const bool ordered = aggregate[x] < aggregate[y];
+        blocks_[*pair_block] += ordered ? xy : Eigen::Matrix3d(xy.transpose());
+        blocks_[*pair_block + 1] += ordered ? Eigen::Matrix3d(xy.transpose()) : xy;
       }
     }
   }

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 
 namespace wobble {
@@ -119,9 +118,8 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
   if (!two_level) {
     coarse_uses_ = 0;
   } else {
-    static const bool on_change = !std::getenv("WOBBLE_COARSE_KEEP");  // TEMP: measurement
     set_up_coarse = coarse_uses_ == 0 || coarse_uses_ >= kCoarseRefresh || !coarse_.fits(a) ||
-                    (on_change && a.stencils().generation() != coarse_stencils_);
+                    a.stencils().generation() != coarse_stencils_;
     if (set_up_coarse) coarse_stencils_ = a.stencils().generation();
     coarse_uses_ = set_up_coarse ? 1 : coarse_uses_ + 1;
   }

@@ -38,7 +38,8 @@ class StencilCouplings {
     ++generation_;
     indexed_ = false;
   }
-  // Counts the changes: the same number means the same couplings (a clear of none is no change).
+  // Counts the changes (the coarse level's refresh, filtered_pcg.h): the same number means the same couplings (a clear
+  // of none is no change, so a system that never has any always reads 0).
   long generation() const { return generation_; }
   bool empty() const { return blocks_.empty(); }
   std::size_t size() const { return blocks_.size(); }
