@@ -71,6 +71,7 @@ void CoarseCorrection::buildAggregates(const PairSchedule& pattern) {
     pair_block_[e] = it->second;
     pair_flipped_[e] = i > j;
   }
+  spring_blocks_ = blocks;
   stencil_pairs_ = 0;
   gram_.assign(aggregates_, Eigen::Matrix3d::Zero());
   size_.assign(aggregates_, 0);
@@ -156,7 +157,17 @@ void CoarseCorrection::setUp(const PairBlockMatrix& a, const ParticleFilter& s, 
   if (!fits(a)) buildAggregates(pattern), buildCoarsePattern();
   // The stencils' pairs of aggregates: the pattern extended when it lacks any (the pairs added are kept while the
   // topology stands, so that contact that comes and goes over the same places does not rebuild it every time).
-  if (coverStencils(a.stencils())) buildCoarsePattern();
+  // But when those the stencils at hand do not use outnumber those they do (the contact has moved on), a rebuild keeps
+  // only these: a cloth sliding over itself for long would otherwise fill the coarse factor.
+  if (coverStencils(a.stencils())) {
+    if (stencil_pairs_ > 2 * used_stencil_pairs_) {
+      for (auto it = coarse_pairs_.begin(); it != coarse_pairs_.end();)
+        it = it->second >= spring_blocks_ ? coarse_pairs_.erase(it) : std::next(it);
+      stencil_pairs_ = 0;
+      coverStencils(a.stencils());
+    }
+    buildCoarsePattern();
+  }
   ++factorizations_;
   for (Eigen::Matrix3d& b : blocks_) b.setZero();
   const int n = pattern.particles();
@@ -221,6 +232,8 @@ void CoarseCorrection::setUp(const PairBlockMatrix& a, const ParticleFilter& s, 
 
 bool CoarseCorrection::coverStencils(const StencilCouplings& stencils) {
   bool added = false;
+  used_stencil_pairs_ = 0;
+  stencil_pair_used_.assign(stencil_pairs_, 0);
   group_start_.assign(1, 0);
   group_aggregate_.clear();
   group_weight_.clear();
@@ -237,9 +250,11 @@ bool CoarseCorrection::coverStencils(const StencilCouplings& stencils) {
           // Not in the factor's pattern: a new pair of blocks, numbered after the others (which keep theirs), or one
           // an earlier stencil added.
           const auto [it, is_new] = coarse_pairs_.try_emplace({i, j}, aggregates_ + 2 * int(coarse_pairs_.size()));
-          if (is_new) ++stencil_pairs_, added = true;
+          if (is_new) ++stencil_pairs_, stencil_pair_used_.push_back(0), added = true;
           block = it->second;
         }
+        if (block >= spring_blocks_ && !stencil_pair_used_[(block - spring_blocks_) / 2])
+          stencil_pair_used_[(block - spring_blocks_) / 2] = 1, ++used_stencil_pairs_;
         group_pair_block_.push_back(block);
       }
     }

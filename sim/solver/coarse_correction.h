@@ -8,9 +8,10 @@
 // adds M_I B M_J to coarse block (I, J) for every two of its aggregates (I = J too), M_I = sum of w_i S_(p_i) over its
 // particles in aggregate I. Without them the coarse level takes the layers of a pressed cloth for free to move
 // across each other and its corrections there overshoot: more CG iterations than block-Jacobi alone. The pattern
-// holds the pairs of aggregates the springs join, plus those stencils have joined since the aggregates were built
-// (kept: contact that comes and goes over the same places extends it once); a stencil joining a pair not in it
-// rebuilds the coarse pattern (dissection, fill order, symbolic factorization: a few milliseconds for 350 aggregates).
+// holds the pairs of aggregates the springs join, plus those stencils have joined (kept, so that contact coming and
+// going over the same places extends it once); a stencil joining a pair not in it rebuilds the coarse pattern
+// (dissection, fill order, symbolic factorization), and a rebuild that finds most of the stencils' pairs unused by the
+// stencils at hand drops those (contact that has moved on would otherwise fill the factor).
 // The aggregates are ordered by one level of nested dissection (two parts of the aggregate graph with no edge between
 // them, fill-reducing (AMD) order within each, then the separator), so the factorization and the triangular solves run
 // the two parts on two threads when parallel, each part's arithmetic in one fixed order, and the separator's sums part
@@ -70,11 +71,15 @@ class CoarseCorrection {
   int pattern_setups_ = 0, coarse_patterns_ = 0, factorizations_ = 0;
   int aggregates_ = 0;
   std::vector<int> aggregate_;  // per particle
-  // The coarse pattern's pairs of aggregates (I < J): those the springs join, then those stencils joined since the
-  // aggregates were built (stencil_pairs_ of them, kept while the topology stands), each with its block (I, J);
-  // (J, I) follows. Per aggregate I, its pairs (J, block) with J > I in [neighbour_start_[I], neighbour_start_[I + 1]).
+  // The coarse pattern's pairs of aggregates (I < J): those the springs join, then those stencils joined
+  // (stencil_pairs_ of them, since the aggregates were built or the last rebuild that dropped the unused), each with
+  // its block (I, J); (J, I) follows. Per aggregate I, its pairs (J, block) with J > I in [neighbour_start_[I],
+  // neighbour_start_[I + 1]).
   std::map<std::pair<int, int>, int> coarse_pairs_;
+  int spring_blocks_ = 0;  // blocks [0, spring_blocks_): the aggregates' and the springs' pairs'; then stencils'
   int stencil_pairs_ = 0;
+  int used_stencil_pairs_ = 0;           // of those, how many the last coverStencils found in use
+  std::vector<char> stencil_pair_used_;  // per stencil pair (block (spring_blocks_ + 2 k)): in use (coverStencils)
   std::vector<int> neighbour_start_;
   std::vector<std::pair<int, int>> neighbours_;
   // Per stencil k (coverStencils): its aggregates [group_start_[k], group_start_[k + 1]) with their summed weights,

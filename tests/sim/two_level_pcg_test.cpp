@@ -286,6 +286,23 @@ TEST(TwoLevelPcg, AChangeOfTheStencilsRefreshesTheCoarseLevel) {
   solve();
   EXPECT_EQ(pcg.coarse().factorizations(), 3);
   EXPECT_EQ(pcg.coarse().coarsePatterns(), 2);  // the springs', extended once for the first stencils
+  const int stencil_pairs = pcg.coarse().stencilPairs();
+  ASSERT_GT(stencil_pairs, 2);
+  // Contact elsewhere, between the cloth's two free corners: one pair of aggregates no spring joins, and the rebuild
+  // it needs drops the pairs no stencil uses any more.
+  const int* aggregate = pcg.coarse().aggregates();
+  const int i = std::min(aggregate[11], aggregate[132]), j = std::max(aggregate[11], aggregate[132]);
+  ASSERT_NE(i, j);
+  const PairSchedule& springs = *sys->a.pattern();
+  for (std::size_t e = 0; e < springs.size(); ++e)
+    ASSERT_FALSE(std::minmax({aggregate[springs.a()[e]], aggregate[springs.b()[e]]}) == std::make_pair(i, j));
+  WeightedStencil corners;
+  corners.add(11, 1), corners.add(132, -1);
+  sys->a.stencils().push_back({corners, Sym3::outer(Vec3(0, 2e3, 0))});
+  solve();
+  EXPECT_EQ(pcg.coarse().factorizations(), 4);
+  EXPECT_EQ(pcg.coarse().coarsePatterns(), 3);
+  EXPECT_EQ(pcg.coarse().stencilPairs(), 1);
 }
 
 // Q = S Z (Z^T S A S Z)^-1 Z^T S, column by column: symmetric, positive semidefinite, and Q (S A S) v = v for every v
