@@ -23,33 +23,76 @@ void add(Eigen::Matrix3d& m, const Sym3& b, double sign) {
   m(1, 2) += sign * b.yz, m(2, 1) += sign * b.yz;
 }
 
+// A stencil's particles grouped by aggregate (each aggregate once, in the order of its first particle): per
+// aggregate I its M_I = sum over the stencil's particles p_i in I of w_i S_(p_i), as W_I I + the filtered particles'
+// w_i (S_(p_i) - I) (filter given). Weights of 0 are left out.
+struct StencilAggregates {
+  int size = 0;
+  int aggregate[WeightedStencil::kCapacity];
+  double weight[WeightedStencil::kCapacity];
+  Eigen::Matrix3d filtered_part[WeightedStencil::kCapacity];
+
+  StencilAggregates(const WeightedStencil& st, const int* aggregates, const ParticleFilter* s = nullptr) {
+    for (int i = 0; i < st.size; ++i) {
+      if (st.w[i] == 0) continue;
+      const int p = st.particle[i], agg = aggregates[p];
+      int x = 0;
+      while (x < size && aggregate[x] != agg) ++x;
+      if (x == size) {
+        aggregate[size] = agg, weight[size] = 0;
+        if (s) filtered_part[size].setZero();
+        ++size;
+      }
+      weight[x] += st.w[i];
+      if (s && s->kind(p) != ParticleFilter::Free)
+        filtered_part[x] += st.w[i] * (s->matrix(p) - Eigen::Matrix3d::Identity());
+    }
+  }
+};
+
 }  // namespace
 
-void CoarseCorrection::buildPattern(const PairSchedule& pattern) {
+void CoarseCorrection::buildAggregates(const PairSchedule& pattern) {
   ++pattern_setups_;
   pattern_ = &pattern;
   pattern_pairs_ = pattern.size();
   const int n = pattern.particles();
   aggregate_ = aggregateParticles(pattern.a(), pattern.b(), n, aggregates_);
   // Coarse blocks: one per aggregate, two per pair of neighbouring aggregates.
-  std::map<std::pair<int, int>, int> coarse_pairs;
+  coarse_pairs_.clear();
   pair_block_.assign(pattern.size(), -1);
   pair_flipped_.assign(pattern.size(), 0);
   int blocks = aggregates_;
   for (std::size_t e = 0; e < pattern.size(); ++e) {
     const int i = aggregate_[pattern.a()[e]], j = aggregate_[pattern.b()[e]];
     if (i == j) continue;
-    const auto [it, added] = coarse_pairs.try_emplace({std::min(i, j), std::max(i, j)}, blocks);
+    const auto [it, added] = coarse_pairs_.try_emplace({std::min(i, j), std::max(i, j)}, blocks);
     if (added) blocks += 2;
     pair_block_[e] = it->second;
     pair_flipped_[e] = i > j;
   }
+  spring_blocks_ = blocks;
+  stencil_pairs_ = 0;
+  gram_.assign(aggregates_, Eigen::Matrix3d::Zero());
+  size_.assign(aggregates_, 0);
+  for (int p = 0; p < n; ++p) ++size_[aggregate_[p]];
+  member_start_.assign(aggregates_ + 1, 0);
+  for (int i = 0; i < aggregates_; ++i) member_start_[i + 1] = member_start_[i] + size_[i];
+  members_.resize(n);
+  std::vector<int> filled(member_start_.begin(), member_start_.end() - 1);
+  for (int p = 0; p < n; ++p) members_[filled[aggregate_[p]]++] = p;
+  y_.setZero(3 * aggregates_);
+  u_.setZero(3 * aggregates_);
+}
+
+void CoarseCorrection::buildCoarsePattern() {
+  ++coarse_patterns_;
   // The coarse matrix's block columns, aggregates relabelled once: part 0, part 1, the separator (dissect), each in a
   // fill-reducing (AMD) order of its own. The factorization then needs no permutation, and the factor has no block
   // between the parts.
   std::vector<std::pair<int, int>> edges;
-  edges.reserve(coarse_pairs.size());
-  for (const auto& [ij, k] : coarse_pairs) edges.push_back(ij);
+  edges.reserve(coarse_pairs_.size());
+  for (const auto& [ij, k] : coarse_pairs_) edges.push_back(ij);
   const std::vector<int> part = dissect(aggregates_, edges);
   for (const auto& [i, j] : edges)  // the two parts' solves run at the same time: they must share no entry
     if (part[i] + part[j] == 1) throw std::logic_error("CoarseCorrection: an edge between the dissected parts");
@@ -80,27 +123,28 @@ void CoarseCorrection::buildPattern(const PairSchedule& pattern) {
     }
   }
   // The factor's lower blocks: per pair of neighbouring aggregates, block (I, J) or (J, I), whichever is below the
-  // diagonal.
+  // diagonal; and per aggregate its neighbours of higher number with their blocks (pairBlock).
   std::vector<std::pair<int, int>> lower;
   lower_block_.clear();
-  for (const auto& [ij, k] : coarse_pairs) {
+  neighbour_start_.assign(aggregates_ + 1, 0);
+  neighbours_.clear();
+  for (const auto& [ij, k] : coarse_pairs_) {
     const auto [i, j] = ij;
     const bool i_below = column_[i] > column_[j];
     lower.emplace_back(i_below ? column_[i] : column_[j], i_below ? column_[j] : column_[i]);
     lower_block_.push_back(i_below ? k : k + 1);  // block (I, J) is row I's
+    ++neighbour_start_[i + 1];
+    neighbours_.emplace_back(j, k);  // the map's order: by i, then j
   }
+  for (int i = 0; i < aggregates_; ++i) neighbour_start_[i + 1] += neighbour_start_[i];
   ldlt_.analyze(aggregates_, lower, part_begin[1], part_begin[2]);
-  blocks_.assign(blocks, Eigen::Matrix3d::Zero());
-  gram_.assign(aggregates_, Eigen::Matrix3d::Zero());
-  size_.assign(aggregates_, 0);
-  for (int p = 0; p < n; ++p) ++size_[aggregate_[p]];
-  member_start_.assign(aggregates_ + 1, 0);
-  for (int i = 0; i < aggregates_; ++i) member_start_[i + 1] = member_start_[i] + size_[i];
-  members_.resize(n);
-  std::vector<int> filled(member_start_.begin(), member_start_.end() - 1);
-  for (int p = 0; p < n; ++p) members_[filled[aggregate_[p]]++] = p;
-  y_.setZero(3 * aggregates_);
-  u_.setZero(3 * aggregates_);
+  blocks_.assign(aggregates_ + 2 * coarse_pairs_.size(), Eigen::Matrix3d::Zero());
+}
+
+int CoarseCorrection::pairBlock(int i, int j) const {
+  const auto first = neighbours_.begin() + neighbour_start_[i], last = neighbours_.begin() + neighbour_start_[i + 1];
+  const auto it = std::lower_bound(first, last, std::pair<int, int>{j, -1});
+  return it != last && it->first == j ? it->second : -1;
 }
 
 bool CoarseCorrection::fits(const PairBlockMatrix& a) const {
@@ -110,7 +154,20 @@ bool CoarseCorrection::fits(const PairBlockMatrix& a) const {
 
 void CoarseCorrection::setUp(const PairBlockMatrix& a, const ParticleFilter& s, bool parallel) {
   const PairSchedule& pattern = *a.pattern();
-  if (!fits(a)) buildPattern(pattern);
+  if (!fits(a)) buildAggregates(pattern), buildCoarsePattern();
+  // The stencils' pairs of aggregates: the pattern extended when it lacks any (the pairs added are kept while the
+  // topology stands, so that contact that comes and goes over the same places does not rebuild it every time).
+  // But when those the stencils at hand do not use outnumber those they do (the contact has moved on), a rebuild keeps
+  // only these: a cloth sliding over itself for long would otherwise fill the coarse factor.
+  if (coverStencils(a.stencils())) {
+    if (stencil_pairs_ > 2 * used_stencil_pairs_) {
+      for (auto it = coarse_pairs_.begin(); it != coarse_pairs_.end();)
+        it = it->second >= spring_blocks_ ? coarse_pairs_.erase(it) : std::next(it);
+      stencil_pairs_ = 0;
+      coverStencils(a.stencils());
+    }
+    buildCoarsePattern();
+  }
   ++factorizations_;
   for (Eigen::Matrix3d& b : blocks_) b.setZero();
   const int n = pattern.particles();
@@ -151,6 +208,7 @@ void CoarseCorrection::setUp(const PairBlockMatrix& a, const ParticleFilter& s, 
     blocks_[block] -= pair_flipped_[e] ? Eigen::Matrix3d(ab.transpose()) : ab;
     blocks_[block + 1] -= pair_flipped_[e] ? ab : Eigen::Matrix3d(ab.transpose());
   }
+  addStencils(a.stencils(), s);
   // An aggregate whose particles are all held, or all constrained along one normal or one line, has coarse directions
   // that S removes (Z^T S Z, the Gram matrix of its three columns, is singular there; so are its rows and columns of
   // the matrix): the identity there keeps the matrix invertible and leaves those directions at 0.
@@ -170,6 +228,76 @@ void CoarseCorrection::setUp(const PairBlockMatrix& a, const ParticleFilter& s, 
   for (int i = 0; i < aggregates_; ++i) ldlt_.diagonal(column_[i]) = blocks_[i];
   for (std::size_t k = 0; k < lower_block_.size(); ++k) ldlt_.lower(int(k)) = blocks_[lower_block_[k]];
   ldlt_.factorize(parallel);
+}
+
+bool CoarseCorrection::coverStencils(const StencilCouplings& stencils) {
+  bool added = false;
+  used_stencil_pairs_ = 0;
+  stencil_pair_used_.assign(stencil_pairs_, 0);
+  group_start_.assign(1, 0);
+  group_aggregate_.clear();
+  group_weight_.clear();
+  group_pair_block_.clear();
+  for (const StencilBlock& sb : stencils) {
+    const StencilAggregates g(sb.stencil, aggregate_.data());
+    for (int x = 0; x < g.size; ++x) {
+      group_aggregate_.push_back(g.aggregate[x]);
+      group_weight_.push_back(g.weight[x]);
+      for (int y = x + 1; y < g.size; ++y) {
+        const int i = std::min(g.aggregate[x], g.aggregate[y]), j = std::max(g.aggregate[x], g.aggregate[y]);
+        int block = pairBlock(i, j);
+        if (block < 0) {
+          // Not in the factor's pattern: a new pair of blocks, numbered after the others (which keep theirs), or one
+          // an earlier stencil added.
+          const auto [it, is_new] = coarse_pairs_.try_emplace({i, j}, aggregates_ + 2 * int(coarse_pairs_.size()));
+          if (is_new) ++stencil_pairs_, stencil_pair_used_.push_back(0), added = true;
+          block = it->second;
+        }
+        if (block >= spring_blocks_ && !stencil_pair_used_[(block - spring_blocks_) / 2])
+          stencil_pair_used_[(block - spring_blocks_) / 2] = 1, ++used_stencil_pairs_;
+        group_pair_block_.push_back(block);
+      }
+    }
+    group_start_.push_back(int(group_aggregate_.size()));
+  }
+  return added;
+}
+
+void CoarseCorrection::addStencils(const StencilCouplings& stencils, const ParticleFilter& s) {
+  const int* pair_block = group_pair_block_.data();
+  int k = 0;
+  for (const StencilBlock& sb : stencils) {
+    const int first = group_start_[k], size = group_start_[k + 1] - first;
+    const int* aggregate = group_aggregate_.data() + first;
+    const double* weight = group_weight_.data() + first;
+    ++k;
+    bool filtered = false;
+    for (int i = 0; i < sb.stencil.size && !filtered; ++i)
+      filtered = sb.stencil.w[i] != 0 && s.kind(sb.stencil.particle[i]) != ParticleFilter::Free;
+    if (!filtered) {  // M_I = W_I I: W_I W_J B
+      for (int x = 0; x < size; ++x) {
+        add(blocks_[aggregate[x]], sb.block, weight[x] * weight[x]);
+        for (int y = x + 1; y < size; ++y, ++pair_block) {
+          add(blocks_[*pair_block], sb.block, weight[x] * weight[y]);
+          add(blocks_[*pair_block + 1], sb.block, weight[x] * weight[y]);
+        }
+      }
+      continue;
+    }
+    const StencilAggregates g(sb.stencil, aggregate_.data(), &s);  // the same groups, in the same order
+    const Eigen::Matrix3d b = sb.block.dense();
+    Eigen::Matrix3d m[WeightedStencil::kCapacity];
+    for (int x = 0; x < size; ++x) m[x] = g.weight[x] * Eigen::Matrix3d::Identity() + g.filtered_part[x];
+    for (int x = 0; x < size; ++x) {
+      blocks_[aggregate[x]] += m[x] * b * m[x];
+      for (int y = x + 1; y < size; ++y, ++pair_block) {
+        const Eigen::Matrix3d xy = m[x] * b * m[y];  // block (I, J) for I = x's aggregate, J = y's
+        const bool ordered = aggregate[x] < aggregate[y];
+        blocks_[*pair_block] += ordered ? xy : Eigen::Matrix3d(xy.transpose());
+        blocks_[*pair_block + 1] += ordered ? Eigen::Matrix3d(xy.transpose()) : xy;
+      }
+    }
+  }
 }
 
 template <class T>

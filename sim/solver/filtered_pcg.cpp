@@ -118,7 +118,9 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
   if (!two_level) {
     coarse_uses_ = 0;
   } else {
-    set_up_coarse = coarse_uses_ == 0 || coarse_uses_ >= kCoarseRefresh || !coarse_.fits(a);
+    set_up_coarse = coarse_uses_ == 0 || coarse_uses_ >= kCoarseRefresh || !coarse_.fits(a) ||
+                    a.stencils().generation() != coarse_stencils_;
+    if (set_up_coarse) coarse_stencils_ = a.stencils().generation();
     coarse_uses_ = set_up_coarse ? 1 : coarse_uses_ + 1;
   }
   const bool single = tolerance >= kSingleTolerance && single_pays_;

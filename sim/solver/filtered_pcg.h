@@ -31,8 +31,10 @@ struct PcgResult {
   double relative_residual = 0;  // |S (b - A x)| / |S (b - A (I - S) x0)| at the end; 0 when that rhs is 0
 };
 
-// A two-level solve sets the coarse level up afresh when the one before it did not use it, or after it has served
-// this many solves. In between, it keeps the last factorization: the sum stays symmetric positive definite (any SPD
+// A two-level solve sets the coarse level up afresh when the one before it did not use it, when the matrix's contact
+// stencils have changed since (StencilCouplings::generation: backward Euler's active set changes between the solves of
+// a step, and a pair just pressed is a stiff coupling the kept factorization lacks), or after it has served this many
+// solves. In between, it keeps the last factorization: the sum stays symmetric positive definite (any SPD
 // coarse matrix does), only a little less sharp as the system drifts. Measured on the stiff cloth
 // (docs/performance.md): every second solve costs 0.6 more CG iterations a step (22.65 against 22.05) and saves half
 // the coarse fills and factorizations, 9% of the step; every fourth, 24.7 iterations. With float iterations and the
@@ -76,6 +78,7 @@ class FilteredPcg {
   CoarseCorrection coarse_;
   bool single_pays_ = false;  // the last solve took at least kSingleIterations
   int coarse_uses_ = 0;       // two-level solves since the coarse level was set up; 0 when the last solve had none
+  long coarse_stencils_ = 0;  // the stencils' generation the coarse level was set up with
   std::vector<Sym3> diagonal_;
   std::vector<int> constrained_;  // the particles S filters (not free), in order
   Iterates<double> double_;

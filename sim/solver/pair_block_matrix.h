@@ -29,13 +29,18 @@ struct StencilBlock {
 class StencilCouplings {
  public:
   void clear() {
+    if (!blocks_.empty()) ++generation_;
     blocks_.clear();
     indexed_ = false;
   }
   void push_back(const StencilBlock& b) {
     blocks_.push_back(b);
+    ++generation_;
     indexed_ = false;
   }
+  // Counts the changes (the coarse level's refresh, filtered_pcg.h): the same number means the same couplings (a clear
+  // of none is no change, so a system that never has any always reads 0).
+  long generation() const { return generation_; }
   bool empty() const { return blocks_.empty(); }
   std::size_t size() const { return blocks_.size(); }
   std::vector<StencilBlock>::const_iterator begin() const { return blocks_.begin(); }
@@ -58,6 +63,7 @@ class StencilCouplings {
   template <class S>
   void products(Values<S>& values, const S* x, S* y, bool parallel) const;  // values: the mutable double_ or single_
   std::vector<StencilBlock> blocks_;
+  long generation_ = 0;
   // The gather index (mutable: built on the first product after a change): the touched particles, and per particle
   // its entries [first_[r], first_[r + 1]) of (stencil, weight) in stencil order.
   mutable bool indexed_ = false;
