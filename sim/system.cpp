@@ -7,6 +7,7 @@
 #include "sim/collision/body_collisions.h"
 #include "sim/contact.h"
 #include "sim/contact_constraints.h"
+#include "sim/contact_pair_set.h"
 #include "sim/force_jacobian.h"
 #include "sim/solver/pair_block_matrix.h"
 #include "sim/spring_runs.h"
@@ -121,11 +122,8 @@ bool MassSpringSystem::colliderPairs(double t, double h, const VecX& x0, const V
   thread_local std::vector<int> near;  // kept between calls: no allocation per step
   thread_local VecX at;
   thread_local CellBoxes cells;
-  thread_local std::vector<std::array<int, 4>> known;  // the points' pairs already in out
-  known.clear();
-  for (const ContactPair& c : out)
-    if (c.element[0] < 0) known.push_back(c.element);
-  std::sort(known.begin(), known.end());
+  thread_local ContactPairSet known;  // the points' pairs already in out
+  known.assign(out, [](const ContactPair& c) { return c.element[0] < 0; });
   const std::size_t before = out.size();
   for (std::size_t k = 0; k < colliders_.size(); ++k) {
     const Collider& collider = *colliders_[k];
@@ -142,7 +140,7 @@ bool MassSpringSystem::colliderPairs(double t, double h, const VecX& x0, const V
       if (!s || !(s->distance < band)) continue;
       // Negative first entry: apart from the pairs between bodies, whose elements are surface vertices.
       const std::array<int, 4> element{-1 - int(k), p, 0, 0};
-      if (std::binary_search(known.begin(), known.end(), element)) continue;
+      if (known.contains(element)) continue;
       ContactPair pair{element, {}, s->normal, 0, collider.contact().friction};
       for (int i = 0; i < 8; ++i) pair.stencil.add(points_[p].particle[i], points_[p].weight[i]);
       pair.collider = true;

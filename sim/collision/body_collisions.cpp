@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <cstdint>
 #include <cstring>
 #include <numeric>
 #include <span>
@@ -12,6 +11,7 @@
 
 #include "sim/collision/broad_phase.h"
 #include "sim/collision/ccd.h"
+#include "sim/contact_pair_set.h"
 #include "sim/solver/parallel.h"
 #include "sim/surface.h"
 #include "sim/system.h"
@@ -76,39 +76,6 @@ class UnionFind {
 };
 
 std::atomic<bool> motion_cull{true};
-
-// The pairs of a list by their four vertices, for "is this pair in already" (open addressing; kept between calls, so
-// that it allocates nothing once grown). Sorting the list for a binary search cost several percent of a step.
-class ElementSet {
- public:
-  void assign(const std::vector<ContactPair>& pairs) {
-    std::size_t size = 64;
-    while (size < 2 * pairs.size()) size *= 2;
-    slots_.assign(size, kEmpty);
-    mask_ = size - 1;
-    for (const ContactPair& c : pairs) {
-      std::size_t i = hash(c.element) & mask_;
-      while (slots_[i] != kEmpty && slots_[i] != c.element) i = (i + 1) & mask_;
-      slots_[i] = c.element;
-    }
-  }
-  bool contains(const std::array<int, 4>& e) const {
-    for (std::size_t i = hash(e) & mask_;; i = (i + 1) & mask_) {
-      if (slots_[i] == e) return true;
-      if (slots_[i] == kEmpty) return false;
-    }
-  }
-
- private:
-  static constexpr std::array<int, 4> kEmpty{-1, -1, -1, -1};  // no pair's: its vertices are particles or points
-  static std::size_t hash(const std::array<int, 4>& e) {
-    std::uint64_t h = 0x9e3779b97f4a7c15ull;
-    for (const int v : e) h = (h ^ std::uint32_t(v)) * 0xff51afd7ed558ccdull;
-    return std::size_t(h ^ (h >> 32));
-  }
-  std::vector<std::array<int, 4>> slots_;
-  std::size_t mask_ = 0;
-};
 
 }  // namespace
 
@@ -502,7 +469,7 @@ struct BodyCollisions::Impl {
   bool from_step = false;   // the candidates are step's (vf and ee are not used)
   double drift = 0;         // with from_step: the largest distance of a node's end from step.end
   std::vector<int> subset;  // the candidates a search tests (subsetOf)
-  ElementSet known;         // nearPairs: the pairs already in its list
+  ContactPairSet known;     // nearPairs: the pairs already in its list
 
   const std::vector<std::pair<int, int>>& vfList() const { return from_step ? step.vf : vf; }
   const std::vector<std::pair<int, int>>& eeList() const { return from_step ? step.ee : ee; }
