@@ -199,8 +199,7 @@ class BackwardEuler final : public Integrator {
     for (const ContactConstraint& c : contacts_) {
       if (c.stick || !(c.damping > 0)) continue;
       sliding_.push_back({c, true});
-      const Vec3 u = frictionSlide(c, h, v);
-      particle(rhs_, c.particle) -= (h * c.damping) * (u - c.normal.dot(u) * c.normal);
+      particle(rhs_, c.particle) -= (h * c.damping) * tangentialSlide(c, h, v);
     }
     addFrictionWeights(h);
   }
@@ -219,9 +218,11 @@ class BackwardEuler final : public Integrator {
         s.in_matrix = false;
       }
   }
-  // The particle's velocity in v relative to the surface at the step's end (u1).
-  static Vec3 frictionSlide(const ContactConstraint& c, double h, const VecX& v) {
-    return particle(v, c.particle) - (c.surface_velocity + h * c.surface_acceleration);
+  // The tangential part of the particle's velocity in v relative to the surface at the step's end, (I - n n^T)(v -
+  // u1): what the sliding contact's damper acts on.
+  static Vec3 tangentialSlide(const ContactConstraint& c, double h, const VecX& v) {
+    const Vec3 u = particle(v, c.particle) - (c.surface_velocity + h * c.surface_acceleration);
+    return u - c.normal.dot(u) * c.normal;
   }
 
   // Impacts (contact_constraints.h): while the solved step ends a particle inside a surface, constrain it along the
@@ -428,10 +429,7 @@ class BackwardEuler final : public Integrator {
     jacobian.smoothForce(t + h, x1_, v1_, fs_);
     addPairForces(x1_, v1_, fs_);
     for (const SlidingContact& s : sliding_)  // their friction (frictionBlocks)
-      if (s.in_matrix) {
-        const Vec3 u = frictionSlide(s.contact, h, v1_);
-        particle(fs_, s.contact.particle) -= s.contact.damping * (u - s.contact.normal.dot(u) * s.contact.normal);
-      }
+      if (s.in_matrix) particle(fs_, s.contact.particle) -= s.contact.damping * tangentialSlide(s.contact, h, v1_);
     r.resize(x.size());
     double worst = 0;
     for (int p = 0; p < n_; ++p) {
