@@ -25,7 +25,7 @@ class ContactPairSet {
     for (const ContactPair& c : pairs) {
       if (!keep(c)) continue;
       std::size_t i = hash(c.element) & mask_;
-      while (slots_[i] != kEmpty && slots_[i] != c.element) i = (i + 1) & mask_;
+      while (!same(slots_[i], kEmpty) && !same(slots_[i], c.element)) i = (i + 1) & mask_;
       slots_[i] = c.element;
     }
   }
@@ -34,14 +34,19 @@ class ContactPairSet {
   }
   bool contains(const std::array<int, 4>& e) const {
     for (std::size_t i = hash(e) & mask_;; i = (i + 1) & mask_) {
-      if (slots_[i] == e) return true;
-      if (slots_[i] == kEmpty) return false;
+      if (same(slots_[i], e)) return true;
+      if (same(slots_[i], kEmpty)) return false;
     }
   }
 
  private:
   // No pair's: a pair between bodies has surface vertices (>= 0), a collider's pair a collider's -1 - k then a point.
   static constexpr std::array<int, 4> kEmpty{-1, -1, -1, -1};
+  // Element by element: std::array's == became a call to memcmp per probe here (3% of a folded cloth's step in a
+  // profile; 0.5% fewer instructions without).
+  static bool same(const std::array<int, 4>& a, const std::array<int, 4>& b) {
+    return a[0] == b[0] && a[1] == b[1] && a[2] == b[2] && a[3] == b[3];
+  }
   static std::size_t hash(const std::array<int, 4>& e) {
     std::uint64_t h = 0x9e3779b97f4a7c15ull;
     for (const int v : e) h = (h ^ std::uint32_t(v)) * 0xff51afd7ed558ccdull;

@@ -132,6 +132,15 @@ class ForceJacobian {
     (void)t, (void)h, (void)x0, (void)v0, (void)x1, (void)out;
     return false;
   }
+  // The energy a candidate step from (x0, v0) at t to (x1, v1) at t + h makes up: the total energy's rise (kinetic,
+  // gravitational, elastic) less the work moving colliders did, less a margin for the step's rounding and estimates.
+  // Above 0, the step gained energy nothing gave it (backward Euler, having linearized it, then solves it exactly).
+  // The default: none known.
+  virtual double energyMadeUp(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
+                              const VecX& v1) const {
+    (void)t, (void)h, (void)x0, (void)v0, (void)x1, (void)v1;
+    return 0;
+  }
 
  protected:
   ~ForceJacobian() = default;

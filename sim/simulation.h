@@ -31,10 +31,9 @@ struct BlowUp {
 // The run's own energy check (docs/energy.md): the total energy (kinetic + gravitational + elastic) may not exceed the
 // start's plus the work moving colliders did on the bodies by more than kEnergyGainRelative of (|start| + the
 // colliders' work, counted unsigned) or, whichever is more, the energy of lifting every particle by kEnergyGainLift
-// (m |g|, with |g| at least 1 m/s^2). A stable integrator's drift and the contact band's slack stay far below either;
-// the gains of an unstable contact or step are multiples of the start.
+// (m |g|, with |g| at least 1 m/s^2; system.h). A stable integrator's drift and the contact band's slack stay far
+// below either; the gains of an unstable contact or step are multiples of the start.
 inline constexpr double kEnergyGainRelative = 0.1;
-inline constexpr double kEnergyGainLift = 0.01;  // m: the colliders' default contact band
 
 struct EnergyGain {
   std::string integrator;

@@ -62,6 +62,7 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
          {"cg_max_iterations", scene.integrator_options.cg_max_iterations},
          {"error_rule_stops", s.error_rule_stops},
          {"impact_solves", s.impact_solves},  // solves again with impact constraints (docs/energy.md)
+         {"exact_steps", s.exact_steps},      // linearized steps that made up energy, solved exactly (docs/energy.md)
          {"cg_iterations", s.cg_iterations},
          {"cg_iterations_per_step", s.steps ? double(s.cg_iterations) / double(s.steps) : 0.0},
          {"max_relative_residual", s.max_cg_residual}};

@@ -162,7 +162,19 @@ class BackwardEuler final : public Integrator {
       stats_.body_contact_pairs_carried += long(pairs_.size());
     }
 
-    if (options_.newton) newton(*jacobian, t, h, x, v, mass);
+    if (options_.newton) {
+      newton(*jacobian, t, h, x, v, mass);
+    } else {
+      // A linearized step that made up energy (a spring shortened or turned by much of its length within the step,
+      // where its linearization at the start is far off): the exact step instead, by Newton's iteration from it.
+      // Checked where the step solved more than once: an impact or contact pairs changed its velocities within it,
+      // which is where the linearization failed (docs/energy.md); a smooth step pays nothing.
+      if (stats_.last_linear_solves > 1 && madeUpEnergy(*jacobian, t, h, x, v)) {
+        ++stats_.exact_steps;
+        history_ = 0;  // this step's dv is Newton's: not the smooth error's measure
+        newton(*jacobian, t, h, x, v, mass, true);
+      }
+    }
     carryPairs(h, x, v);
 
     forEachChunk(n_, parallel_, [&](int begin, int end) {
@@ -223,6 +235,20 @@ class BackwardEuler final : public Integrator {
   static Vec3 tangentialSlide(const ContactConstraint& c, double h, const VecX& v) {
     const Vec3 u = particle(v, c.particle) - (c.surface_velocity + h * c.surface_acceleration);
     return u - c.normal.dot(u) * c.normal;
+  }
+
+  // Whether the step's end x + h (v + dv), v + dv has more energy than the start gives it (ForceJacobian::
+  // energyMadeUp).
+  bool madeUpEnergy(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v) {
+    end_x_.resize(x.size());
+    end_v_.resize(x.size());
+    forEachChunk(n_, parallel_, [&](int begin, int end) {
+      for (int p = begin; p < end; ++p) {
+        particle(end_v_, p) = particle(v, p) + particle(dv_, p);
+        particle(end_x_, p) = particle(x, p) + h * particle(end_v_, p);
+      }
+    });
+    return jacobian.energyMadeUp(t, h, x, v, end_x_, end_v_) > 0;
   }
 
   // Impacts (contact_constraints.h): while the solved step ends a particle inside a surface, constrain it along the
@@ -441,7 +467,9 @@ class BackwardEuler final : public Integrator {
   }
 
   // Newton on the nonlinear backward-Euler equations from the linearized step in dv_, with backtracking.
-  void newton(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v, const VecX& mass) {
+  // until_energy_kept: stop as soon as the iterate no longer makes up energy (madeUpEnergy), before convergence.
+  void newton(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v, const VecX& mass,
+              bool until_energy_kept = false) {
     // The contact forces in F0, held fixed: Fc = F0 - Fs(x0, v0) (f0_ holds accelerations).
     ++stats_.evaluations;
     jacobian.smoothForce(t, x, v, fs_);  // without the pairs' forces: those are in the residual's Fs
@@ -467,6 +495,7 @@ class BackwardEuler final : public Integrator {
           break;
         }
       }
+      if (until_energy_kept && !madeUpEnergy(jacobian, t, h, x, v)) break;
     }
     stats_.last_residual = norm;
   }

@@ -57,6 +57,8 @@ struct IntegratorStats {
   long impact_solves = 0;           // backward-euler: extra solves with impact constraints (contact_constraints.h)
   long body_contact_solves = 0;     // backward-euler: extra solves with contact between bodies (ContactPair)
   long body_contact_pairs = 0;      // backward-euler: pairs of surface elements in those solves, all steps
+  long exact_steps = 0;             // backward-euler without newton: steps whose linearized solve made up energy,
+                                    // solved exactly instead (ForceJacobian::energyMadeUp)
   // backward-euler, contact between bodies in the solve (run.json's body_contact, docs/body-contact.md):
   long linear_solves = 0;                   // linear solves, all steps and causes
   long body_contact_steps = 0;              // steps whose solve carried at least one pair
