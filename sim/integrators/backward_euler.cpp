@@ -240,6 +240,11 @@ class BackwardEuler final : public Integrator {
   // Whether the step's end x + h (v + dv), v + dv has more energy than the start gives it (ForceJacobian::
   // energyMadeUp).
   bool madeUpEnergy(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v) {
+    setEnd(h, x, v);
+    return jacobian.energyMadeUp(t, h, x, v, end_x_, end_v_) > 0;
+  }
+  // The step's end for the solved dv: end_v_ = v + dv, end_x_ = x + h end_v_.
+  void setEnd(double h, const VecX& x, const VecX& v) {
     end_x_.resize(x.size());
     end_v_.resize(x.size());
     forEachChunk(n_, parallel_, [&](int begin, int end) {
@@ -248,7 +253,6 @@ class BackwardEuler final : public Integrator {
         particle(end_x_, p) = particle(x, p) + h * particle(end_v_, p);
       }
     });
-    return jacobian.energyMadeUp(t, h, x, v, end_x_, end_v_) > 0;
   }
 
   // Impacts (contact_constraints.h): while the solved step ends a particle inside a surface, constrain it along the
@@ -258,14 +262,7 @@ class BackwardEuler final : public Integrator {
   // end's projection, what still ends too near is the post-step pass's).
   void solveImpacts(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v, double absolute) {
     for (int pass = 0; pass < (pairs_.empty() ? kImpactPasses : kBodyPasses); ++pass) {
-      end_x_.resize(x.size());
-      end_v_.resize(x.size());
-      forEachChunk(n_, parallel_, [&](int begin, int end) {
-        for (int p = begin; p < end; ++p) {
-          particle(end_v_, p) = particle(v, p) + particle(dv_, p);
-          particle(end_x_, p) = particle(x, p) + h * particle(end_v_, p);
-        }
-      });
+      setEnd(h, x, v);
       const bool impacts = jacobian.impactConstraints(t, h, x, v, end_x_, end_v_, contacts_);
       const bool found = jacobian.colliderPairs(t, h, x, v, end_x_, pairs_);
       const bool pairs =
