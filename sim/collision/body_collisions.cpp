@@ -30,9 +30,6 @@ constexpr double kStepMarginFraction = 0.5;
 // The pass's candidates kept across steps (Impl::Skin) are found with boxes padded by this fraction of the largest
 // thickness more than the exact broad phase's, and serve while every node stays within half of it of the box it swept.
 constexpr double kSkinFraction = 0.5;
-// Backward Euler's step candidates are kept per element (Impl::ElementSkin): each node's box is padded by this fraction
-// of the largest thickness on each side of its start and end.
-constexpr double kStepSkinFraction = 0.5;
 // A collision impulse leaves at most this fraction of the approach speed as separation (no restitution beyond it),
 // and aims to end the step this fraction of the thickness apart.
 constexpr double kSeparation = 0.1, kEndGapFraction = 0.01;
@@ -99,7 +96,6 @@ struct BodyCollisions::Impl {
   std::vector<std::array<int, 3>> triangles;
   std::vector<std::array<int, 2>> edges;
   std::vector<int> triangle_body, edge_body, vertex_body;
-  std::vector<double> triangle_thickness, edge_thickness, vertex_thickness;  // their bodies
   std::vector<SurfaceParams> params;
   std::vector<double> stiffness;
   const VecX& inv_mass;
@@ -188,9 +184,6 @@ struct BodyCollisions::Impl {
       }
     for (int p = 0; p < n; ++p)
       if (particle_node_start[p + 1] > particle_node_start[p]) pass_particles.push_back(p);
-    for (const int b : triangle_body) triangle_thickness.push_back(params[b].thickness);
-    for (const int b : edge_body) edge_thickness.push_back(params[b].thickness);
-    for (const int b : vertex_body) vertex_thickness.push_back(params[b].thickness);
     node_mark.assign(nodeCount(), 0);
   }
 
@@ -352,22 +345,6 @@ struct BodyCollisions::Impl {
     from_skin = false;
     round_closest_valid = false;
   }
-  // Whether vertex v and triangle t, or edges e and f, are a pair whatever their boxes: bodies that meet, no node
-  // shared, a node that can move.
-  bool mayMeet(int v, int t) const {
-    if (!bodiesMeet(vertex_body[v], triangle_body[t])) return false;
-    const auto& tri = triangles[t];
-    if (v == tri[0] || v == tri[1] || v == tri[2]) return false;
-    const auto& m = node_inv_mass;
-    return m[v] + m[tri[0]] + m[tri[1]] + m[tri[2]] > 0;
-  }
-  bool edgesMayMeet(int e, int f) const {
-    if (!bodiesMeet(edge_body[e], edge_body[f])) return false;
-    const auto &a = edges[e], &b = edges[f];
-    if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return false;
-    const auto& m = node_inv_mass;
-    return m[a[0]] + m[a[1]] + m[b[0]] + m[b[1]] > 0;
-  }
   // Returns false when the lists would exceed the candidate budget (vf and ee are then left empty).
   bool broadPhase(bool after_impulses = false, double margin = 0) {
     newCandidates();
@@ -409,18 +386,25 @@ struct BodyCollisions::Impl {
     bool overwhelmed = !pairs(
         vertex_boxes, triangle_boxes, false, vertex_moved, triangle_moved,
         [&](int v, int t) {
-          if (!mayMeet(v, t)) return false;
-          return !moved_only ||
-                 !apartAllStep(&v, 1, triangles[t].data(), 3, pairThickness(vertex_body[v], triangle_body[t]));
+          if (!bodiesMeet(vertex_body[v], triangle_body[t])) return false;
+          const int p = v;
+          const auto& tri = triangles[t];
+          if (p == tri[0] || p == tri[1] || p == tri[2]) return false;
+          const auto& m = node_inv_mass;
+          if (!(m[p] + m[tri[0]] + m[tri[1]] + m[tri[2]] > 0)) return false;
+          return !moved_only || !apartAllStep(&p, 1, tri.data(), 3, pairThickness(vertex_body[v], triangle_body[t]));
         },
         vf, budget);
     if (!overwhelmed)
       overwhelmed = !pairs(
           edge_boxes, edge_boxes, true, edge_moved, edge_moved,
           [&](int e, int f) {
-            if (!edgesMayMeet(e, f)) return false;
-            return !moved_only ||
-                   !apartAllStep(edges[e].data(), 2, edges[f].data(), 2, pairThickness(edge_body[e], edge_body[f]));
+            if (!bodiesMeet(edge_body[e], edge_body[f])) return false;
+            const auto &a = edges[e], &b = edges[f];
+            if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return false;
+            const auto& m = node_inv_mass;
+            if (!(m[a[0]] + m[a[1]] + m[b[0]] + m[b[1]] > 0)) return false;
+            return !moved_only || !apartAllStep(a.data(), 2, b.data(), 2, pairThickness(edge_body[e], edge_body[f]));
           },
           ee, budget - std::min(budget, vf.size()));
     if (overwhelmed) vf.clear(), ee.clear();
@@ -458,15 +442,6 @@ struct BodyCollisions::Impl {
   // nodes moved by at most `drift` (Euclidean) from the one the candidates were found for changes that gap by at most
   // 2 drift. So each candidate keeps its gap there, less what a search looks for (its slack), and a later search
   // tests only the candidates whose slack is at most 2 drift: every other one would fail its tests anyway.
-  struct StepPart {
-    std::vector<int> near;
-    std::vector<std::pair<int, double>> closing, hitting, spared;
-    double boxed_min, spared_least;
-    void clear() {
-      near.clear(), closing.clear(), hitting.clear(), spared.clear();
-      boxed_min = spared_least = std::numeric_limits<double>::infinity();
-    }
-  };
   struct StepCandidates {
     bool valid = false;
     VecX start, end;  // nxs and nxe they were found for
@@ -481,23 +456,13 @@ struct BodyCollisions::Impl {
     std::vector<std::pair<int, double>> closing, hitting;
     // The smallest start distance over the candidates whose start boxes are within the thickness (repel's statistic).
     double boxed_min = std::numeric_limits<double>::infinity();
+    // Per candidate, where nearPairs put its pair in out at this step (SIZE_MAX: nowhere yet).
+    std::vector<std::size_t> joined;
     // findStep's per-candidate values before they are sorted into the lists above.
     struct {
       std::vector<double> boxed, closing, hitting;
       std::vector<char> near;
     } scratch;
-    // Per candidate, a lower bound of its distance at the start (carried from the last step's list through the
-    // element skin's update). A candidate whose bound keeps it beyond reach all through the step gets no nearest
-    // points: spared holds those that a later end (within the margin) might still bring within reach, with their
-    // slack (the drift of its two elements the bound allows), and a search whose drift may use it up finds their
-    // nearest points first (measureSpared).
-    std::vector<double> lower;
-    // Per candidate, where nearPairs put its pair in out at this step (SIZE_MAX: nowhere).
-    std::vector<std::size_t> joined;
-    bool bounds_of_skin = false;  // the list, and so lower, is the element skin's (which carries lower to the next)
-    std::vector<std::pair<int, double>> spared;
-    double spared_least = std::numeric_limits<double>::infinity();
-    std::vector<StepPart> parts;  // per chunk of a parallel pass
   } step;
   // The round's nearest points at the start, per candidate (a NaN distance: not found), found by repel for the
   // continuous test that follows it on the same lists (detect): valid until the next broad phase.
@@ -518,13 +483,7 @@ struct BodyCollisions::Impl {
     if (!((nxe - step.end).cwiseAbs().maxCoeff() <= step.margin)) return false;
     from_step = true;
     drift = 0;
-    shift.resize(nodeCount());
-    for (int k = 0; k < nodeCount(); ++k) {
-      shift[k] = (particle(nxe, k) - particle(step.end, k)).norm();
-      drift = std::max(drift, shift[k]);
-    }
-    elementMost(shift, shift, drifts);
-    measureSpared();
+    for (int k = 0; k < nodeCount(); ++k) drift = std::max(drift, (particle(nxe, k) - particle(step.end, k)).norm());
     return true;
   }
   // Candidates kept across steps, as a Verlet list keeps its neighbours within a skin: found for boxes padded by a
@@ -588,129 +547,6 @@ struct BodyCollisions::Impl {
     }
     return broadPhase(false, margin) ? 3 : 0;
   }
-  // Backward Euler's step candidates kept from step to step per element, a Verlet list that looks up again only what
-  // left its skin. Each node has a box (its start and end when it was set, padded by kStepSkinFraction of the largest
-  // thickness on each side), each element the box of its nodes' boxes, padded as the step's broad phase pads, and the
-  // list holds every pair (mayMeet) whose element boxes overlap. At a step, each node whose start or end lies outside
-  // its box gets a new one; the elements holding such a node get new boxes, their pairs are dropped, and they are
-  // looked up again against every element (the broad phase's marked lookup), merged into the same ascending order.
-  // Every node lies in its box, so every element's swept box of the step, padded as the step's broad phase pads it,
-  // lies inside its box here (the padding rounds alike, and rounding is monotone): the list holds every pair of that
-  // broad phase, and the surplus fails the tests that follow, as a kept list's does (Skin).
-  struct ElementSkin {
-    bool valid = false;
-    VecX lo, hi;  // per node coordinate
-    std::vector<Box> vertex, edge, triangle;
-    std::vector<char> node_out, vertex_out, edge_out, triangle_out;  // left their boxes at this step
-    std::vector<std::pair<int, int>> vf, ee, fresh_vf, fresh_ee;
-    std::vector<double> lower;  // the merge's bounds (swapped with step.lower)
-  } element_skin;
-  // vf and ee for (nxs, nxe) padded by `margin` more than the exact broad phase: the element skin's, updated (returns
-  // 1), or built anew (2), or the broad phase's when the skin's list would be over the budget (3). 0: over the budget.
-  // With carry, step.lower (of the last list, which was the skin's) follows its pairs, -infinity for the new pairs;
-  // else it is left for the caller.
-  int elementCandidates(double margin, bool carry) {
-    newCandidates();
-    ElementSkin& k = element_skin;
-    const double pad = 0.5 * max_thickness + margin, half = kStepSkinFraction * max_thickness;
-    const bool kept = motion_cull && k.valid && k.lo.size() == nxs.size();
-    k.valid = false;
-    k.lo.resize(nxs.size());
-    k.hi.resize(nxs.size());
-    k.node_out.resize(nodeCount());
-    forEachChunk(nodeCount(), parallel, [&](int begin, int end) {
-      for (int i = begin; i < end; ++i) {
-        bool inside = kept;
-        for (int j = 3 * i; j < 3 * i + 3 && inside; ++j)
-          inside = std::min(nxs[j], nxe[j]) >= k.lo[j] && std::max(nxs[j], nxe[j]) <= k.hi[j];
-        k.node_out[i] = !inside;
-        if (!inside)
-          for (int j = 3 * i; j < 3 * i + 3; ++j) {
-            k.lo[j] = std::min(nxs[j], nxe[j]) - half;
-            k.hi[j] = std::max(nxs[j], nxe[j]) + half;
-          }
-      }
-    });
-    const auto refresh = [&](const auto& items, std::vector<char>& out, std::vector<Box>& boxes) {
-      out.resize(items.size());
-      boxes.resize(items.size());
-      forEachChunk(int(items.size()), parallel, [&](int begin, int end) {
-        for (int e = begin; e < end; ++e) {
-          char moved = 0;
-          for (const int i : items[e]) moved |= k.node_out[i];
-          out[e] = moved;
-          if (!moved) continue;
-          Box b{Vec3::Constant(std::numeric_limits<double>::infinity()),
-                Vec3::Constant(-std::numeric_limits<double>::infinity())};
-          for (const int i : items[e]) {
-            b.lo = b.lo.cwiseMin(particle(k.lo, i));
-            b.hi = b.hi.cwiseMax(particle(k.hi, i));
-          }
-          b.lo.array() -= pad;
-          b.hi.array() -= -pad;
-          boxes[e] = b;
-        }
-      });
-    };
-    refresh(singleNodes(), k.vertex_out, k.vertex);
-    refresh(edges, k.edge_out, k.edge);
-    refresh(triangles, k.triangle_out, k.triangle);
-    const std::size_t budget = candidateBudget();
-    const auto vf_keep = [&](int v, int t) { return mayMeet(v, t); };
-    const auto ee_keep = [&](int e, int f) { return edgesMayMeet(e, f); };
-    bool fits;
-    if (!kept) {
-      fits = overlappingPairs(k.vertex, k.triangle, false, parallel, vf_keep, k.vf, budget) &&
-             overlappingPairs(k.edge, k.edge, true, parallel, ee_keep, k.ee, budget - std::min(budget, k.vf.size()));
-    } else {
-      // The pairs of the elements that left their boxes, looked up again, and the others kept, merged in order.
-      fits =
-          overlappingMarkedPairs(k.vertex, k.triangle, false, parallel, k.vertex_out, k.triangle_out, vf_keep,
-                                 k.fresh_vf, budget) &&
-          overlappingMarkedPairs(k.edge, k.edge, true, parallel, k.edge_out, k.edge_out, ee_keep, k.fresh_ee, budget);
-      constexpr double kNone = -std::numeric_limits<double>::infinity();
-      k.lower.clear();
-      const auto merge = [&](std::vector<std::pair<int, int>>& list, const std::vector<std::pair<int, int>>& fresh,
-                             const std::vector<char>& first_out, const std::vector<char>& second_out,
-                             const double* lower, std::vector<std::pair<int, int>>& out) {
-        out.clear();
-        out.reserve(list.size() + fresh.size());
-        auto f = fresh.begin();
-        for (std::size_t i = 0; i < list.size(); ++i) {
-          const auto& pair = list[i];
-          if (first_out[pair.first] || second_out[pair.second]) continue;
-          for (; f != fresh.end() && *f < pair; ++f) out.push_back(*f), k.lower.push_back(kNone);
-          out.push_back(pair);
-          k.lower.push_back(carry ? lower[i] : kNone);
-        }
-        for (; f != fresh.end(); ++f) out.push_back(*f), k.lower.push_back(kNone);
-        list = out;
-      };
-      if (fits) {
-        merge(k.vf, k.fresh_vf, k.vertex_out, k.triangle_out, carry ? step.lower.data() : nullptr, vf);
-        merge(k.ee, k.fresh_ee, k.edge_out, k.edge_out, carry ? step.lower.data() + step.vf.size() : nullptr, ee);
-        fits = k.vf.size() + k.ee.size() <= budget;
-        step.lower.swap(k.lower);
-      }
-    }
-    if (!fits) return broadPhase(false, margin) ? 3 : 0;
-    k.valid = true;
-    if (!kept) {
-      vf = k.vf, ee = k.ee;
-      step.lower.assign(vf.size() + ee.size(), -std::numeric_limits<double>::infinity());
-    }
-    return kept ? 1 : 2;
-  }
-  // Each node as an element of one node (the vertices' side of the point-triangle pairs).
-  const std::vector<std::array<int, 1>>& singleNodes() {
-    if (int(single_nodes.size()) != nodeCount()) {
-      single_nodes.resize(nodeCount());
-      for (int k = 0; k < nodeCount(); ++k) single_nodes[k] = {k};
-    }
-    return single_nodes;
-  }
-  std::vector<std::array<int, 1>> single_nodes;
-
   // The candidates for the pass over (nxs, nxe) (keptCandidates). False: over the budget.
   bool passCandidates(Stats& stats) {
     const int found = keptCandidates(skin, 0);
@@ -730,19 +566,7 @@ struct BodyCollisions::Impl {
   bool findStep(Stats& stats) {
     step.margin = kStepMarginFraction * max_thickness;
     step.valid = false;
-    // The last list's bounds, at its start, come through the element skin's update when the list was the skin's.
-    const bool carry = step.bounds_of_skin && step.start.size() == nxs.size();
-    // How far each node's start moved from the last list's (shift), and its first end from its start (reach).
-    shift.resize(nodeCount());
-    reach.resize(nodeCount());
-    forEachChunk(nodeCount(), parallel, [&](int begin, int end) {
-      for (int k = begin; k < end; ++k) {
-        shift[k] = carry ? (particle(nxs, k) - particle(step.start, k)).norm() : 0.0;
-        reach[k] = (particle(nxe, k) - particle(nxs, k)).norm();
-      }
-    });
-    const int found = elementCandidates(step.margin, carry);
-    step.bounds_of_skin = found == 1 || found == 2;
+    const int found = keptCandidates(step_skin, step.margin);
     if (!found) return false;
     stats.skin_searches += found == 1;
     step.start = nxs;
@@ -751,180 +575,43 @@ struct BodyCollisions::Impl {
     step.ee.swap(ee);
     from_step = true;
     drift = 0;
+    // Any end the candidates serve lies within the margin of step.end along each axis: within sqrt(3) margin.
+    const double most = 2 * std::sqrt(3.0) * step.margin;
     const int n = pairCount();
-    if (found == 3) step.lower.assign(n, -std::numeric_limits<double>::infinity());
     step.joined.assign(n, SIZE_MAX);
-    elementMost(shift, reach, moves);
-    std::fill(shift.begin(), shift.end(), 0.0);
-    elementMost(shift, shift, drifts);  // none yet
     step.closest.resize(n);
     auto& [boxed, closing, hitting, near] = step.scratch;  // kept: fresh pages each step cost more than the work
     boxed.resize(n), closing.resize(n), hitting.resize(n), near.resize(n);
-    const double seen = stats.min_distance, most = mostDrift();
-    const int chunk = particleChunk(n);
-    step.parts.resize((n + chunk - 1) / chunk);
     forEachChunk(n, parallel, [&](int begin, int end) {
-      StepPart& part = step.parts[begin / chunk];
-      part.clear();
       for (int k = begin; k < end; ++k) {
-        // Its distance at the start is at least the bound at the last start less each element's largest shift
-        // (an element's hull moves by at most its nodes' largest move), and at the first end, or anywhere on the way
-        // there, at least that less each element's largest reach (a node's distance from its start grows linearly
-        // along the step). Beyond the thickness and the least distance seen there (a slack above 0, with room for
-        // rounding), it can neither touch, nor join, nor hit, nor lower the statistic: no nearest points.
-        double& lower = step.lower[k];
-        if (lower > 0) {
-          const auto [shifts, reaches] = pairMost(k, moves);
-          lower -= shifts;
-          const double thickness = candidateThickness(k);
-          const double slack = lower - reaches - (std::max(thickness, seen) + 1e-6 * thickness);
-          if (slack > 0) {
-            if (slack <= most) {
-              part.spared.emplace_back(k, slack);
-              part.spared_least = std::min(part.spared_least, slack);
-            }
-            continue;
-          }
+        const PairInfo p = pairInfo(k);
+        const auto x = points(nxs, p.stencil);
+        const Closest c = nearest(p.kind, x);
+        step.closest[k] = c;
+        double gap = -std::numeric_limits<double>::infinity();  // at the end along the start's direction
+        if (c.distance > 0) {
+          const double end_gap = gapAlong(c.delta / c.distance, nxe, p.stencil.vertex, p.first());
+          if (std::isfinite(end_gap)) gap = end_gap;
         }
-        measure(k, pairInfo(k));
-        file(k, part);
+        const double eta2 = 2 * kEtaFraction * p.thickness;
+        closing[k] = c.distance > 0 ? gap - (1 + 1e-5) * p.thickness : std::numeric_limits<double>::infinity();
+        hitting[k] = c.distance > eta2 ? gap - eta2 : -std::numeric_limits<double>::infinity();
+        boxed[k] = startBoxesNear(p, x) ? c.distance : std::numeric_limits<double>::infinity();
+        near[k] = c.distance < p.thickness;
       }
     });
     step.near.clear();
     step.closing.clear();
     step.hitting.clear();
-    step.spared.clear();
     step.boxed_min = std::numeric_limits<double>::infinity();
-    step.spared_least = std::numeric_limits<double>::infinity();
-    for (const StepPart& part : step.parts) {
-      step.near.insert(step.near.end(), part.near.begin(), part.near.end());
-      step.closing.insert(step.closing.end(), part.closing.begin(), part.closing.end());
-      step.hitting.insert(step.hitting.end(), part.hitting.begin(), part.hitting.end());
-      step.spared.insert(step.spared.end(), part.spared.begin(), part.spared.end());
-      step.boxed_min = std::min(step.boxed_min, part.boxed_min);
-      step.spared_least = std::min(step.spared_least, part.spared_least);
+    for (int k = 0; k < n; ++k) {
+      step.boxed_min = std::min(step.boxed_min, boxed[k]);
+      if (near[k]) step.near.push_back(k);
+      if (!(closing[k] > most)) step.closing.emplace_back(k, closing[k]);
+      if (!(hitting[k] > most)) step.hitting.emplace_back(k, hitting[k]);
     }
     step.valid = true;
     return true;
-  }
-  // A measured candidate k into the lists (of a part of them) of the searches that may test it.
-  void file(int k, StepPart& part) const {
-    const auto& [boxed, closing, hitting, near] = step.scratch;
-    const double most = mostDrift();
-    part.boxed_min = std::min(part.boxed_min, boxed[k]);
-    if (near[k]) part.near.push_back(k);
-    if (!(closing[k] > most)) part.closing.emplace_back(k, closing[k]);
-    if (!(hitting[k] > most)) part.hitting.emplace_back(k, hitting[k]);
-  }
-  // Any end the step's candidates serve lies within the margin of step.end along each axis: within sqrt(3) margin,
-  // which brings two elements at most twice that nearer.
-  double mostDrift() const { return 2 * std::sqrt(3.0) * step.margin; }
-  // The thickness of candidate k's pair (pairThickness).
-  double candidateThickness(int k) const {
-    const auto &v = vfList(), &e = eeList();
-    if (k < int(v.size())) return std::max(vertex_thickness[v[k].first], triangle_thickness[v[k].second]);
-    return std::max(edge_thickness[e[k - v.size()].first], edge_thickness[e[k - v.size()].second]);
-  }
-  // Per node: how far its start moved from the last list's start and its first end from its start (or a later
-  // end's drift from the first); and the largest of each two over each element, of each kind, in floats rounded up,
-  // side by side: read for every candidate, so kept small.
-  std::vector<double> shift, reach;
-  struct PerElement {
-    std::vector<std::array<float, 2>> node, edge, triangle;
-  } moves, drifts;
-  void elementMost(const std::vector<double>& a, const std::vector<double>& b, PerElement& out) const {
-    const auto up = [](double v) {
-      const float f = float(v);
-      return double(f) >= v ? f : std::nextafter(f, std::numeric_limits<float>::infinity());
-    };
-    out.node.resize(a.size());
-    forEachChunk(int(a.size()), parallel, [&](int begin, int end) {
-      for (int k = begin; k < end; ++k) out.node[k] = {up(a[k]), up(b[k])};
-    });
-    const auto fill = [&](const auto& items, std::vector<std::array<float, 2>>& most) {
-      most.resize(items.size());
-      forEachChunk(int(items.size()), parallel, [&](int begin, int end) {
-        for (int e = begin; e < end; ++e) {
-          double ma = 0, mb = 0;
-          for (const int i : items[e]) ma = std::max(ma, a[i]), mb = std::max(mb, b[i]);
-          most[e] = {up(ma), up(mb)};
-        }
-      });
-    };
-    fill(edges, out.edge);
-    fill(triangles, out.triangle);
-  }
-  // The largest of each over each of candidate k's elements, summed.
-  std::array<double, 2> pairMost(int k, const PerElement& most) const {
-    const auto &v = vfList(), &e = eeList();
-    const auto sum = [](const std::array<float, 2>& x, const std::array<float, 2>& y) {
-      return std::array<double, 2>{double(x[0]) + double(y[0]), double(x[1]) + double(y[1])};
-    };
-    if (k < int(v.size())) return sum(most.node[v[k].first], most.triangle[v[k].second]);
-    return sum(most.edge[e[k - v.size()].first], most.edge[e[k - v.size()].second]);
-  }
-  // Candidate k's nearest points at the start, its slacks for the searches and its bound (the gap along the nearest
-  // points' direction at the start: at most the distance whatever the rounding of the nearest points).
-  void measure(int k, const PairInfo& p) {
-    auto& [boxed, closing, hitting, near] = step.scratch;
-    const auto x = points(nxs, p.stencil);
-    const Closest c = nearest(p.kind, x);
-    step.closest[k] = c;
-    double gap = -std::numeric_limits<double>::infinity();  // at the end along the start's direction
-    double lower = 0;
-    if (c.distance > 0) {
-      const Vec3 d = c.delta / c.distance;
-      const double end_gap = gapAlong(d, step.end, p.stencil.vertex, p.first());
-      if (std::isfinite(end_gap)) gap = end_gap;
-      lower = std::max(0.0, gapAlong(d, nxs, p.stencil.vertex, p.first()));
-    }
-    step.lower[k] = lower;
-    const double eta2 = 2 * kEtaFraction * p.thickness;
-    closing[k] = c.distance > 0 ? gap - (1 + 1e-5) * p.thickness : std::numeric_limits<double>::infinity();
-    hitting[k] = c.distance > eta2 ? gap - eta2 : -std::numeric_limits<double>::infinity();
-    boxed[k] = startBoxesNear(p, x) ? c.distance : std::numeric_limits<double>::infinity();
-    near[k] = c.distance < p.thickness;
-  }
-  // An end drifted from step.end brings each element up to its nodes' largest drift nearer: the spared candidates
-  // whose slack that may use up get their nearest points now, and join the lists in their order.
-  void measureSpared() {
-    if (!(2 * drift >= step.spared_least)) return;
-    const int n = int(step.spared.size()), chunk = particleChunk(n);
-    step.parts.resize((n + chunk - 1) / chunk);
-    forEachChunk(n, parallel, [&](int begin, int end) {
-      StepPart& part = step.parts[begin / chunk];
-      part.clear();
-      for (int j = begin; j < end; ++j) {
-        const auto [k, slack] = step.spared[j];
-        if (!(slack > 2 * drift) && !(slack > pairMost(k, drifts)[0])) {
-          measure(k, pairInfo(k));
-          file(k, part);
-        } else {
-          part.spared.emplace_back(k, slack);
-          part.spared_least = std::min(part.spared_least, slack);
-        }
-      }
-    });
-    step.spared.clear();
-    step.spared_least = std::numeric_limits<double>::infinity();
-    std::vector<int> near;
-    std::vector<std::pair<int, double>> closing, hitting;
-    for (const StepPart& part : step.parts) {
-      near.insert(near.end(), part.near.begin(), part.near.end());
-      closing.insert(closing.end(), part.closing.begin(), part.closing.end());
-      hitting.insert(hitting.end(), part.hitting.begin(), part.hitting.end());
-      step.spared.insert(step.spared.end(), part.spared.begin(), part.spared.end());
-      step.boxed_min = std::min(step.boxed_min, part.boxed_min);
-      step.spared_least = std::min(step.spared_least, part.spared_least);
-    }
-    const auto join = [](auto& list, const auto& more) {
-      const std::size_t middle = list.size();
-      list.insert(list.end(), more.begin(), more.end());
-      std::inplace_merge(list.begin(), list.begin() + middle, list.end());
-    };
-    join(step.near, near);
-    join(step.closing, closing);
-    join(step.hitting, hitting);
   }
   // The nearest points at the start of candidate k (whose stencil's start points are x), from the step's when known.
   Closest startClosest(int k, Primitive kind, const std::array<Vec3, 4>& x) const {
@@ -952,20 +639,18 @@ struct BodyCollisions::Impl {
     if (!from_step) return nullptr;
     subset.clear();
     for (const auto& [k, slack] : list)
-      if (!(slack > 2 * drift) && !(slack > pairMost(k, drifts)[0])) subset.push_back(k);
+      if (!(slack > 2 * drift)) subset.push_back(k);
     return &subset;
   }
 
-  // The nodes of candidate k: the first element's q[0, first), the second's the rest (the stencil's vertices).
-  std::array<int, 4> pairNodes(int k, int& first) const {
+  // The stencil's vertices of candidate k (PairInfo's, without the rest).
+  std::array<int, 4> pairNodes(int k) const {
     const auto &v = vfList(), &e = eeList();
     if (k < int(v.size())) {
       const auto& t = triangles[v[k].second];
-      first = 1;
       return {v[k].first, t[0], t[1], t[2]};
     }
     const auto &a = edges[e[k - v.size()].first], &b = edges[e[k - v.size()].second];
-    first = 2;
     return {a[0], a[1], b[0], b[1]};
   }
 
@@ -1237,19 +922,18 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
   const auto* only = s.subsetOf(s.step.closing);
   const std::size_t before = out.size();
   s.known.assign(out);  // the pairs already in out
-  // A candidate that joined at an earlier search of this step (the same list), and whose pair is still where it was
-  // put in out, is in out: it is passed over without the tests or the set's lookup, as the set would.
+  // A candidate whose pair an earlier search of this step put in out (the same list of candidates), and which is
+  // still there, is in out: it leaves the subset before its tests and the set's lookup, as the lookup would drop it.
+  // (A step's later searches find most of their candidates so: the pairs the first one found.)
   if (only) {
-    auto& joined = s.step.joined;
-    const auto still = [&](int k) {
-      const std::size_t at = joined[k];
+    const auto still_in_out = [&](int k) {
+      const std::size_t at = s.step.joined[k];
       if (at >= before) return false;
-      const auto& e = out[at].element;
-      int first;
-      const auto q = s.pairNodes(k, first);
+      const std::array<int, 4>& e = out[at].element;
+      const std::array<int, 4> q = s.pairNodes(k);
       return e[0] == q[0] && e[1] == q[1] && e[2] == q[2] && e[3] == q[3];
     };
-    s.subset.erase(std::remove_if(s.subset.begin(), s.subset.end(), still), s.subset.end());
+    s.subset.erase(std::remove_if(s.subset.begin(), s.subset.end(), still_in_out), s.subset.end());
   }
   // Each candidate on threads (gather keeps the pair order): its nearest points at x0, then its gap at x1. What
   // joins is gathered small (the candidate, its weights and normal) and expanded into out after: a pair's stencil
@@ -1271,7 +955,7 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
         Vec3 end_relative = Vec3::Zero();
         for (int i = 0; i < 4; ++i) end_relative += c.w[i] * particle(s.nxe, p.stencil.vertex[i]);
         if (normal.dot(end_relative) - p.thickness > 1e-6 * p.thickness) return std::nullopt;
-        if (s.known.contains(p.stencil.vertex)) return std::nullopt;
+        if (before > 0 && s.known.contains(p.stencil.vertex)) return std::nullopt;  // (an empty out holds none)
         ContactPair pair{p.stencil.vertex, s.expand(p.stencil, c.w), normal, p.thickness, p.friction};
         if (!(pair.gap(x1) < 0)) return std::nullopt;
         // The linearized gap of a pair far apart at x0 says little: only a pair that does come within the thickness at
