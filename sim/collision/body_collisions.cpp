@@ -456,6 +456,8 @@ struct BodyCollisions::Impl {
     std::vector<std::pair<int, double>> closing, hitting;
     // The smallest start distance over the candidates whose start boxes are within the thickness (repel's statistic).
     double boxed_min = std::numeric_limits<double>::infinity();
+    // Per candidate, where nearPairs put its pair in out at this step (SIZE_MAX: nowhere yet).
+    std::vector<std::size_t> joined;
     // findStep's per-candidate values before they are sorted into the lists above.
     struct {
       std::vector<double> boxed, closing, hitting;
@@ -576,6 +578,7 @@ struct BodyCollisions::Impl {
     // Any end the candidates serve lies within the margin of step.end along each axis: within sqrt(3) margin.
     const double most = 2 * std::sqrt(3.0) * step.margin;
     const int n = pairCount();
+    step.joined.assign(n, SIZE_MAX);
     step.closest.resize(n);
     auto& [boxed, closing, hitting, near] = step.scratch;  // kept: fresh pages each step cost more than the work
     boxed.resize(n), closing.resize(n), hitting.resize(n), near.resize(n);
@@ -638,6 +641,17 @@ struct BodyCollisions::Impl {
     for (const auto& [k, slack] : list)
       if (!(slack > 2 * drift)) subset.push_back(k);
     return &subset;
+  }
+
+  // The stencil's vertices of candidate k (PairInfo's, without the rest).
+  std::array<int, 4> pairNodes(int k) const {
+    const auto &v = vfList(), &e = eeList();
+    if (k < int(v.size())) {
+      const auto& t = triangles[v[k].second];
+      return {v[k].first, t[0], t[1], t[2]};
+    }
+    const auto &a = edges[e[k - v.size()].first], &b = edges[e[k - v.size()].second];
+    return {a[0], a[1], b[0], b[1]};
   }
 
   int pairCount() const { return int(vfList().size() + eeList().size()); }
@@ -908,6 +922,19 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
   const auto* only = s.subsetOf(s.step.closing);
   const std::size_t before = out.size();
   s.known.assign(out);  // the pairs already in out
+  // A candidate whose pair an earlier search of this step put in out (the same list of candidates), and which is
+  // still there, is in out: it leaves the subset before its tests and the set's lookup, as the lookup would drop it.
+  // (A step's later searches find most of their candidates so: the pairs the first one found.)
+  if (only) {
+    const auto still_in_out = [&](int k) {
+      const std::size_t at = s.step.joined[k];
+      if (at >= before) return false;
+      const std::array<int, 4>& e = out[at].element;
+      const std::array<int, 4> q = s.pairNodes(k);
+      return e[0] == q[0] && e[1] == q[1] && e[2] == q[2] && e[3] == q[3];
+    };
+    s.subset.erase(std::remove_if(s.subset.begin(), s.subset.end(), still_in_out), s.subset.end());
+  }
   // Each candidate on threads (gather keeps the pair order): its nearest points at x0, then its gap at x1. What
   // joins is gathered small (the candidate, its weights and normal) and expanded into out after: a pair's stencil
   // holds room for embedded points' particles, and copying tens of thousands of them through temporaries cost more
@@ -928,7 +955,7 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
         Vec3 end_relative = Vec3::Zero();
         for (int i = 0; i < 4; ++i) end_relative += c.w[i] * particle(s.nxe, p.stencil.vertex[i]);
         if (normal.dot(end_relative) - p.thickness > 1e-6 * p.thickness) return std::nullopt;
-        if (s.known.contains(p.stencil.vertex)) return std::nullopt;
+        if (before > 0 && s.known.contains(p.stencil.vertex)) return std::nullopt;  // (an empty out holds none)
         ContactPair pair{p.stencil.vertex, s.expand(p.stencil, c.w), normal, p.thickness, p.friction};
         if (!(pair.gap(x1) < 0)) return std::nullopt;
         // The linearized gap of a pair far apart at x0 says little: only a pair that does come within the thickness at
@@ -942,6 +969,7 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
   out.resize(before + found.size());
   forEachChunk(int(found.size()), s.parallel, [&](int begin, int end) {
     for (int j = begin; j < end; ++j) {
+      if (only) s.step.joined[found[j].k] = before + j;
       const PairInfo p = s.pairInfo(found[j].k);
       out[before + j] =
           ContactPair{p.stencil.vertex, s.expand(p.stencil, found[j].w), found[j].normal, p.thickness, p.friction};

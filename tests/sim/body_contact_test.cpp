@@ -324,6 +324,61 @@ TEST(BodyContact, KeptCandidatesOfARestingStackFindTheSameContacts) {
   }
 }
 
+// Backward Euler's later near-pair searches of a step pass over the candidates whose pair an earlier search put in
+// the solver's list, as long as it is still there (body_collisions.cpp, nearPairs). Over states of the folded cloth
+// collapsing onto itself, a step's searches with the shortcuts find what the exact broad phase finds for the same
+// list, pair for pair and bit for bit: after the list lost every pair, a third of them (their places taken by
+// others), or kept them all in another order.
+TEST(BodyContact, LaterNearPairSearchesFindWhatLeftTheList) {
+  const auto system = testing::foldedCloth(20, true);
+  Simulation sim(*system, makeIntegrator("backward-euler", {}), 1.0 / 60);
+  const double h = 1.0 / 60;
+  const auto same = [](const std::vector<ContactPair>& a, const std::vector<ContactPair>& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const ContactPair &p = a[i], &q = b[i];
+      if (p.element != q.element || p.stencil.size != q.stencil.size || p.normal != q.normal ||
+          p.thickness != q.thickness || p.friction != q.friction)
+        return false;
+      for (int j = 0; j < p.stencil.size; ++j)
+        if (p.stencil.particle[j] != q.stencil.particle[j] || p.stencil.w[j] != q.stencil.w[j]) return false;
+    }
+    return true;
+  };
+  int checked = 0;
+  for (const double t : {0.3, 0.45, 0.6}) {
+    ASSERT_FALSE(sim.advanceTo(t));
+    SCOPED_TRACE("at " + std::to_string(t) + " s");
+    const VecX x0 = sim.x(), v = sim.v();
+    const VecX first_end = x0 + h * v, later_end = x0 + 1.001 * h * v;  // a later solve's end, near the first
+    const auto kept = collision::makeBodyCollisions(*system);
+    std::vector<ContactPair> found;
+    kept->nearPairs(x0, first_end, found);
+    ASSERT_GT(found.size(), 30u);
+    // What the solver's list holds at the later search: nothing; a third of the pairs overwritten by copies of others
+    // (their places held by pairs of other elements); all of them, reversed.
+    std::vector<ContactPair> thinned = found, reversed(found.rbegin(), found.rend());
+    for (std::size_t i = 0; i < thinned.size(); i += 3) thinned[i] = found[(i + 1) % found.size()];
+    for (const auto& [held, rejoin] :
+         {std::pair{std::vector<ContactPair>{}, true}, std::pair{thinned, true}, std::pair{reversed, false}}) {
+      std::vector<ContactPair> with_culls = held, exact = held;
+      auto later = collision::makeBodyCollisions(*system);  // the same searches on a new instance: this step's first
+      std::vector<ContactPair> scratch;
+      later->nearPairs(x0, first_end, scratch);
+      later->nearPairs(x0, later_end, with_culls);
+      collision::setBroadPhaseCulls(false);
+      collision::makeBodyCollisions(*system)->nearPairs(x0, later_end, exact);
+      collision::setBroadPhaseCulls(true);
+      if (rejoin) {
+        EXPECT_GT(with_culls.size(), held.size()) << "no pair joined again: nothing was checked";
+      }
+      EXPECT_TRUE(same(with_culls, exact)) << with_culls.size() << " pairs against " << exact.size();
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 9);
+}
+
 // A step whose broad phase would list more candidate pairs than its budget (Settings::candidates_per_vertex,
 // min_candidates) stops the run like a blow-up, saying why and what to try, instead of filling memory: the folded
 // cloth with a budget of 2 pairs per vertex and no floor (it lists about 40 a vertex once its layers lie on each
