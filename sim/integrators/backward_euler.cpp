@@ -95,7 +95,6 @@ class BackwardEuler final : public Integrator {
     stats_.last_residual = 0;
     stats_.last_cg_residual = 0;
     n_ = static_cast<int>(x.size() / 3);
-    x0_ = &x;
     parallel_ = jacobian->parallel();
     if (!matrix_.fits(jacobian->jacobianPattern())) {  // a new topology: size the matrix once
       matrix_.reset(jacobian->jacobianPattern());
@@ -406,7 +405,7 @@ class BackwardEuler final : public Integrator {
                                ? two_level_
                                : options_.cg_preconditioner == CgPreconditioner::TwoLevel;
     const PcgResult r = pcg_.solve(matrix_, filter_, b, y, options_.cg_tolerance, options_.cg_max_iterations, parallel_,
-                                   two_level, absolute, x0_);
+                                   two_level, absolute);
     if (r.by_absolute && r.relative_residual > options_.cg_tolerance) ++stats_.error_rule_stops;
     // Auto: the coarse level pays when block-Jacobi needs many iterations, and is overhead when few are needed.
     if (options_.cg_preconditioner == CgPreconditioner::Auto &&
@@ -477,7 +476,6 @@ class BackwardEuler final : public Integrator {
   ParticleFilter filter_;
   std::vector<ReleasedSupport> released_;
   FilteredPcg pcg_;
-  const VecX* x0_ = nullptr;  // the step's start positions (the coarse level's rotations)
   std::vector<ContactConstraint> contacts_;
   int n_ = 0;
   bool parallel_ = false;

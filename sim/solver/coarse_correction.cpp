@@ -81,6 +81,8 @@ void CoarseCorrection::buildAggregates(const PairSchedule& pattern) {
   members_.resize(n);
   std::vector<int> filled(member_start_.begin(), member_start_.end() - 1);
   for (int p = 0; p < n; ++p) members_[filled[aggregate_[p]]++] = p;
+  y_.setZero(3 * aggregates_);
+  u_.setZero(3 * aggregates_);
 }
 
 void CoarseCorrection::buildCoarsePattern() {
@@ -121,42 +123,22 @@ void CoarseCorrection::buildCoarsePattern() {
     }
   }
   // The factor's lower blocks: per pair of neighbouring aggregates, block (I, J) or (J, I), whichever is below the
-  // diagonal; and per aggregate its neighbours of higher number with their blocks (pairBlock). With rotations each
-  // aggregate is two block columns of the factor, its translation's then its rotation's: its own (rotation,
-  // translation) block, and four per pair, each lower_block_ entry then 4 block + 2 row + column (its 3 x 3 part).
+  // diagonal; and per aggregate its neighbours of higher number with their blocks (pairBlock).
   std::vector<std::pair<int, int>> lower;
   lower_block_.clear();
   neighbour_start_.assign(aggregates_ + 1, 0);
   neighbours_.clear();
-  const int nodes = rigid_ ? 2 : 1;
-  if (rigid_)
-    for (int i = 0; i < aggregates_; ++i)
-      lower.emplace_back(2 * column_[i] + 1, 2 * column_[i]), lower_block_.push_back(4 * i + 2);
   for (const auto& [ij, k] : coarse_pairs_) {
     const auto [i, j] = ij;
     const bool i_below = column_[i] > column_[j];
-    const int row = i_below ? column_[i] : column_[j], column = i_below ? column_[j] : column_[i];
-    const int block = i_below ? k : k + 1;  // block (I, J) is row I's
-    for (int r = 0; r < nodes; ++r)
-      for (int c = 0; c < nodes; ++c) {
-        lower.emplace_back(nodes * row + r, nodes * column + c);
-        lower_block_.push_back(rigid_ ? 4 * block + 2 * r + c : block);
-      }
+    lower.emplace_back(i_below ? column_[i] : column_[j], i_below ? column_[j] : column_[i]);
+    lower_block_.push_back(i_below ? k : k + 1);  // block (I, J) is row I's
     ++neighbour_start_[i + 1];
     neighbours_.emplace_back(j, k);  // the map's order: by i, then j
   }
   for (int i = 0; i < aggregates_; ++i) neighbour_start_[i + 1] += neighbour_start_[i];
-  ldlt_.analyze(nodes * aggregates_, lower, nodes * part_begin[1], nodes * part_begin[2]);
-  analyzed_unknowns_ = unknowns();
-  if (rigid_) {
-    rigid_blocks_.assign(aggregates_ + 2 * coarse_pairs_.size(), Block6::Zero());
-    blocks_.clear();
-  } else {
-    blocks_.assign(aggregates_ + 2 * coarse_pairs_.size(), Eigen::Matrix3d::Zero());
-    rigid_blocks_.clear();
-  }
-  y_.setZero(unknowns() * aggregates_);
-  u_.setZero(unknowns() * aggregates_);
+  ldlt_.analyze(aggregates_, lower, part_begin[1], part_begin[2]);
+  blocks_.assign(aggregates_ + 2 * coarse_pairs_.size(), Eigen::Matrix3d::Zero());
 }
 
 int CoarseCorrection::pairBlock(int i, int j) const {
@@ -170,11 +152,9 @@ bool CoarseCorrection::fits(const PairBlockMatrix& a) const {
   return pattern_ == &pattern && pattern_pairs_ == pattern.size() && int(aggregate_.size()) == pattern.particles();
 }
 
-void CoarseCorrection::setUp(const PairBlockMatrix& a, const ParticleFilter& s, bool parallel, const VecX* positions) {
+void CoarseCorrection::setUp(const PairBlockMatrix& a, const ParticleFilter& s, bool parallel) {
   const PairSchedule& pattern = *a.pattern();
-  rigid_ = positions != nullptr;
   if (!fits(a)) buildAggregates(pattern), buildCoarsePattern();
-  else if (analyzed_unknowns_ != unknowns()) buildCoarsePattern();
   // The stencils' pairs of aggregates: the pattern extended when it lacks any (the pairs added are kept while the
   // topology stands, so that contact that comes and goes over the same places does not rebuild it every time).
   // But when those the stencils at hand do not use outnumber those they do (the contact has moved on), a rebuild keeps
@@ -189,20 +169,6 @@ void CoarseCorrection::setUp(const PairBlockMatrix& a, const ParticleFilter& s, 
     buildCoarsePattern();
   }
   ++factorizations_;
-  if (rigid_) {
-    setLeverArms(*positions);
-    fillRigid(a, s);
-    for (int i = 0; i < aggregates_; ++i) {
-      ldlt_.diagonal(2 * column_[i]) = rigid_blocks_[i].topLeftCorner<3, 3>();
-      ldlt_.diagonal(2 * column_[i] + 1) = rigid_blocks_[i].bottomRightCorner<3, 3>();
-    }
-    for (std::size_t k = 0; k < lower_block_.size(); ++k) {
-      const int code = lower_block_[k];
-      ldlt_.lower(int(k)) = rigid_blocks_[code / 4].block<3, 3>(3 * ((code / 2) % 2), 3 * (code % 2));
-    }
-    ldlt_.factorize(parallel);
-    return;
-  }
   for (Eigen::Matrix3d& b : blocks_) b.setZero();
   const int n = pattern.particles();
   const auto filtered = [&](int p) { return s.kind(p) != ParticleFilter::Free; };
@@ -334,149 +300,8 @@ void CoarseCorrection::addStencils(const StencilCouplings& stencils, const Parti
   }
 }
 
-void CoarseCorrection::setLeverArms(const VecX& positions) {
-  lever_.resize(3 * aggregate_.size());
-  for (int i = 0; i < aggregates_; ++i) {
-    Vec3 centre = Vec3::Zero();
-    for (int m = member_start_[i]; m < member_start_[i + 1]; ++m) centre += particle(positions, members_[m]);
-    centre /= size_[i];
-    double spread = 0;
-    for (int m = member_start_[i]; m < member_start_[i + 1]; ++m)
-      spread += (particle(positions, members_[m]) - centre).squaredNorm();
-    const double scale = spread > 0 ? std::sqrt(size_[i] / spread) : 0;
-    for (int m = member_start_[i]; m < member_start_[i + 1]; ++m) {
-      const int p = members_[m];
-      const Vec3 d = scale * (particle(positions, p) - centre);
-      for (int c = 0; c < 3; ++c) lever_[3 * p + c] = d[c];
-    }
-  }
-}
-
-namespace {
-
-using Block36 = Eigen::Matrix<double, 3, 6>;
-
-// Z_p = [I, -[d]_x] (-[d]_x w = w x d).
-Block36 rigidColumns(const double* d) {
-  Block36 z;
-  z << 1, 0, 0, 0, d[2], -d[1],  //
-      0, 1, 0, -d[2], 0, d[0],   //
-      0, 0, 1, d[1], -d[0], 0;
-  return z;
-}
-
-}  // namespace
-
-void CoarseCorrection::fillRigid(const PairBlockMatrix& a, const ParticleFilter& s) {
-  for (Block6& b : rigid_blocks_) b.setZero();
-  const PairSchedule& pattern = *a.pattern();
-  const int n = pattern.particles();
-  const auto filtered = [&](int p) { return s.kind(p) != ParticleFilter::Free; };
-  // S_p Z_p.
-  const auto columns = [&](int p) {
-    const Block36 z = rigidColumns(lever_.data() + 3 * p);
-    return filtered(p) ? Block36(s.matrix(p) * z) : z;
-  };
-  for (int p = 0; p < n; ++p) {
-    if (s.kind(p) == ParticleFilter::Held) continue;
-    const Block36 z = columns(p);
-    rigid_blocks_[aggregate_[p]] += a.self()[p] * (z.transpose() * z);
-  }
-  for (std::size_t e = 0; e < pattern.size(); ++e) {
-    const int pa = pattern.a()[e], pb = pattern.b()[e];
-    const Eigen::Matrix3d w = a.pair(e).dense();
-    const Block36 za = columns(pa), zb = columns(pb);
-    const int block = pair_block_[e];
-    if (block < 0) {  // within one aggregate: its rotations strain the pair
-      const Block36 dz = za - zb;
-      rigid_blocks_[aggregate_[pa]] += dz.transpose() * w * dz;
-      continue;
-    }
-    const Block36 wa = w * za, wb = w * zb;
-    rigid_blocks_[aggregate_[pa]] += za.transpose() * wa;
-    rigid_blocks_[aggregate_[pb]] += zb.transpose() * wb;
-    const Block6 ab = za.transpose() * wb;  // a's rows, b's columns
-    rigid_blocks_[block] -= pair_flipped_[e] ? Block6(ab.transpose()) : ab;
-    rigid_blocks_[block + 1] -= pair_flipped_[e] ? ab : Block6(ab.transpose());
-  }
-  // The stencils: M_I = sum over the stencil's particles p_i in I of w_i Z_(p_i)^T S_(p_i) (6 x 3), M_I B M_J^T.
-  const int* pair_block = group_pair_block_.data();
-  int k = 0;
-  for (const StencilBlock& sb : a.stencils()) {
-    const int first = group_start_[k], size = group_start_[k + 1] - first;
-    const int* aggregate = group_aggregate_.data() + first;
-    ++k;
-    Eigen::Matrix<double, 6, 3> m[WeightedStencil::kCapacity];
-    for (int x = 0; x < size; ++x) m[x].setZero();
-    for (int i = 0; i < sb.stencil.size; ++i) {
-      if (sb.stencil.w[i] == 0) continue;
-      const int p = sb.stencil.particle[i];
-      int x = 0;
-      while (aggregate[x] != aggregate_[p]) ++x;
-      m[x] += sb.stencil.w[i] * columns(p).transpose();
-    }
-    const Eigen::Matrix3d b = sb.block.dense();
-    for (int x = 0; x < size; ++x) {
-      const Eigen::Matrix<double, 6, 3> mb = m[x] * b;
-      rigid_blocks_[aggregate[x]] += mb * m[x].transpose();
-      for (int y = x + 1; y < size; ++y, ++pair_block) {
-        const Block6 xy = mb * m[y].transpose();  // block (I, J) for I = x's aggregate, J = y's
-        const bool ordered = aggregate[x] < aggregate[y];
-        rigid_blocks_[*pair_block] += ordered ? xy : Block6(xy.transpose());
-        rigid_blocks_[*pair_block + 1] += ordered ? Block6(xy.transpose()) : xy;
-      }
-    }
-  }
-  // Directions S removes, and those a flat or straight aggregate lacks (a straight one has no rotation about its
-  // line): Z_I^T S Z_I singular there, and so are the matrix's rows and columns; the identity there keeps it
-  // invertible and leaves those directions at 0. Without filtered particles the Gram matrix is diag(size I,
-  // sum |d|^2 I - d d^T) (the lever arms sum to 0).
-  std::vector<char> any_filtered(aggregates_, 0);
-  for (int p = 0; p < n; ++p)
-    if (filtered(p)) any_filtered[aggregate_[p]] = 1;
-  for (int i = 0; i < aggregates_; ++i) {
-    Block6 gram = Block6::Zero();
-    if (any_filtered[i]) {
-      for (int m = member_start_[i]; m < member_start_[i + 1]; ++m) {
-        const Block36 z = columns(members_[m]);
-        gram += z.transpose() * z;
-      }
-    } else {
-      gram.topLeftCorner<3, 3>() = size_[i] * Eigen::Matrix3d::Identity();
-      Eigen::Matrix3d rotation = Eigen::Matrix3d::Zero();
-      for (int m = member_start_[i]; m < member_start_[i + 1]; ++m) {
-        const Eigen::Map<const Vec3> d(lever_.data() + 3 * members_[m]);
-        rotation += d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose();
-      }
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(rotation, Eigen::EigenvaluesOnly);
-      if (eigen.eigenvalues()[0] > 1e-9 * size_[i]) continue;
-      gram.bottomRightCorner<3, 3>() = rotation;
-    }
-    const Eigen::SelfAdjointEigenSolver<Block6> eigen(gram);
-    for (int c = 0; c < 6; ++c)
-      if (eigen.eigenvalues()[c] < 1e-9 * size_[i]) {
-        const Eigen::Matrix<double, 6, 1> v = eigen.eigenvectors().col(c);
-        rigid_blocks_[i] += v * v.transpose();
-      }
-  }
-}
-
 template <class T>
 void CoarseCorrection::restrict(const T* r, int k) {
-  if (rigid_) {  // Z^T r: the sum of r, and the sum of d_p x r_p
-    for (int i : part_aggregates_[k]) {
-      double sum[6] = {0, 0, 0, 0, 0, 0};
-      for (int m = member_start_[i]; m < member_start_[i + 1]; ++m) {
-        const int p = members_[m];
-        const double r0 = r[3 * p], r1 = r[3 * p + 1], r2 = r[3 * p + 2];
-        const double* d = lever_.data() + 3 * p;
-        sum[0] += r0, sum[1] += r1, sum[2] += r2;
-        sum[3] += d[1] * r2 - d[2] * r1, sum[4] += d[2] * r0 - d[0] * r2, sum[5] += d[0] * r1 - d[1] * r0;
-      }
-      for (int c = 0; c < 6; ++c) y_[6 * column_[i] + c] = sum[c];
-    }
-    return;
-  }
   for (int i : part_aggregates_[k]) {
     double sum[3] = {0, 0, 0};
     for (int m = member_start_[i]; m < member_start_[i + 1]; ++m)
@@ -492,9 +317,8 @@ template <class T>
 void CoarseCorrection::solveFor(const T* r, bool parallel) {
   // Each part's restriction on the task of its forward solve.
   ldlt_.solve(y_.data(), parallel, [&](int k) { restrict(r, k); });
-  const int k = unknowns();
   for (int i = 0; i < aggregates_; ++i)
-    for (int c = 0; c < k; ++c) u_[k * i + c] = y_[k * column_[i] + c];
+    for (int c = 0; c < 3; ++c) u_[3 * i + c] = y_[3 * column_[i] + c];
 }
 
 }  // namespace wobble

@@ -29,29 +29,19 @@ namespace wobble {
 
 class CoarseCorrection {
  public:
-  using Block6 = Eigen::Matrix<double, 6, 6>;
-
   // The aggregates (when the pattern is new), the coarse pattern (extended when a's stencils need it) and the
-  // factorized coarse matrix of S A S. With the particles' positions, each aggregate's rigid rotations join its
-  // translations (six unknowns an aggregate, rigid() below); without, translations alone.
-  void setUp(const PairBlockMatrix& a, const ParticleFilter& s, bool parallel = false, const VecX* positions = nullptr);
+  // factorized coarse matrix of S A S.
+  void setUp(const PairBlockMatrix& a, const ParticleFilter& s, bool parallel = false);
   // Whether the aggregates were built for a's pattern (setUp has run on it), so that solve() may be used with it.
   bool fits(const PairBlockMatrix& a) const;
   // u = (Z^T S A S Z)^-1 Z^T r for a filtered r (S r = r, 3 values a particle); the correction of particle p is then
-  // S_p u(aggregate(p)), or with rotations S_p (t + w x d_p) for u(aggregate(p)) = (t, w) and p's lever arm d_p.
-  // A float r (the CG's inner iterations) is restricted into doubles; the solve is in double.
+  // S_p u(aggregate(p)). A float r (the CG's inner iterations) is restricted into doubles; the solve is in double.
   void solve(const double* r, bool parallel = false);
   void solve(const float* r, bool parallel = false);
   void solve(const VecX& r, bool parallel = false) { solve(r.data(), parallel); }
-  const double* corrections() const { return u_.data(); }      // u, unknowns() values per aggregate
+  const double* corrections() const { return u_.data(); }      // u, 3 values per aggregate
   const int* aggregates() const { return aggregate_.data(); }  // per particle: its aggregate
   int aggregateCount() const { return aggregates_; }
-  // Whether the last setUp had the positions: six unknowns an aggregate (translation t, rotation w), else three.
-  bool rigid() const { return rigid_; }
-  int unknowns() const { return rigid_ ? 6 : 3; }
-  // Per particle (rigid): its lever arm d_p = (x_p - c) / r, c its aggregate's centroid and r the aggregate's RMS
-  // distance to it (so that rotations and translations are of one scale): Z_p = [I, -[d_p]_x].
-  const double* leverArms() const { return lever_.data(); }
   // How many times the aggregates and the coarse pattern were built (once per topology).
   int patternSetups() const { return pattern_setups_; }
   // How many times the coarse pattern was built: with the aggregates, and again when stencils join aggregates it does
@@ -69,9 +59,6 @@ class CoarseCorrection {
   // Groups each stencil's particles by aggregate (group_*) and adds to coarse_pairs_ the pairs of aggregates it joins
   // that are not there yet; whether any was added.
   bool coverStencils(const StencilCouplings& stencils);
-  void setLeverArms(const VecX& positions);
-  // The rigid coarse matrix Z^T S A S Z (six unknowns an aggregate) into rigid_blocks_, springs and stencils.
-  void fillRigid(const PairBlockMatrix& a, const ParticleFilter& s);
   // Their Galerkin blocks M_I B M_J, into blocks_ (after coverStencils and the pattern's rebuild if it added pairs).
   void addStencils(const StencilCouplings& stencils, const ParticleFilter& s);
   template <class T>
@@ -104,10 +91,6 @@ class CoarseCorrection {
   std::vector<int> pair_block_;
   std::vector<char> pair_flipped_;
   std::vector<Eigen::Matrix3d> blocks_;      // aggregates' diagonal blocks, then (I, J) and (J, I) pairs
-  std::vector<Block6> rigid_blocks_;         // the same with rotations
-  bool rigid_ = false;                       // the last setUp's coarse space has rotations
-  int analyzed_unknowns_ = 0;                // unknowns an aggregate of the factor's pattern (3 or 6; 0: none)
-  std::vector<double> lever_;                // per particle: d_p (3 values)
   std::vector<int> lower_block_;             // per lower block of the factor (BlockLdlt::lower): its block here
   std::vector<int> column_;                  // per aggregate: its block column of the factor (fill-reducing order)
   std::vector<Eigen::Matrix3d> gram_;        // per aggregate: Z^T S Z's block (filters only)

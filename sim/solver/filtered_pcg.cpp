@@ -78,10 +78,7 @@ int FilteredPcg::iterate(const Matrix& a, const ParticleFilter& s, T* xs, T* rs,
     if (two_level) coarse_.solve(rs, parallel);
     return sumOverChunks(n, parallel, sums_, [&](int begin, int end) {
       const int m = end - begin;
-      if (two_level && coarse_.rigid())
-        pcg::blockProductPlusRigid(inverse + 6 * begin, rs + 3 * begin, coarse_.corrections(),
-                                   coarse_.aggregates() + begin, coarse_.leverArms() + 3 * begin, z + 3 * begin, m);
-      else if (two_level)
+      if (two_level)
         pcg::blockProductPlus(inverse + 6 * begin, rs + 3 * begin, coarse_.corrections(), coarse_.aggregates() + begin,
                               z + 3 * begin, m);
       else pcg::blockProduct(inverse + 6 * begin, rs + 3 * begin, z + 3 * begin, m);
@@ -119,7 +116,7 @@ int FilteredPcg::iterate(const Matrix& a, const ParticleFilter& s, T* xs, T* rs,
 
 PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, const VecX& b, VecX& x,
                              double tolerance, int max_iterations, bool parallel, bool two_level,
-                             double absolute_tolerance, const VecX* positions) {
+                             double absolute_tolerance) {
   if (system_tap) system_tap(a, s, b, x, tolerance);
   const int n = static_cast<int>(b.size() / 3);
   bool set_up_coarse = false;
@@ -127,8 +124,7 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
     coarse_uses_ = 0;
   } else {
     set_up_coarse = coarse_uses_ == 0 || coarse_uses_ >= kCoarseRefresh || !coarse_.fits(a) ||
-                    a.stencils().generation() != coarse_stencils_ || s.kinds() != coarse_kinds_ ||
-                    (positions != nullptr) != coarse_.rigid();
+                    a.stencils().generation() != coarse_stencils_ || s.kinds() != coarse_kinds_;
     if (set_up_coarse) coarse_stencils_ = a.stencils().generation(), coarse_kinds_ = s.kinds();
     coarse_uses_ = set_up_coarse ? 1 : coarse_uses_ + 1;
   }
@@ -171,7 +167,7 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
   runBoth(
       parallel && set_up_coarse, [&] { setUpFine(); },
       [&] {
-        if (set_up_coarse) coarse_.setUp(a, s, parallel, positions);
+        if (set_up_coarse) coarse_.setUp(a, s, parallel);
       });
   if (b_norm2 == 0) {  // the free part's solution is 0
     forEachChunk(n, parallel, [&](int begin, int end) {

@@ -61,11 +61,9 @@ void setPcgSystemTap(PcgSystemTap tap);
 class FilteredPcg {
  public:
   // x: the starting guess on input (its removed part is kept), the solution on output. absolute_tolerance: the solve
-  // also stops once |S (b - A x)| is at most this (a bound on its error, from the caller). positions: the particles'
-  // positions, for the coarse level's rotations (coarse_correction.h); without them its translations alone.
+  // also stops once |S (b - A x)| is at most this (a bound on its error, from the caller).
   PcgResult solve(const PairBlockMatrix& a, const ParticleFilter& s, const VecX& b, VecX& x, double tolerance,
-                  int max_iterations, bool parallel, bool two_level, double absolute_tolerance = 0,
-                  const VecX* positions = nullptr);
+                  int max_iterations, bool parallel, bool two_level, double absolute_tolerance = 0);
   const CoarseCorrection& coarse() const { return coarse_; }
 
  private:

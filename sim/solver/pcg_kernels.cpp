@@ -95,21 +95,6 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void blockProductPl
   }
 }
 
-template <class T>
-__attribute__((target_clones("avx512f", "avx2", "default"))) void blockProductPlusRigid(
-    const T* __restrict m, const T* __restrict r, const double* __restrict u, const int* __restrict aggregate,
-    const double* __restrict lever, T* __restrict z, int particles) {
-  for (int p = 0; p < particles; ++p) {
-    const T* b = m + 6 * p;
-    const double* up = u + 6 * aggregate[p];
-    const double* d = lever + 3 * p;
-    const T r0 = r[3 * p], r1 = r[3 * p + 1], r2 = r[3 * p + 2];
-    z[3 * p] = b[0] * r0 + b[3] * r1 + b[4] * r2 + T(up[0] + up[4] * d[2] - up[5] * d[1]);
-    z[3 * p + 1] = b[3] * r0 + b[1] * r1 + b[5] * r2 + T(up[1] + up[5] * d[0] - up[3] * d[2]);
-    z[3 * p + 2] = b[4] * r0 + b[5] * r1 + b[2] * r2 + T(up[2] + up[3] * d[1] - up[4] * d[0]);
-  }
-}
-
 template double dot(const double*, const double*, int);
 template double dot(const float*, const float*, int);
 template void scaleAdd(double*, const double*, double, int);
@@ -120,8 +105,5 @@ template void blockProduct(const double*, const double*, double*, int);
 template void blockProduct(const float*, const float*, float*, int);
 template void blockProductPlus(const double*, const double*, const double*, const int*, double*, int);
 template void blockProductPlus(const float*, const float*, const double*, const int*, float*, int);
-template void blockProductPlusRigid(const double*, const double*, const double*, const int*, const double*, double*,
-                                    int);
-template void blockProductPlusRigid(const float*, const float*, const double*, const int*, const double*, float*, int);
 
 }  // namespace wobble::pcg

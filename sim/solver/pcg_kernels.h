@@ -28,10 +28,5 @@ void invertBlocks(const double* m, double* inverse, int particles);
 // z = m_p r_p + u[aggregate[p]] for particles p < particles (u: 3 values per aggregate).
 template <class T>
 void blockProductPlus(const T* m, const T* r, const double* u, const int* aggregate, T* z, int particles);
-// z = m_p r_p + t + w x d_p for particles p < particles, (t, w) = u[aggregate[p]] (6 values per aggregate), d_p the
-// particle's lever arm (3 values a particle).
-template <class T>
-void blockProductPlusRigid(const T* m, const T* r, const double* u, const int* aggregate, const double* lever, T* z,
-                           int particles);
 
 }  // namespace wobble::pcg
