@@ -246,8 +246,9 @@ TEST(TwoLevelPcg, AKeptCoarseFactorizationStillSolvesAChangedSystem) {
   for (int p = 0; p < n; ++p)
     if (sys->s.kind(p) == ParticleFilter::Held) turned.hold(p);
     else if (sys->s.kind(p) == ParticleFilter::Normal)
-      turned.constrain(p, p == constrained ? Vec3(0.3, 1, -0.2).normalized() : sys->s.normal(p));
+      turned.constrain(p, p == constrained ? Vec3(-0.1, 1, 0.3).normalized() : sys->s.normal(p));
   ASSERT_EQ(turned.kinds(), sys->s.kinds());
+  ASSERT_GT((turned.normal(constrained) - sys->s.normal(constrained)).norm(), 0.1);
   sys->s = turned;
   sys->b *= -0.5;
   for (int k = 1; k < kCoarseRefresh; ++k) {
