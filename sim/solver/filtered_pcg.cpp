@@ -15,7 +15,11 @@ void storeBlock(const Sym3& m, T* out) {
   out[0] = T(m.xx), out[1] = T(m.yy), out[2] = T(m.zz), out[3] = T(m.xy), out[4] = T(m.xz), out[5] = T(m.yz);
 }
 
+PcgSystemTap system_tap = nullptr;
+
 }  // namespace
+
+void setPcgSystemTap(PcgSystemTap tap) { system_tap = tap; }
 
 void FilteredPcg::setUpPreconditioner(const PairBlockMatrix& a, const ParticleFilter& s, bool parallel) {
   a.diagonal(diagonal_, parallel);
@@ -113,14 +117,15 @@ int FilteredPcg::iterate(const Matrix& a, const ParticleFilter& s, T* xs, T* rs,
 PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, const VecX& b, VecX& x,
                              double tolerance, int max_iterations, bool parallel, bool two_level,
                              double absolute_tolerance) {
+  if (system_tap) system_tap(a, s, b, x, tolerance);
   const int n = static_cast<int>(b.size() / 3);
   bool set_up_coarse = false;
   if (!two_level) {
     coarse_uses_ = 0;
   } else {
     set_up_coarse = coarse_uses_ == 0 || coarse_uses_ >= kCoarseRefresh || !coarse_.fits(a) ||
-                    a.stencils().generation() != coarse_stencils_;
-    if (set_up_coarse) coarse_stencils_ = a.stencils().generation();
+                    a.stencils().generation() != coarse_stencils_ || s.kinds() != coarse_kinds_;
+    if (set_up_coarse) coarse_stencils_ = a.stencils().generation(), coarse_kinds_ = s.kinds();
     coarse_uses_ = set_up_coarse ? 1 : coarse_uses_ + 1;
   }
   const bool single = tolerance >= kSingleTolerance && single_pays_;

@@ -33,13 +33,15 @@ struct PcgResult {
 
 // A two-level solve sets the coarse level up afresh when the one before it did not use it, when the matrix's contact
 // stencils have changed since (StencilCouplings::generation: backward Euler's active set changes between the solves of
-// a step, and a pair just pressed is a stiff coupling the kept factorization lacks), or after it has served this many
-// solves. In between, it keeps the last factorization: the sum stays symmetric positive definite (any SPD
-// coarse matrix does), only a little less sharp as the system drifts. Measured on the stiff cloth
-// (docs/performance.md): every second solve costs 0.6 more CG iterations a step (22.65 against 22.05) and saves half
-// the coarse fills and factorizations, 9% of the step; every fourth, 24.7 iterations. With float iterations and the
-// error rule (16.4 iterations a step) the factorization weighs more: every third solve, 17.1 iterations, 2-3% faster
-// than every second (medians and minima of 21 runs in turn).
+// a step, and a pair just pressed is a stiff coupling the kept factorization lacks), when a particle's kind of
+// constraint in the filter has (a particle that has just met the floor, or left it: measured on the 256 x 256 stacked
+// cloth, whose floor contacts change every step, 150 CG iterations a step instead of 204 and 0.8 of the CPU time,
+// docs/performance.md), or after it has served this many solves. In between, it keeps the last factorization: the sum
+// stays symmetric positive definite (any SPD coarse matrix does), only a little less sharp as the system drifts.
+// Measured on the stiff cloth (docs/performance.md): every second solve costs 0.6 more CG iterations a step (22.65
+// against 22.05) and saves half the coarse fills and factorizations, 9% of the step; every fourth, 24.7 iterations.
+// With float iterations and the error rule (16.4 iterations a step) the factorization weighs more: every third
+// solve, 17.1 iterations, 2-3% faster than every second (medians and minima of 21 runs in turn).
 inline constexpr int kCoarseRefresh = 3;
 
 // Tolerances at least this loose run their iterations in float (iterative refinement); tighter ones in double. Float
@@ -49,6 +51,12 @@ inline constexpr double kSingleTolerance = 1e-5;
 // recomputation cost about three double iterations, which a float iteration repays at about 0.4 each (a 256 x 256
 // cloth at dt 1e-4 needs 0 or 1 iterations a step; the stiff cloth 23). The first solve iterates in double.
 inline constexpr int kSingleIterations = 8;
+
+// For studies of the preconditioner (bench/preconditioner_study.cpp): when set, every solve first hands its system
+// (the matrix, the filter, b and the starting x, the relative tolerance) to this function. Not for the simulator.
+using PcgSystemTap = void (*)(const PairBlockMatrix& a, const ParticleFilter& s, const VecX& b, const VecX& x,
+                              double tolerance);
+void setPcgSystemTap(PcgSystemTap tap);
 
 class FilteredPcg {
  public:
@@ -79,6 +87,7 @@ class FilteredPcg {
   bool single_pays_ = false;  // the last solve took at least kSingleIterations
   int coarse_uses_ = 0;       // two-level solves since the coarse level was set up; 0 when the last solve had none
   long coarse_stencils_ = 0;  // the stencils' generation the coarse level was set up with
+  std::vector<std::uint8_t> coarse_kinds_;  // the filter's kinds the coarse level was set up with
   std::vector<Sym3> diagonal_;
   std::vector<int> constrained_;  // the particles S filters (not free), in order
   Iterates<double> double_;

@@ -36,8 +36,9 @@ class ParticleFilter {
     kind_[p] = Held;
   }
   Kind kind(int p) const { return Kind(kind_[p]); }
-  Vec3 normal(int p) const { return particle(direction_, p); }     // Normal: the constrained direction
-  Vec3 direction(int p) const { return particle(direction_, p); }  // Line: the free direction d
+  const std::vector<std::uint8_t>& kinds() const { return kind_; }  // per particle its Kind
+  Vec3 normal(int p) const { return particle(direction_, p); }      // Normal: the constrained direction
+  Vec3 direction(int p) const { return particle(direction_, p); }   // Line: the free direction d
   bool anyConstrained() const { return constrained_ > 0; }
   // S_p as a matrix.
   Eigen::Matrix3d matrix(int p) const;

@@ -217,9 +217,10 @@ TEST(TwoLevelPcg, FloatIterationsMeetTheToleranceOfTheDoubleSystem) {
     }
 }
 
-// The coarse level is set up afresh every kCoarseRefresh two-level solves and after a block-Jacobi one, and kept in
-// between: a kept factorization of an older matrix and filter is still a valid preconditioner, so a solve of a changed
-// system (heavier masses, one more contact, a new right-hand side) still matches the dense oracle of the new system.
+// The coarse level is set up afresh every kCoarseRefresh two-level solves, after a block-Jacobi one and when a
+// particle's kind of constraint changes (one more contact), and kept in between: a kept factorization of an older
+// matrix is still a valid preconditioner, so a solve of a changed system (heavier masses, a contact's normal turned, a
+// new right-hand side) still matches the dense oracle of the new system.
 TEST(TwoLevelPcg, AKeptCoarseFactorizationStillSolvesAChangedSystem) {
   static_assert(kCoarseRefresh >= 2);
   const auto sys = smallSystem();
@@ -238,10 +239,17 @@ TEST(TwoLevelPcg, AKeptCoarseFactorizationStillSolvesAChangedSystem) {
   };
   solve(true);
   EXPECT_EQ(pcg.coarse().factorizations(), 1);
-  for (int i = 0; i < n; ++i) sys->a.self()[i] += 2.0;  // the system changes
-  const Vec3 normal = Vec3(-0.2, 1, 0.1).normalized();
-  sys->s.constrain(60, normal);
-  particle(sys->z, 60) = -0.05 * normal;
+  for (int i = 0; i < n; ++i) sys->a.self()[i] += 2.0;  // the system changes, the kinds of constraint do not
+  const int constrained = 40;                           // a contact of smallSystem
+  ParticleFilter turned;
+  turned.reset(VecX::Ones(n));
+  for (int p = 0; p < n; ++p)
+    if (sys->s.kind(p) == ParticleFilter::Held) turned.hold(p);
+    else if (sys->s.kind(p) == ParticleFilter::Normal)
+      turned.constrain(p, p == constrained ? Vec3(-0.1, 1, 0.3).normalized() : sys->s.normal(p));
+  ASSERT_EQ(turned.kinds(), sys->s.kinds());
+  ASSERT_GT((turned.normal(constrained) - sys->s.normal(constrained)).norm(), 0.1);
+  sys->s = turned;
   sys->b *= -0.5;
   for (int k = 1; k < kCoarseRefresh; ++k) {
     solve(true);  // kept
@@ -252,6 +260,14 @@ TEST(TwoLevelPcg, AKeptCoarseFactorizationStillSolvesAChangedSystem) {
   solve(false);
   solve(true);  // after a block-Jacobi solve: refreshed
   EXPECT_EQ(pcg.coarse().factorizations(), 3);
+  const Vec3 normal = Vec3(-0.2, 1, 0.1).normalized();
+  ASSERT_EQ(sys->s.kind(60), ParticleFilter::Free);
+  sys->s.constrain(60, normal);  // one more contact
+  particle(sys->z, 60) = -0.05 * normal;
+  solve(true);  // a kind of constraint changed: refreshed
+  EXPECT_EQ(pcg.coarse().factorizations(), 4);
+  solve(true);  // kept
+  EXPECT_EQ(pcg.coarse().factorizations(), 4);
   EXPECT_EQ(pcg.coarse().patternSetups(), 1);
 }
 
