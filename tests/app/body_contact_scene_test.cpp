@@ -218,6 +218,34 @@ TEST_F(ContactCounters, InSolveCountersFollowTheKey) {
   }
 }
 
+// cloth_drop at 30 x 30 under backward Euler at 1/60 s, its first 0.6 s: the sphere stops the cloth's lowest row within
+// one step, whose linearized solve made up energy (42 J of the scene's 76 J, and the run's check stopped it); that
+// step is solved exactly (docs/energy.md), the run ends without an energy gain, run.json counts the exact steps, and
+// the Newton solves are among the run's solves (solves_per_step).
+TEST_F(ContactCounters, ExactStepsAreCountedAndKeepTheLandingClothsEnergy) {
+  RunOptions o;
+  o.scene = testing::sourceDir() / "scenes" / "cloth_drop.toml";
+  const fs::path out = dir() / "drop";
+  o.out = out;
+  o.render.render = "none";
+  o.progress = false;
+  o.integrator = "backward-euler";
+  o.dt = 1.0 / 60;
+  o.sets = {"simulation.duration=0.6", "output.pc2=false", "output.obj=false", "cloth.nx=30", "cloth.ny=30",
+            "cloth.mass=0.0044"};
+  const RunReport r = runScene(o);
+  ASSERT_FALSE(r.blow_up) << r.blow_up_message;
+  EXPECT_FALSE(r.energy_gain) << r.energy_gain_message;
+  std::ifstream in(out / "run.json");
+  const auto j = nlohmann::json::parse(in);
+  const long steps = j["steps"].get<long>(), exact = j["linear_solver"]["exact_steps"].get<long>();
+  EXPECT_GE(exact, 1);
+  EXPECT_LE(exact, steps / 4) << "exact steps are for the steps whose linearization failed";
+  EXPECT_LE(j["energy"]["end"].get<double>(), j["energy"]["start"].get<double>());
+  // Each exact step solved at least once more (Newton) beyond the step's own solve.
+  EXPECT_GE(j["body_contact"]["solves_per_step"].get<double>() * double(steps), double(steps + exact) - 0.5);
+}
+
 // A fail-safe case: the [contact] table before the scene, and whether backward Euler carries the contacts in its solve.
 struct Caps {
   const char* name;
