@@ -18,9 +18,7 @@ Simulation::Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> int
   for (int i = 0; i < system.particleCount(); ++i)
     max_speed_squared_ = std::max(max_speed_squared_, particle(v_, i).squaredNorm());
   energy_start_ = system.energy(x_, v_);
-  double free_mass = 0;
-  for (int i = 0; i < system.particleCount(); ++i) free_mass += system.inverseMass()[i] > 0 ? system.mass()[i] : 0;
-  lift_margin_ = free_mass * std::max(system.gravity().norm(), 1.0) * kEnergyGainLift;
+  lift_margin_ = system.liftEnergy();
 }
 
 Simulation::~Simulation() {

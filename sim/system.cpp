@@ -10,7 +10,6 @@
 #include "sim/contact_pair_set.h"
 #include "sim/force_jacobian.h"
 #include "sim/solver/pair_block_matrix.h"
-#include "sim/solver/parallel.h"
 #include "sim/spring_runs.h"
 
 namespace wobble {
@@ -222,32 +221,15 @@ double MassSpringSystem::colliderWork(double t, double h, const VecX& x0, const 
 
 double MassSpringSystem::energyMadeUp(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
                                       const VecX& v1) const {
-  // energy() at both ends in one pass over the springs and one over the particles, in chunks on threads (added in
-  // chunk order: the same bytes whatever the thread count); with the free particles' mass for the lift.
-  const bool threads = parallel();
-  const Springs& s = springs_;
-  const Eigen::Vector3d springs = sumOverChunks(int(s.size()), threads, energy_partials_, [&](int begin, int end) {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (int i = begin; i < end; ++i) {
-      const double stretch0 = (particle(x0, s.a[i]) - particle(x0, s.b[i])).norm() - s.rest[i];
-      const double stretch1 = (particle(x1, s.a[i]) - particle(x1, s.b[i])).norm() - s.rest[i];
-      sum[0] += 0.5 * s.ks[i] * stretch0 * stretch0;
-      sum[1] += 0.5 * s.ks[i] * stretch1 * stretch1;
-    }
-    return sum;
-  });
-  const Eigen::Vector3d particles = sumOverChunks(particleCount(), threads, energy_partials_, [&](int begin, int end) {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (int i = begin; i < end; ++i) {
-      sum[0] += mass_[i] * (0.5 * particle(v0, i).squaredNorm() - gravity_.dot(particle(x0, i)));
-      sum[1] += mass_[i] * (0.5 * particle(v1, i).squaredNorm() - gravity_.dot(particle(x1, i)));
-      sum[2] += inv_mass_[i] > 0 ? mass_[i] : 0;
-    }
-    return sum;
-  });
-  const double start = springs[0] + particles[0], end = springs[1] + particles[1];
-  const double lift = particles[2] * std::max(gravity_.norm(), 1.0) * kEnergyGainLift;
-  return end - start - colliderWork(t, h, x0, v0, x1, v1) - kStepEnergyMargin * std::max(std::abs(start), lift);
+  const double start = energy(x0, v0);
+  return energy(x1, v1) - start - colliderWork(t, h, x0, v0, x1, v1) -
+         kStepEnergyMargin * std::max(std::abs(start), liftEnergy());
+}
+
+double MassSpringSystem::liftEnergy() const {
+  double free_mass = 0;
+  for (int i = 0; i < particleCount(); ++i) free_mass += inv_mass_[i] > 0 ? mass_[i] : 0;
+  return free_mass * std::max(gravity_.norm(), 1.0) * kEnergyGainLift;
 }
 
 double MassSpringSystem::energy(const VecX& x, const VecX& v) const {

@@ -7,6 +7,7 @@
 #include <numeric>
 #include <span>
 #include <sstream>
+#include <tuple>
 #include <type_traits>
 
 #include "sim/collision/broad_phase.h"
@@ -238,18 +239,20 @@ struct BodyCollisions::Impl {
 
   double pairThickness(int a, int b) const { return std::max(params[a].thickness, params[b].thickness); }
 
+  // The stencil's vertices of a point-triangle (first: the vertex, second: the triangle) or edge-edge pair.
+  std::array<int, 4> nodes(Primitive kind, int first, int second) const {
+    if (kind == Primitive::PointTriangle) {
+      const auto& t = triangles[second];
+      return {first, t[0], t[1], t[2]};
+    }
+    return {edges[first][0], edges[first][1], edges[second][0], edges[second][1]};
+  }
   PairInfo info(Primitive kind, int first, int second) const {
     PairInfo p;
     p.kind = kind;
-    int a, b;
-    if (kind == Primitive::PointTriangle) {
-      const auto& t = triangles[second];
-      p.stencil.vertex = {first, t[0], t[1], t[2]};
-      a = vertex_body[first], b = triangle_body[second];
-    } else {
-      p.stencil.vertex = {edges[first][0], edges[first][1], edges[second][0], edges[second][1]};
-      a = edge_body[first], b = edge_body[second];
-    }
+    p.stencil.vertex = nodes(kind, first, second);
+    const bool vf = kind == Primitive::PointTriangle;
+    const int a = vf ? vertex_body[first] : edge_body[first], b = vf ? triangle_body[second] : edge_body[second];
     p.thickness = pairThickness(a, b);
     p.friction = 0.5 * (params[a].friction + params[b].friction);
     p.stiffness = 0.5 * (stiffness[a] + stiffness[b]);
@@ -643,22 +646,21 @@ struct BodyCollisions::Impl {
     return &subset;
   }
 
+  int pairCount() const { return int(vfList().size() + eeList().size()); }
+  // Candidate k's kind and its two elements (vf, then ee).
+  std::tuple<Primitive, int, int> candidate(int k) const {
+    const auto &v = vfList(), &e = eeList();
+    return k < int(v.size()) ? std::tuple{Primitive::PointTriangle, v[k].first, v[k].second}
+                             : std::tuple{Primitive::EdgeEdge, e[k - v.size()].first, e[k - v.size()].second};
+  }
+  PairInfo pairInfo(int k) const {
+    const auto [kind, first, second] = candidate(k);
+    return info(kind, first, second);
+  }
   // The stencil's vertices of candidate k (PairInfo's, without the rest).
   std::array<int, 4> pairNodes(int k) const {
-    const auto &v = vfList(), &e = eeList();
-    if (k < int(v.size())) {
-      const auto& t = triangles[v[k].second];
-      return {v[k].first, t[0], t[1], t[2]};
-    }
-    const auto &a = edges[e[k - v.size()].first], &b = edges[e[k - v.size()].second];
-    return {a[0], a[1], b[0], b[1]};
-  }
-
-  int pairCount() const { return int(vfList().size() + eeList().size()); }
-  PairInfo pairInfo(int k) const {
-    const auto &v = vfList(), &e = eeList();
-    return k < int(v.size()) ? info(Primitive::PointTriangle, v[k].first, v[k].second)
-                             : info(Primitive::EdgeEdge, e[k - v.size()].first, e[k - v.size()].second);
+    const auto [kind, first, second] = candidate(k);
+    return nodes(kind, first, second);
   }
 
   // fn(k, info) over every candidate pair k (or those in only, ascending) on threads in fixed chunks; what it returns
