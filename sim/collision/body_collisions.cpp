@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 #include <numeric>
 #include <span>
 #include <sstream>
@@ -103,7 +104,8 @@ struct BodyCollisions::Impl {
   Settings settings;
   bool parallel;
   double max_thickness = 0;
-  bool cull = true;  // setBroadPhaseCulls, read once a broad phase
+  bool cull = true;           // setBroadPhaseCulls, read once a broad phase
+  Stats* counters = nullptr;  // the owner's, for the broad phases' counts
 
   // Per step
   VecX xs;                     // the step's start positions
@@ -259,13 +261,15 @@ struct BodyCollisions::Impl {
     return p;
   }
 
+  // The box the points sweep over the step, in a frame that moves by `shift` over it (zero: the world's), padded.
   template <class Points>
-  Box box(const Points& points, double pad) const {
+  Box box(const Points& points, double pad, const Vec3& shift = Vec3::Zero()) const {
     Box out{Vec3::Constant(std::numeric_limits<double>::infinity()),
             Vec3::Constant(-std::numeric_limits<double>::infinity())};
     for (const int i : points) {
-      out.lo = out.lo.cwiseMin(particle(nxs, i)).cwiseMin(particle(nxe, i));
-      out.hi = out.hi.cwiseMax(particle(nxs, i)).cwiseMax(particle(nxe, i));
+      const Vec3 end = particle(nxe, i) - shift;
+      out.lo = out.lo.cwiseMin(particle(nxs, i)).cwiseMin(end);
+      out.hi = out.hi.cwiseMax(particle(nxs, i)).cwiseMax(end);
     }
     out.lo.array() -= pad;
     out.hi.array() -= -pad;
@@ -348,31 +352,54 @@ struct BodyCollisions::Impl {
     from_skin = false;
     round_closest_valid = false;
   }
+  // Per body, the shift of the frame its own pairs are found in (moving frames, above broadPhase): the mean of its
+  // nodes' motion over the step. Empty when no body has self-contact (every pair is between two bodies).
+  std::vector<Vec3> frameShifts() const {
+    std::vector<Vec3> sum(params.size(), Vec3::Zero());
+    std::vector<int> count(params.size(), 0);
+    bool any = false;
+    for (int k = 0; k < nodeCount(); ++k) {
+      const int b = vertex_body[k];
+      if (!params[b].self_contact) continue;
+      sum[b] += particle(nxe, k) - particle(nxs, k);
+      ++count[b];
+      any = true;
+    }
+    if (!any) return {};
+    for (std::size_t b = 0; b < sum.size(); ++b)
+      if (count[b] > 0) sum[b] /= count[b];
+    return sum;
+  }
   // Returns false when the lists would exceed the candidate budget (vf and ee are then left empty).
-  bool broadPhase(bool after_impulses = false, double margin = 0) {
+  // Moving frames (with the culls on, unless world_only): a body's pairs with itself are found in a frame that moves
+  // with the body's mean motion over the step (frameShifts), its pairs with other bodies in the world's. Every test
+  // that follows a broad phase (a distance within the thickness at the start, a gap along a direction at an end, a
+  // hit along the step) is of the two elements' relative positions at one instant, which a common translation of both
+  // leaves alone: a pair that passes one comes within the padded boxes' reach at that instant in any frame that moves
+  // uniformly. In the world frame a falling cloth's swept boxes reach many spacings along its fall, and each overlaps
+  // the boxes of its neighbours within one flat layer, which never collide; in the body's frame they are as short as
+  // the cloth's deformation in the step. The same contacts in the same order, fewer candidates. A list kept across
+  // steps (the skins, keptCandidates) is found in the world frame: it must serve steps with other shifts.
+  bool broadPhase(bool after_impulses = false, double margin = 0, bool world_only = false) {
     newCandidates();
     const bool moved_only = after_impulses && cull;
     const double pad = 0.5 * max_thickness + margin;
-    const auto fill = [&](auto& boxes, const auto& items) {
-      boxes.resize(items.size());
-      forEachChunk(int(items.size()), parallel, [&](int begin, int end) {
-        for (int k = begin; k < end; ++k) boxes[k] = box(items[k], pad);
-      });
-    };
+    const std::vector<Vec3> shifts = cull && !world_only ? frameShifts() : std::vector<Vec3>();
     thread_local std::vector<std::array<int, 1>> single;
     single.resize(nodeCount());
     for (int k = 0; k < nodeCount(); ++k) single[k] = {k};
-    fill(vertex_boxes, single);
-    fill(edge_boxes, edges);
-    fill(triangle_boxes, triangles);
-    const std::size_t budget = candidateBudget();
-    const auto pairs = [&](const std::vector<Box>& queries, const std::vector<Box>& targets, bool same,
-                           const std::vector<char>& query_moved, const std::vector<char>& target_moved,
-                           const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out,
-                           std::size_t limit) {
-      return moved_only
-                 ? overlappingMarkedPairs(queries, targets, same, parallel, query_moved, target_moved, keep, out, limit)
-                 : overlappingPairs(queries, targets, same, parallel, keep, out, limit);
+    // The boxes of every element, each in its body's frame (shifted) or the world's.
+    const auto fillAll = [&](bool shifted) {
+      const auto fill = [&](auto& boxes, const auto& items, const std::vector<int>& body) {
+        boxes.resize(items.size());
+        forEachChunk(int(items.size()), parallel, [&](int begin, int end) {
+          for (int k = begin; k < end; ++k)
+            boxes[k] = shifted ? box(items[k], pad, shifts[body[k]]) : box(items[k], pad);
+        });
+      };
+      fill(vertex_boxes, single, vertex_body);
+      fill(edge_boxes, edges, edge_body);
+      fill(triangle_boxes, triangles, triangle_body);
     };
     if (moved_only) {
       const auto mark = [&](const auto& items, std::vector<char>& moved) {
@@ -386,31 +413,64 @@ struct BodyCollisions::Impl {
       mark(edges, edge_moved);
       mark(triangles, triangle_moved);
     }
-    bool overwhelmed = !pairs(
-        vertex_boxes, triangle_boxes, false, vertex_moved, triangle_moved,
-        [&](int v, int t) {
-          if (!bodiesMeet(vertex_body[v], triangle_body[t])) return false;
-          const int p = v;
-          const auto& tri = triangles[t];
-          if (p == tri[0] || p == tri[1] || p == tri[2]) return false;
-          const auto& m = node_inv_mass;
-          if (!(m[p] + m[tri[0]] + m[tri[1]] + m[tri[2]] > 0)) return false;
-          return !moved_only || !apartAllStep(&p, 1, tri.data(), 3, pairThickness(vertex_body[v], triangle_body[t]));
-        },
-        vf, budget);
-    if (!overwhelmed)
-      overwhelmed = !pairs(
+    const std::size_t budget = candidateBudget();
+    // The pairs of the boxes as they stand whose bodies `bodies` accepts, appended to vf and ee (each ascending).
+    const auto find = [&](const auto& bodies, std::vector<std::pair<int, int>>& vf_out,
+                          std::vector<std::pair<int, int>>& ee_out, std::size_t used) {
+      const auto pairs = [&](const std::vector<Box>& queries, const std::vector<Box>& targets, bool same,
+                             const std::vector<char>& query_moved, const std::vector<char>& target_moved,
+                             const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out,
+                             std::size_t limit) {
+        return moved_only ? overlappingMarkedPairs(queries, targets, same, parallel, query_moved, target_moved, keep,
+                                                   out, limit)
+                          : overlappingPairs(queries, targets, same, parallel, keep, out, limit);
+      };
+      if (!pairs(
+              vertex_boxes, triangle_boxes, false, vertex_moved, triangle_moved,
+              [&](int v, int t) {
+                if (!bodies(vertex_body[v], triangle_body[t])) return false;
+                const int p = v;
+                const auto& tri = triangles[t];
+                if (p == tri[0] || p == tri[1] || p == tri[2]) return false;
+                const auto& m = node_inv_mass;
+                if (!(m[p] + m[tri[0]] + m[tri[1]] + m[tri[2]] > 0)) return false;
+                return !moved_only ||
+                       !apartAllStep(&p, 1, tri.data(), 3, pairThickness(vertex_body[v], triangle_body[t]));
+              },
+              vf_out, budget - std::min(budget, used)))
+        return false;
+      return pairs(
           edge_boxes, edge_boxes, true, edge_moved, edge_moved,
           [&](int e, int f) {
-            if (!bodiesMeet(edge_body[e], edge_body[f])) return false;
+            if (!bodies(edge_body[e], edge_body[f])) return false;
             const auto &a = edges[e], &b = edges[f];
             if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return false;
             const auto& m = node_inv_mass;
             if (!(m[a[0]] + m[a[1]] + m[b[0]] + m[b[1]] > 0)) return false;
             return !moved_only || !apartAllStep(a.data(), 2, b.data(), 2, pairThickness(edge_body[e], edge_body[f]));
           },
-          ee, budget - std::min(budget, vf.size()));
+          ee_out, budget - std::min(budget, used + vf_out.size()));
+    };
+    bool overwhelmed;
+    if (shifts.empty()) {
+      fillAll(false);
+      overwhelmed = !find([&](int a, int b) { return bodiesMeet(a, b); }, vf, ee, 0);
+    } else {
+      fillAll(true);
+      overwhelmed = !find([&](int a, int b) { return a == b && params[a].self_contact; }, vf, ee, 0);
+      if (!overwhelmed && params.size() > 1) {
+        thread_local std::vector<std::pair<int, int>> self_vf, self_ee, other_vf, other_ee;
+        self_vf.swap(vf), self_ee.swap(ee);
+        fillAll(false);
+        overwhelmed = !find([&](int a, int b) { return a != b; }, other_vf, other_ee, self_vf.size() + self_ee.size());
+        vf.clear(), ee.clear();
+        std::merge(self_vf.begin(), self_vf.end(), other_vf.begin(), other_vf.end(), std::back_inserter(vf));
+        std::merge(self_ee.begin(), self_ee.end(), other_ee.begin(), other_ee.end(), std::back_inserter(ee));
+      }
+    }
     if (overwhelmed) vf.clear(), ee.clear();
+    ++counters->broad_phases;
+    counters->candidates += long(vf.size() + ee.size());
     return !overwhelmed;
   }
 
@@ -539,7 +599,8 @@ struct BodyCollisions::Impl {
       }
     }
     k.valid = false;
-    if (motion_cull && (nxe - nxs).cwiseAbs().maxCoeff() < skin_margin / 2 && broadPhase(false, margin + skin_margin)) {
+    if (motion_cull && (nxe - nxs).cwiseAbs().maxCoeff() < skin_margin / 2 &&
+        broadPhase(false, margin + skin_margin, true)) {
       k.lo = nxs.cwiseMin(nxe).array() - skin_margin / 2;
       k.hi = nxs.cwiseMax(nxe).array() + skin_margin / 2;
       k.vf = vf;
@@ -902,7 +963,9 @@ struct BodyCollisions::Impl {
 
 BodyCollisions::BodyCollisions(const std::vector<Surface>& surfaces, const VecX& inverse_mass, Settings settings,
                                bool parallel)
-    : impl_(std::make_unique<Impl>(surfaces, inverse_mass, settings, parallel)) {}
+    : impl_(std::make_unique<Impl>(surfaces, inverse_mass, settings, parallel)) {
+  impl_->counters = &stats_;
+}
 
 BodyCollisions::~BodyCollisions() = default;
 

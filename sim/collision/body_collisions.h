@@ -52,6 +52,8 @@ struct Stats {
   long zone_activations = 0;  // steps that needed rigid impact zones
   long zone_rounds = 0;       // impact-zone rounds over all steps
   int largest_zone = 0;       // particles in the largest impact zone
+  long broad_phases = 0;      // broad phases run (a step's first, and those of its later rounds and solves)
+  long candidates = 0;        // candidate pairs they listed (point-triangle and edge-edge)
   // Smallest distance between non-adjacent surface elements seen at any step's start, over the pairs whose boxes
   // there are within the thickness (infinity when no pair ever was).
   double min_distance = std::numeric_limits<double>::infinity();
