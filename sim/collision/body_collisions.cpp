@@ -261,13 +261,14 @@ struct BodyCollisions::Impl {
     return p;
   }
 
-  // The box the points sweep over the step, in a frame that moves by `shift` over it (zero: the world's), padded.
+  // The box the points sweep from nxs to end_x, in a frame that moves by `shift` over the step (zero: the world's),
+  // padded.
   template <class Points>
-  Box box(const Points& points, double pad, const Vec3& shift = Vec3::Zero()) const {
+  Box box(const Points& points, double pad, const VecX& end_x, const Vec3& shift) const {
     Box out{Vec3::Constant(std::numeric_limits<double>::infinity()),
             Vec3::Constant(-std::numeric_limits<double>::infinity())};
     for (const int i : points) {
-      const Vec3 end = particle(nxe, i) - shift;
+      const Vec3 end = particle(end_x, i) - shift;
       out.lo = out.lo.cwiseMin(particle(nxs, i)).cwiseMin(end);
       out.hi = out.hi.cwiseMax(particle(nxs, i)).cwiseMax(end);
     }
@@ -383,47 +384,66 @@ struct BodyCollisions::Impl {
   bool broadPhase(bool after_impulses = false, double margin = 0, bool world_only = false) {
     newCandidates();
     const bool moved_only = after_impulses && cull;
-    const double pad = 0.5 * max_thickness + margin;
-    const std::vector<Vec3> shifts = cull && !world_only ? frameShifts() : std::vector<Vec3>();
+    listed_pad = 0.5 * max_thickness + margin;
+    listed_shifts = cull && !world_only ? frameShifts() : std::vector<Vec3>();
+    if (moved_only) markElements(dirty);
+    const bool found = listPairs(nxe, listed_shifts, listed_pad, moved_only, moved_only, vf, ee);
+    if (!found) vf.clear(), ee.clear();
+    return found;
+  }
+  std::vector<Vec3> listed_shifts;  // the last broad phase's frames (frameShifts; empty: the world's) and padding
+  double listed_pad = 0;
+
+  // vertex_moved, edge_moved, triangle_moved: whether an element has a node marked in `node_marks`.
+  void markElements(const std::vector<char>& node_marks) {
+    const auto mark = [&](const auto& items, std::vector<char>& moved) {
+      moved.resize(items.size());
+      for (std::size_t k = 0; k < items.size(); ++k) {
+        moved[k] = 0;
+        for (const int p : items[k]) moved[k] |= node_marks[p];
+      }
+    };
+    mark(singles(), vertex_moved);
+    mark(edges, edge_moved);
+    mark(triangles, triangle_moved);
+  }
+  // Each node as a one-node element (the vertices' boxes).
+  const std::vector<std::array<int, 1>>& singles() const {
     thread_local std::vector<std::array<int, 1>> single;
     single.resize(nodeCount());
     for (int k = 0; k < nodeCount(); ++k) single[k] = {k};
+    return single;
+  }
+  // Into vf_out and ee_out, ascending: the pairs whose boxes swept from nxs to `end` (each in its body's frame when
+  // shifts is not empty, the world's for pairs of two bodies; padded by pad) overlap. marked: only the pairs with an
+  // element marked by markElements; apart: less those apartAllStep keeps apart all through (nxs to nxe). Counts the
+  // broad phase; false when it would exceed the candidate budget (the lists are then incomplete).
+  bool listPairs(const VecX& end, const std::vector<Vec3>& shifts, double pad, bool marked, bool apart,
+                 std::vector<std::pair<int, int>>& vf_out, std::vector<std::pair<int, int>>& ee_out) {
+    const auto& single = singles();
     // The boxes of every element, each in its body's frame (shifted) or the world's.
     const auto fillAll = [&](bool shifted) {
       const auto fill = [&](auto& boxes, const auto& items, const std::vector<int>& body) {
         boxes.resize(items.size());
-        forEachChunk(int(items.size()), parallel, [&](int begin, int end) {
-          for (int k = begin; k < end; ++k)
-            boxes[k] = shifted ? box(items[k], pad, shifts[body[k]]) : box(items[k], pad);
+        forEachChunk(int(items.size()), parallel, [&](int begin, int stop) {
+          for (int k = begin; k < stop; ++k) boxes[k] = box(items[k], pad, end, shifted ? shifts[body[k]] : Vec3::Zero());
         });
       };
       fill(vertex_boxes, single, vertex_body);
       fill(edge_boxes, edges, edge_body);
       fill(triangle_boxes, triangles, triangle_body);
     };
-    if (moved_only) {
-      const auto mark = [&](const auto& items, std::vector<char>& moved) {
-        moved.resize(items.size());
-        for (std::size_t k = 0; k < items.size(); ++k) {
-          moved[k] = 0;
-          for (const int p : items[k]) moved[k] |= dirty[p];
-        }
-      };
-      mark(single, vertex_moved);
-      mark(edges, edge_moved);
-      mark(triangles, triangle_moved);
-    }
     const std::size_t budget = candidateBudget();
-    // The pairs of the boxes as they stand whose bodies `bodies` accepts, appended to vf and ee (each ascending).
-    const auto find = [&](const auto& bodies, std::vector<std::pair<int, int>>& vf_out,
-                          std::vector<std::pair<int, int>>& ee_out, std::size_t used) {
+    // The pairs of the boxes as they stand whose bodies `bodies` accepts, into two lists (each ascending).
+    const auto find = [&](const auto& bodies, std::vector<std::pair<int, int>>& vf_found,
+                          std::vector<std::pair<int, int>>& ee_found, std::size_t used) {
       const auto pairs = [&](const std::vector<Box>& queries, const std::vector<Box>& targets, bool same,
                              const std::vector<char>& query_moved, const std::vector<char>& target_moved,
                              const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out,
                              std::size_t limit) {
-        return moved_only ? overlappingMarkedPairs(queries, targets, same, parallel, query_moved, target_moved, keep,
-                                                   out, limit)
-                          : overlappingPairs(queries, targets, same, parallel, keep, out, limit);
+        return marked ? overlappingMarkedPairs(queries, targets, same, parallel, query_moved, target_moved, keep, out,
+                                               limit)
+                      : overlappingPairs(queries, targets, same, parallel, keep, out, limit);
       };
       if (!pairs(
               vertex_boxes, triangle_boxes, false, vertex_moved, triangle_moved,
@@ -434,10 +454,9 @@ struct BodyCollisions::Impl {
                 if (p == tri[0] || p == tri[1] || p == tri[2]) return false;
                 const auto& m = node_inv_mass;
                 if (!(m[p] + m[tri[0]] + m[tri[1]] + m[tri[2]] > 0)) return false;
-                return !moved_only ||
-                       !apartAllStep(&p, 1, tri.data(), 3, pairThickness(vertex_body[v], triangle_body[t]));
+                return !apart || !apartAllStep(&p, 1, tri.data(), 3, pairThickness(vertex_body[v], triangle_body[t]));
               },
-              vf_out, budget - std::min(budget, used)))
+              vf_found, budget - std::min(budget, used)))
         return false;
       return pairs(
           edge_boxes, edge_boxes, true, edge_moved, edge_moved,
@@ -447,31 +466,30 @@ struct BodyCollisions::Impl {
             if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return false;
             const auto& m = node_inv_mass;
             if (!(m[a[0]] + m[a[1]] + m[b[0]] + m[b[1]] > 0)) return false;
-            return !moved_only || !apartAllStep(a.data(), 2, b.data(), 2, pairThickness(edge_body[e], edge_body[f]));
+            return !apart || !apartAllStep(a.data(), 2, b.data(), 2, pairThickness(edge_body[e], edge_body[f]));
           },
-          ee_out, budget - std::min(budget, used + vf_out.size()));
+          ee_found, budget - std::min(budget, used + vf_found.size()));
     };
-    bool overwhelmed;
+    bool found;
     if (shifts.empty()) {
       fillAll(false);
-      overwhelmed = !find([&](int a, int b) { return bodiesMeet(a, b); }, vf, ee, 0);
+      found = find([&](int a, int b) { return bodiesMeet(a, b); }, vf_out, ee_out, 0);
     } else {
       fillAll(true);
-      overwhelmed = !find([&](int a, int b) { return a == b && params[a].self_contact; }, vf, ee, 0);
-      if (!overwhelmed && params.size() > 1) {
+      found = find([&](int a, int b) { return a == b && params[a].self_contact; }, vf_out, ee_out, 0);
+      if (found && params.size() > 1) {
         thread_local std::vector<std::pair<int, int>> self_vf, self_ee, other_vf, other_ee;
-        self_vf.swap(vf), self_ee.swap(ee);
+        self_vf.swap(vf_out), self_ee.swap(ee_out);
         fillAll(false);
-        overwhelmed = !find([&](int a, int b) { return a != b; }, other_vf, other_ee, self_vf.size() + self_ee.size());
-        vf.clear(), ee.clear();
-        std::merge(self_vf.begin(), self_vf.end(), other_vf.begin(), other_vf.end(), std::back_inserter(vf));
-        std::merge(self_ee.begin(), self_ee.end(), other_ee.begin(), other_ee.end(), std::back_inserter(ee));
+        found = find([&](int a, int b) { return a != b; }, other_vf, other_ee, self_vf.size() + self_ee.size());
+        vf_out.clear(), ee_out.clear();
+        std::merge(self_vf.begin(), self_vf.end(), other_vf.begin(), other_vf.end(), std::back_inserter(vf_out));
+        std::merge(self_ee.begin(), self_ee.end(), other_ee.begin(), other_ee.end(), std::back_inserter(ee_out));
       }
     }
-    if (overwhelmed) vf.clear(), ee.clear();
     ++counters->broad_phases;
-    counters->candidates += long(vf.size() + ee.size());
-    return !overwhelmed;
+    counters->candidates += long(vf_out.size() + ee_out.size());
+    return found;
   }
 
   // Why the pass stops when the broad phase exceeds its budget: the vertex that moved furthest in the step.
@@ -521,6 +539,11 @@ struct BodyCollisions::Impl {
     double boxed_min = std::numeric_limits<double>::infinity();
     // Per candidate, where nearPairs put its pair in out at this step (SIZE_MAX: nowhere yet).
     std::vector<std::size_t> joined;
+    // How the list was found, when by a broad phase for this start (own; not a list kept from an earlier step): the
+    // frames and padding of its boxes, swept from start to end. updateStep brings it to a new end.
+    bool own = false;
+    std::vector<Vec3> shifts;
+    double pad = 0;
     // findStep's per-candidate values before they are sorted into the lists above.
     struct {
       std::vector<double> boxed, closing, hitting;
@@ -539,11 +562,12 @@ struct BodyCollisions::Impl {
   const std::vector<std::pair<int, int>>& vfList() const { return from_step ? step.vf : vf; }
   const std::vector<std::pair<int, int>>& eeList() const { return from_step ? step.ee : ee; }
 
-  // Takes the step's candidates if they stand for (nxs, nxe); returns whether it did.
+  // Takes the step's candidates if they stand for (nxs, nxe), or can be brought to it (updateStep); returns whether it
+  // did.
   bool reuseStep() {
     if (!motion_cull || !step.valid || step.start.size() != nxs.size() || step.end.size() != nxe.size()) return false;
     if (std::memcmp(step.start.data(), nxs.data(), sizeof(double) * std::size_t(nxs.size())) != 0) return false;
-    if (!((nxe - step.end).cwiseAbs().maxCoeff() <= step.margin)) return false;
+    if (!((nxe - step.end).cwiseAbs().maxCoeff() <= step.margin) && !(step.own && updateStep())) return false;
     from_step = true;
     drift = 0;
     for (int k = 0; k < nodeCount(); ++k) drift = std::max(drift, (particle(nxe, k) - particle(step.end, k)).norm());
@@ -633,48 +657,129 @@ struct BodyCollisions::Impl {
     const int found = keptCandidates(step_skin, step.margin);
     if (!found) return false;
     stats.skin_searches += found == 1;
+    step.own = found != 1;
+    step.shifts = listed_shifts;
+    step.pad = listed_pad;
     step.start = nxs;
     step.end = nxe;
     step.vf.swap(vf);
     step.ee.swap(ee);
     from_step = true;
     drift = 0;
-    // Any end the candidates serve lies within the margin of step.end along each axis: within sqrt(3) margin.
-    const double most = 2 * std::sqrt(3.0) * step.margin;
     const int n = pairCount();
     step.joined.assign(n, SIZE_MAX);
     step.closest.resize(n);
     auto& [boxed, closing, hitting, near] = step.scratch;  // kept: fresh pages each step cost more than the work
     boxed.resize(n), closing.resize(n), hitting.resize(n), near.resize(n);
     forEachChunk(n, parallel, [&](int begin, int end) {
-      for (int k = begin; k < end; ++k) {
-        const PairInfo p = pairInfo(k);
-        const auto x = points(nxs, p.stencil);
-        const Closest c = nearest(p.kind, x);
-        step.closest[k] = c;
-        double gap = -std::numeric_limits<double>::infinity();  // at the end along the start's direction
-        if (c.distance > 0) {
-          const double end_gap = gapAlong(c.delta / c.distance, nxe, p.stencil.vertex, p.first());
-          if (std::isfinite(end_gap)) gap = end_gap;
-        }
-        const double eta2 = 2 * kEtaFraction * p.thickness;
-        closing[k] = c.distance > 0 ? gap - (1 + 1e-5) * p.thickness : std::numeric_limits<double>::infinity();
-        hitting[k] = c.distance > eta2 ? gap - eta2 : -std::numeric_limits<double>::infinity();
-        boxed[k] = startBoxesNear(p, x) ? c.distance : std::numeric_limits<double>::infinity();
-        near[k] = c.distance < p.thickness;
-      }
+      for (int k = begin; k < end; ++k) measureStep(k);
     });
+    sortStep();
+    step.valid = true;
+    return true;
+  }
+  // Candidate k of the step's lists: its nearest points at the start, and the values sortStep sorts it by, at the
+  // nodes' ends step.end.
+  void measureStep(int k) {
+    auto& [boxed, closing, hitting, near] = step.scratch;
+    const PairInfo p = pairInfo(k);
+    const auto x = points(nxs, p.stencil);
+    const Closest c = nearest(p.kind, x);
+    step.closest[k] = c;
+    double gap = -std::numeric_limits<double>::infinity();  // at the end along the start's direction
+    if (c.distance > 0) {
+      const double end_gap = gapAlong(c.delta / c.distance, step.end, p.stencil.vertex, p.first());
+      if (std::isfinite(end_gap)) gap = end_gap;
+    }
+    const double eta2 = 2 * kEtaFraction * p.thickness;
+    closing[k] = c.distance > 0 ? gap - (1 + 1e-5) * p.thickness : std::numeric_limits<double>::infinity();
+    hitting[k] = c.distance > eta2 ? gap - eta2 : -std::numeric_limits<double>::infinity();
+    boxed[k] = startBoxesNear(p, x) ? c.distance : std::numeric_limits<double>::infinity();
+    near[k] = c.distance < p.thickness;
+  }
+  // The step's lists (StepCandidates) from its candidates' measures.
+  void sortStep() {
+    // Any end the candidates serve lies within the margin of step.end along each axis: within sqrt(3) margin.
+    const double most = 2 * std::sqrt(3.0) * step.margin;
+    const auto& [boxed, closing, hitting, near] = step.scratch;
     step.near.clear();
     step.closing.clear();
     step.hitting.clear();
     step.boxed_min = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < n; ++k) {
+    for (int k = 0; k < pairCount(); ++k) {
       step.boxed_min = std::min(step.boxed_min, boxed[k]);
       if (near[k]) step.near.push_back(k);
       if (!(closing[k] > most)) step.closing.emplace_back(k, closing[k]);
       if (!(hitting[k] > most)) step.hitting.emplace_back(k, hitting[k]);
     }
-    step.valid = true;
+  }
+  // Brings the step's own list (found by a broad phase for this start) to the end nxe when some nodes' ends lie beyond
+  // the margin of those it was found for (a later solve of backward Euler's that moved part of the body far: an
+  // impact): each such node's reference end becomes its new end; the candidates with no such node keep their place,
+  // nearest points and measures (their boxes did not change); those with one are listed again, for their new boxes in
+  // the list's frames, and measured. The list is then what a broad phase of the same frames and padding finds for the
+  // new reference ends, in the same order; and every node's end lies within the margin of its reference, as reuseStep
+  // asks. Returns false (the list is left as it was) when it would exceed the candidate budget.
+  struct {
+    std::vector<char> beyond;
+    std::vector<std::pair<int, int>> fresh_vf, fresh_ee, merged_vf, merged_ee;
+    std::vector<int> from;
+    std::vector<Closest> closest;
+    std::vector<double> old_boxed, old_closing, old_hitting;
+    std::vector<char> old_near;
+    std::vector<std::size_t> joined;
+  } update_scratch;  // updateStep's, kept from step to step
+  bool updateStep() {
+    auto& [beyond, fresh_vf, fresh_ee, merged_vf, merged_ee, from, closest, old_boxed, old_closing, old_hitting,
+           old_near, joined] = update_scratch;
+    beyond.assign(nodeCount(), 0);
+    for (int k = 0; k < nodeCount(); ++k)
+      beyond[k] = !((particle(nxe, k) - particle(step.end, k)).cwiseAbs().maxCoeff() <= step.margin);
+    markElements(beyond);
+    VecX end = step.end;
+    for (int k = 0; k < nodeCount(); ++k)
+      if (beyond[k]) particle(end, k) = particle(nxe, k);
+    if (!listPairs(end, step.shifts, step.pad, true, false, fresh_vf, fresh_ee)) return false;
+    // The kept candidates (no marked element) and the fresh ones, merged in order; per merged candidate its old index
+    // (-1: fresh).
+    from.clear();
+    const auto merge = [&](const std::vector<std::pair<int, int>>& old, const std::vector<std::pair<int, int>>& fresh,
+                           const std::vector<char>& first_moved, const std::vector<char>& second_moved, int offset,
+                           std::vector<std::pair<int, int>>& out) {
+      out.clear();
+      std::size_t j = 0;
+      for (std::size_t i = 0; i < old.size(); ++i) {
+        if (first_moved[old[i].first] || second_moved[old[i].second]) continue;
+        for (; j < fresh.size() && fresh[j] < old[i]; ++j) out.push_back(fresh[j]), from.push_back(-1);
+        out.push_back(old[i]), from.push_back(offset + int(i));
+      }
+      for (; j < fresh.size(); ++j) out.push_back(fresh[j]), from.push_back(-1);
+    };
+    merge(step.vf, fresh_vf, vertex_moved, triangle_moved, 0, merged_vf);
+    merge(step.ee, fresh_ee, edge_moved, edge_moved, int(step.vf.size()), merged_ee);
+    if (merged_vf.size() + merged_ee.size() > candidateBudget()) return false;
+    const int n = int(from.size());
+    auto& [boxed, closing, hitting, near] = step.scratch;
+    closest.swap(step.closest), old_boxed.swap(boxed), old_closing.swap(closing), old_hitting.swap(hitting);
+    old_near.swap(near), joined.swap(step.joined);
+    step.vf.swap(merged_vf), step.ee.swap(merged_ee), step.end.swap(end);
+    from_step = true;  // pairInfo reads the step's lists
+    step.closest.resize(n), step.joined.resize(n);
+    boxed.resize(n), closing.resize(n), hitting.resize(n), near.resize(n);
+    forEachChunk(n, parallel, [&](int begin, int stop) {
+      for (int k = begin; k < stop; ++k) {
+        const int i = from[k];
+        if (i < 0) {
+          step.joined[k] = SIZE_MAX;
+          measureStep(k);
+          continue;
+        }
+        step.closest[k] = closest[i], step.joined[k] = joined[i];
+        boxed[k] = old_boxed[i], closing[k] = old_closing[i], hitting[k] = old_hitting[i], near[k] = old_near[i];
+      }
+    });
+    sortStep();
+    ++counters->step_updates;
     return true;
   }
   // The nearest points at the start of candidate k (whose stencil's start points are x), from the step's when known.
