@@ -426,7 +426,8 @@ struct BodyCollisions::Impl {
       const auto fill = [&](auto& boxes, const auto& items, const std::vector<int>& body) {
         boxes.resize(items.size());
         forEachChunk(int(items.size()), parallel, [&](int begin, int stop) {
-          for (int k = begin; k < stop; ++k) boxes[k] = box(items[k], pad, end, shifted ? shifts[body[k]] : Vec3::Zero());
+          for (int k = begin; k < stop; ++k)
+            boxes[k] = box(items[k], pad, end, shifted ? shifts[body[k]] : Vec3::Zero());
         });
       };
       fill(vertex_boxes, single, vertex_body);
@@ -674,6 +675,7 @@ struct BodyCollisions::Impl {
     forEachChunk(n, parallel, [&](int begin, int end) {
       for (int k = begin; k < end; ++k) measureStep(k);
     });
+    step.boxed_min = std::numeric_limits<double>::infinity();
     sortStep();
     step.valid = true;
     return true;
@@ -697,21 +699,35 @@ struct BodyCollisions::Impl {
     boxed[k] = startBoxesNear(p, x) ? c.distance : std::numeric_limits<double>::infinity();
     near[k] = c.distance < p.thickness;
   }
-  // The step's lists (StepCandidates) from its candidates' measures.
+  // The step's lists (StepCandidates) from its candidates' measures, and boxed_min lowered by theirs. Only the
+  // candidates in a list stay (in order, their measures with them): any other can pass no test at an end the list
+  // serves, and is measured again only if updateStep finds it again. A candidate whose start boxes lie within the
+  // thickness (boxed) is found at every end, its swept boxes holding its start's: boxed_min stays the least over the
+  // candidates of the exact broad phase.
   void sortStep() {
     // Any end the candidates serve lies within the margin of step.end along each axis: within sqrt(3) margin.
     const double most = 2 * std::sqrt(3.0) * step.margin;
-    const auto& [boxed, closing, hitting, near] = step.scratch;
+    auto& [boxed, closing, hitting, near] = step.scratch;
     step.near.clear();
     step.closing.clear();
     step.hitting.clear();
-    step.boxed_min = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < pairCount(); ++k) {
+    const int n = pairCount(), vf_count = int(step.vf.size());
+    int kept = 0, kept_vf = 0;
+    for (int k = 0; k < n; ++k) {
       step.boxed_min = std::min(step.boxed_min, boxed[k]);
-      if (near[k]) step.near.push_back(k);
-      if (!(closing[k] > most)) step.closing.emplace_back(k, closing[k]);
-      if (!(hitting[k] > most)) step.hitting.emplace_back(k, hitting[k]);
+      if (!near[k] && closing[k] > most && hitting[k] > most) continue;
+      const int j = kept++;
+      if (k < vf_count) step.vf[kept_vf++] = step.vf[k];
+      else step.ee[j - kept_vf] = step.ee[k - vf_count];
+      step.closest[j] = step.closest[k], step.joined[j] = step.joined[k];
+      boxed[j] = boxed[k], closing[j] = closing[k], hitting[j] = hitting[k], near[j] = near[k];
+      if (near[j]) step.near.push_back(j);
+      if (!(closing[j] > most)) step.closing.emplace_back(j, closing[j]);
+      if (!(hitting[j] > most)) step.hitting.emplace_back(j, hitting[j]);
     }
+    step.ee.resize(kept - kept_vf), step.vf.resize(kept_vf);
+    step.closest.resize(kept), step.joined.resize(kept);
+    boxed.resize(kept), closing.resize(kept), hitting.resize(kept), near.resize(kept);
   }
   // Brings the step's own list (found by a broad phase for this start) to the end nxe when some nodes' ends lie beyond
   // the margin of those it was found for (a later solve of backward Euler's that moved part of the body far: an

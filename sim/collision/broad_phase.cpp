@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <iterator>
 
 #include "sim/solver/parallel.h"
 
@@ -149,31 +150,29 @@ bool overlappingMarkedPairs(const std::vector<Box>& queries, const std::vector<B
                             std::size_t limit) {
   out.clear();
   if (queries.empty() || targets.empty()) return true;
-  // Marked queries against every target; with one list on both sides that finds every pair with a marked element,
-  // each taken as (smaller, larger).
+  // Two disjoint lists, each ascending, merged: the marked queries against every target, and every other query against
+  // the marked targets (a grid of those alone). With one list on both sides (same) both take only t > q: a pair (a < b)
+  // comes from a when a is marked, else from b's mark through the second list, each once.
+  std::vector<std::pair<int, int>> marked_queries, other_queries;
   if (!lookUp(
-          HashGrid(targets), queries, targets, {}, false, parallel, [&](int q) { return query_marked[q] != 0; },
-          [&](int q, int t) { return same ? q != t && keep(std::min(q, t), std::max(q, t)) : keep(q, t); }, out, limit))
+          HashGrid(targets), queries, targets, {}, same, parallel, [&](int q) { return query_marked[q] != 0; },
+          [&](int q, int t) { return keep(q, t); }, marked_queries, limit))
     return false;
-  if (same) {
-    for (auto& [q, t] : out)
-      if (q > t) std::swap(q, t);
-  } else {  // every other query against the marked targets
-    std::vector<Box> marked;
-    std::vector<int> index;
-    for (std::size_t t = 0; t < targets.size(); ++t)
-      if (target_marked[t]) {
-        marked.push_back(targets[t]);
-        index.push_back(int(t));
-      }
-    if (!marked.empty() &&
-        !lookUp(
-            HashGrid(marked), queries, targets, index, false, parallel, [&](int q) { return query_marked[q] == 0; },
-            [&](int q, int t) { return keep(q, t); }, out, limit))
-      return false;
-  }
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
+  std::vector<Box> marked;
+  std::vector<int> index;
+  for (std::size_t t = 0; t < targets.size(); ++t)
+    if (target_marked[t]) {
+      marked.push_back(targets[t]);
+      index.push_back(int(t));
+    }
+  if (!marked.empty() &&
+      !lookUp(
+          HashGrid(marked), queries, targets, index, same, parallel, [&](int q) { return query_marked[q] == 0; },
+          [&](int q, int t) { return keep(q, t); }, other_queries, limit - std::min(limit, marked_queries.size())))
+    return false;
+  out.reserve(marked_queries.size() + other_queries.size());
+  std::merge(marked_queries.begin(), marked_queries.end(), other_queries.begin(), other_queries.end(),
+             std::back_inserter(out));
   return true;
 }
 
