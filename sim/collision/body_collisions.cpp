@@ -353,27 +353,32 @@ struct BodyCollisions::Impl {
     from_skin = false;
     round_closest_valid = false;
   }
-  // Per body, the shift of the frame its own pairs are found in (moving frames, above broadPhase): the mean of its
-  // nodes' motion over the step. Empty when no body has self-contact (every pair is between two bodies).
+  // Per body, the shift of the frame its own pairs are found in (moving frames, below): the median of its nodes'
+  // displacements over the step, axis by axis (the motion most of the body shares: when part of a falling cloth has
+  // landed, a mean would leave both parts' boxes long). Empty when no body has self-contact.
   std::vector<Vec3> frameShifts() const {
-    std::vector<Vec3> sum(params.size(), Vec3::Zero());
-    std::vector<int> count(params.size(), 0);
+    std::vector<std::vector<double>> moves(3 * params.size());  // per body and axis, its nodes' displacements
     bool any = false;
     for (int k = 0; k < nodeCount(); ++k) {
       const int b = vertex_body[k];
       if (!params[b].self_contact) continue;
-      sum[b] += particle(nxe, k) - particle(nxs, k);
-      ++count[b];
+      for (int a = 0; a < 3; ++a) moves[3 * b + a].push_back(nxe[3 * k + a] - nxs[3 * k + a]);
       any = true;
     }
     if (!any) return {};
-    for (std::size_t b = 0; b < sum.size(); ++b)
-      if (count[b] > 0) sum[b] /= count[b];
-    return sum;
+    std::vector<Vec3> shift(params.size(), Vec3::Zero());
+    for (std::size_t b = 0; b < params.size(); ++b)
+      for (int a = 0; a < 3; ++a) {
+        std::vector<double>& m = moves[3 * b + a];
+        if (m.empty()) continue;
+        std::nth_element(m.begin(), m.begin() + m.size() / 2, m.end());
+        shift[b][a] = m[m.size() / 2];
+      }
+    return shift;
   }
   // Returns false when the lists would exceed the candidate budget (vf and ee are then left empty).
   // Moving frames (with the culls on, unless world_only): a body's pairs with itself are found in a frame that moves
-  // with the body's mean motion over the step (frameShifts), its pairs with other bodies in the world's. Every test
+  // with the body's typical motion over the step (frameShifts), its pairs with other bodies in the world's. Every test
   // that follows a broad phase (a distance within the thickness at the start, a gap along a direction at an end, a
   // hit along the step) is of the two elements' relative positions at one instant, which a common translation of both
   // leaves alone: a pair that passes one comes within the padded boxes' reach at that instant in any frame that moves
