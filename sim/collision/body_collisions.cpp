@@ -781,8 +781,11 @@ struct BodyCollisions::Impl {
     if (merged_vf.size() + merged_ee.size() > candidateBudget()) return false;
     const int n = int(from.size());
     auto& [boxed, closing, hitting, near] = step.scratch;
-    closest.swap(step.closest), old_boxed.swap(boxed), old_closing.swap(closing), old_hitting.swap(hitting);
-    old_near.swap(near), joined.swap(step.joined);
+    // The old measures copied aside (the kept list is short: sortStep keeps what a search may test), the step's
+    // arrays refilled in place (they keep the room of the step's first, full list).
+    closest.assign(step.closest.begin(), step.closest.end()), joined.assign(step.joined.begin(), step.joined.end());
+    old_boxed.assign(boxed.begin(), boxed.end()), old_closing.assign(closing.begin(), closing.end());
+    old_hitting.assign(hitting.begin(), hitting.end()), old_near.assign(near.begin(), near.end());
     step.vf.swap(merged_vf), step.ee.swap(merged_ee), step.end.swap(end);
     from_step = true;  // pairInfo reads the step's lists
     step.closest.resize(n), step.joined.resize(n);
