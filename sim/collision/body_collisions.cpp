@@ -28,7 +28,7 @@ constexpr double kEtaFraction = 1e-3;
 constexpr double kRepulsionFraction = 0.1;
 // The step's candidates (Impl::StepCandidates) are found with boxes padded by this fraction of the largest thickness
 // more than the exact broad phase's: room for the solves' ends to move from the first one's.
-constexpr double kStepMarginFraction = 0.5;
+constexpr double kStepMarginFraction = 0.25;
 // The pass's candidates kept across steps (Impl::Skin) are found with boxes padded by this fraction of the largest
 // thickness more than the exact broad phase's, and serve while every node stays within half of it of the box it swept.
 constexpr double kSkinFraction = 0.5;
