@@ -521,7 +521,9 @@ struct BodyCollisions::Impl {
   // every node's end lies within that margin of the end they were found for: each exact swept box then lies inside
   // its padded one, so the list holds every pair of the exact broad phase, in the same ascending order, and the tests
   // that follow (a distance within the thickness, a gap, a hit along the step) drop the others: the same contacts in
-  // the same order, without a broad phase and nearest points again at each solve.
+  // the same order, without a broad phase and nearest points again at each solve. (Of those pairs the list keeps the
+  // ones a search may test, sortStep; an end with some nodes beyond the margin brings it up to date in part,
+  // updateStep. The boxes of a body's pairs with itself are in its moving frame, broadPhase.)
   // Most candidates lie far apart along their nearest points' direction d at the start, and stay so at the end
   // (neighbours within one flat layer of a cloth). Along a fixed unit d each vertex's projection is linear in the
   // step's fraction, so the gap between the two elements' projections (the least of one's minus the greatest of the
@@ -734,13 +736,6 @@ struct BodyCollisions::Impl {
     step.closest.resize(kept), step.joined.resize(kept);
     boxed.resize(kept), closing.resize(kept), hitting.resize(kept), near.resize(kept);
   }
-  // Brings the step's own list (found by a broad phase for this start) to the end nxe when some nodes' ends lie beyond
-  // the margin of those it was found for (a later solve of backward Euler's that moved part of the body far: an
-  // impact): each such node's reference end becomes its new end; the candidates with no such node keep their place,
-  // nearest points and measures (their boxes did not change); those with one are listed again, for their new boxes in
-  // the list's frames, and measured. The list is then what a broad phase of the same frames and padding finds for the
-  // new reference ends, in the same order; and every node's end lies within the margin of its reference, as reuseStep
-  // asks. Returns false (the list is left as it was) when it would exceed the candidate budget.
   struct {
     std::vector<char> beyond;
     std::vector<std::pair<int, int>> fresh_vf, fresh_ee, merged_vf, merged_ee;
@@ -750,6 +745,14 @@ struct BodyCollisions::Impl {
     std::vector<char> old_near;
     std::vector<std::size_t> joined;
   } update_scratch;  // updateStep's, kept from step to step
+  // Brings the step's own list (found by a broad phase for this start) to the end nxe when some nodes' ends lie beyond
+  // the margin of those it was found for (a later solve of backward Euler's that moved part of the body far: an
+  // impact): each such node's reference end becomes its new end; the candidates with no such node keep their place,
+  // nearest points and measures (their boxes did not change); those with one are listed again, for their new boxes in
+  // the list's frames, measured and sorted (sortStep). The list then holds, in the same order, what sortStep would keep
+  // of a broad phase of the same frames and padding for the new reference ends; and every node's end lies within the
+  // margin of its reference, as reuseStep asks. Returns false (the list is left as it was) when it would exceed the
+  // candidate budget.
   bool updateStep() {
     auto& [beyond, fresh_vf, fresh_ee, merged_vf, merged_ee, from, closest, old_boxed, old_closing, old_hitting,
            old_near, joined] = update_scratch;
