@@ -259,16 +259,23 @@ class BackwardEuler final : public Integrator {
   // normal to its bounce and solve again (warm-started), so the springs share its impulse with the body within the
   // step; likewise while it ends two bodies' surface elements within their thickness (ForceJacobian::bodyContacts:
   // the pairs' penalty, addPairs). At most kImpactPasses more solves (what still ends inside is lifted by the step
-  // end's projection, what still ends too near is the post-step pass's).
+  // end's projection, what still ends too near is the post-step pass's). Between bodies the search for new pairs runs
+  // after the first kSearchPasses solves only, and from then on a check whose active set changed by fewer than
+  // kSettledShare of the step's pairs (and found no impact) ends the step with the last solve (docs/body-contact.md,
+  // "Cost"): on a landing cloth the later checks found tens of pairs and flipped tens of others among tens of
+  // thousands, each at the price of a broad phase and a solve, up to the cap; what they leave is the post-step pass's.
   void solveImpacts(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v, double absolute) {
     for (int pass = 0; pass < (pairs_.empty() ? kImpactPasses : kBodyPasses); ++pass) {
       setEnd(h, x, v);
       const bool impacts = jacobian.impactConstraints(t, h, x, v, end_x_, end_v_, contacts_);
       const bool found = jacobian.colliderPairs(t, h, x, v, end_x_, pairs_);
-      const bool pairs =
-          ((options_.body_contact_in_solve && jacobian.bodyContacts(x, end_x_, pairs_)) || found || !pairs_.empty()) &&
-          updatePairs(jacobian, h, x, end_x_, false);
-      if (!impacts && !pairs) return;
+      const bool search = options_.body_contact_in_solve && pass < kSearchPasses;
+      const std::size_t changes = ((search && jacobian.bodyContacts(x, end_x_, pairs_)) || found || !pairs_.empty())
+                                      ? updatePairs(jacobian, h, x, end_x_, false)
+                                      : 0;
+      const bool settled = pass >= kSearchPasses && double(changes) < kSettledShare * double(pairs_.size());
+      if (!impacts && (changes == 0 || settled)) return;
+      const bool pairs = changes > 0;
       history_ = 0;  // this step's dv carries impulses: not the smooth error's measure
       if (impacts) {
         ++stats_.impact_solves;
@@ -300,10 +307,10 @@ class BackwardEuler final : public Integrator {
   // the pair's effective mass). g_rest is 0, or for a pair already within the thickness all but kRecovery of its
   // overlap (a tenth a step, as Bridson 2002's repulsion): a pair that entered the thickness outside the solve is not
   // pushed out at once with the energy of its whole overlap. Sets terms_ for new pairs and each pair's activity at the
-  // solved end x1 (first: the step's first pairs, active as the last step left them); returns whether any changed.
-  bool updatePairs(const ForceJacobian& jacobian, double h, const VecX& x0, const VecX& x1, bool first) {
+  // solved end x1 (first: the step's first pairs, active as the last step left them); returns how many changed.
+  std::size_t updatePairs(const ForceJacobian& jacobian, double h, const VecX& x0, const VecX& x1, bool first) {
     const VecX& inverse_mass = jacobian.inverseMass();
-    bool changed = false;
+    std::size_t changed = 0;
     for (std::size_t k = terms_.size(); k < pairs_.size(); ++k) {
       const ContactPair& c = pairs_[k];
       const double weight = c.stencil.inverseMass(inverse_mass);
@@ -313,7 +320,8 @@ class BackwardEuler final : public Integrator {
       if (first) {  // the last step's active set, and its friction, start this step's
         const auto it = std::lower_bound(carried_.begin(), carried_.end(), CarriedPair{c.element, 0});
         if (it != carried_.end() && it->element == c.element && stiffness > 0) {
-          term.active = changed = true;
+          term.active = true;
+          ++changed;
           term.damping = it->damping;
         }
       }
@@ -324,7 +332,7 @@ class BackwardEuler final : public Integrator {
       const double past = pairs_[k].gap(x1) - terms_[k].rest;  // < 0: pressed
       const bool active = terms_[k].stiffness > 0 && past < 0;
       if (active == terms_[k].active || std::abs(past) < kActiveSlack * pairs_[k].thickness) continue;
-      changed = true;
+      ++changed;
       terms_[k].active = active;
     }
     return changed;
@@ -508,6 +516,11 @@ class BackwardEuler final : public Integrator {
   bool two_level_ = false;  // cg_preconditioner auto: the next solve's choice
   static constexpr int kImpactPasses = 4;
   static constexpr int kBodyPasses = 8;  // ... when bodies touch
+  // The checks after the first this many solves search for new pairs between bodies; later ones update the activity
+  // of the pairs found (solveImpacts). Measured in docs/performance.md.
+  static constexpr int kSearchPasses = 2;
+  // A later check that changes the activity of fewer than this share of the step's pairs ends the step.
+  static constexpr double kSettledShare = 0.003;
   // The share of a pair's overlap of the thickness that its penalty removes in a step (updatePairs).
   static constexpr double kRecovery = 0.1;
   // The penalty's h^2 k over the pair's effective mass (addPairs); measured in docs/body-contact.md.
