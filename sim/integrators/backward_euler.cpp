@@ -260,10 +260,12 @@ class BackwardEuler final : public Integrator {
   // step; likewise while it ends two bodies' surface elements within their thickness (ForceJacobian::bodyContacts:
   // the pairs' penalty, addPairs). At most kImpactPasses more solves (what still ends inside is lifted by the step
   // end's projection, what still ends too near is the post-step pass's). Between bodies the search for new pairs runs
-  // after the first kSearchPasses solves only, and from then on a check whose active set changed by fewer than
-  // kSettledShare of the step's pairs (and found no impact) ends the step with the last solve (docs/body-contact.md,
-  // "Cost"): on a landing cloth the later checks found tens of pairs and flipped tens of others among tens of
-  // thousands, each at the price of a broad phase and a solve, up to the cap; what they leave is the post-step pass's.
+  // at the predicted end (step) and after the first solve only; the later checks update the found pairs' activity, and
+  // from the second on a check that changes fewer than kSettledShare of the step's pairs (and finds no impact) ends
+  // the step with the last solve (docs/body-contact.md, "Cost"). On a landing cloth the later searches each cost a
+  // broad phase (the solved end had moved beyond the candidates' margin) and found pairs that, left to the post-step
+  // pass, changed neither its contacts nor the energy; the checks past the first few flipped tens of pairs among tens
+  // of thousands, each at the price of a solve, up to the cap.
   void solveImpacts(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v, double absolute) {
     for (int pass = 0; pass < (pairs_.empty() ? kImpactPasses : kBodyPasses); ++pass) {
       setEnd(h, x, v);
@@ -516,9 +518,9 @@ class BackwardEuler final : public Integrator {
   bool two_level_ = false;  // cg_preconditioner auto: the next solve's choice
   static constexpr int kImpactPasses = 4;
   static constexpr int kBodyPasses = 8;  // ... when bodies touch
-  // The checks after the first this many solves search for new pairs between bodies; later ones update the activity
-  // of the pairs found (solveImpacts). Measured in docs/performance.md.
-  static constexpr int kSearchPasses = 2;
+  // The check after the first solve searches for new pairs between bodies; later ones update the activity of the
+  // pairs found (solveImpacts). Measured in docs/performance.md.
+  static constexpr int kSearchPasses = 1;
   // A later check that changes the activity of fewer than this share of the step's pairs ends the step.
   static constexpr double kSettledShare = 0.003;
   // The share of a pair's overlap of the thickness that its penalty removes in a step (updatePairs).
