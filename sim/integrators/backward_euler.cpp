@@ -27,33 +27,33 @@
 // step is solved again, so the stiff springs pass the impulse to the body inside the implicit solve and no position
 // is moved behind the solve's back (ForceJacobian::impactConstraints, docs/energy.md). Contact between bodies
 // (ForceJacobian::bodyContacts, docs/body-contact.md) goes into the solve as well: every point-triangle and edge-edge
-// pair whose gap, linearized at the step's start, the predicted or first solved end would close gets a stiff
-// one-sided quadratic penalty with its Jacobian (a stencil block of the matrix), the set of pressed pairs updated
-// after each solve until it settles (an active set; solveImpacts), and Coulomb friction as a tangential damper sized
-// from the pressed pair's normal force (lagged, as IPC does: Li et al. 2020, "Incremental Potential Contact"). The
-// penalty is convex, and backward Euler is the minimizer of the incremental potential (Gast et al. 2015, "Optimization
-// integrator for large time steps"), so an exact step never gains energy through it; the pass after the step keeps only
-// its collision impulses and impact zones (Bridson et al. 2002), the guarantee that nothing passes through. An embedded
-// surface's points (a mesh jelly's, weighted_points.h) meet colliders through the same penalty
-// (ForceJacobian::colliderPairs: each point the step would end below a surface, against its tangent plane, its
-// restitution's bounce a raised rest gap), their explicit supports taken out of F0 (ReleasedSupport): held from the
-// step's start they made a resting mesh jelly hop. Options: cg_tolerance (relative residual |S (b - A dv)| / |S (b - A
-// z)|, default in integrator.h), cg_error_fraction (below), cg_preconditioner (integrator.h) and cg_max_iterations of
-// each linear solve (a solve that hits the limit is used as it stands, as Blender's cloth solver does; the achieved
-// residual is in the stats); newton: after that first step, iterate Newton on the full nonlinear equations (contact
-// still held at its start value) with a backtracking line search on the residual, until max |M^-1 residual| <=
-// newton_tolerance * max(1, max |v1|), at most newton_max_iterations linear solves (the damper's x-dependence is not in
-// the Jacobian, so convergence is linear rather than quadratic when dampers act; it still converges to the exact
-// backward-Euler step). The error rule (cg_error_fraction = eta > 0, without newton): the solve also stops once its
-// error is at most eta times the step's own. Backward Euler's local error in v is about (h^2 / 2) a' ~ |dv_n -
-// dv_(n-1)| / 2; the last two steps' velocity changes estimate it, when both had this h and none of the last three
-// steps had a contact constraint (contact impulses make dv jump from step to step with no smooth error to match: on a
-// jelly resting on the elevator the estimate let the solve's error reach half the method's). The solve's error e = A^-1
-// r has |e| <= |r| / m_min, since A = M - h df/dv - h^2 df/dx >= M (the spring and damper blocks are positive
-// semidefinite, force_jacobian.h) on the filter's subspace. So it stops at |S r| <= eta m_min |dv_n-1 - dv_n-2| / 2, or
-// at cg_tolerance if that is looser: the solver's error stays a fraction of the method's, at every step size (as
-// implicit ODE codes tie their linear solves to the local error test), and stiff steps, whose error is large, need
-// fewer iterations. Throws std::invalid_argument if the Dynamics offers no ForceJacobian.
+// pair whose gap, linearized at the step's start, the predicted or first solved end closes gets a stiff one-sided
+// quadratic penalty with its Jacobian (a stencil block), the set of pressed pairs updated after each solve (an
+// active set), and Coulomb friction as a tangential damper sized from the pressed pair's normal force (lagged, as IPC
+// does: Li et al. 2020, "Incremental Potential Contact"). The penalty is convex, and backward Euler is the minimizer of
+// the incremental potential (Gast et al. 2015, "Optimization integrator for large time steps"), so an exact step never
+// gains energy through it; the pass after the step keeps only its collision impulses and impact zones (Bridson et al.
+// 2002), the guarantee that nothing passes through. An embedded surface's points (a mesh jelly's, weighted_points.h)
+// meet colliders through the same penalty (ForceJacobian::colliderPairs: each point the step would end below a
+// surface, against its tangent plane, its restitution's bounce a raised rest gap), their explicit supports taken out
+// of F0 (ReleasedSupport): held from the step's start they made a resting mesh jelly hop. Options:
+// cg_tolerance (relative residual |S (b - A dv)| / |S (b - A z)|, default in integrator.h), cg_error_fraction (below),
+// cg_preconditioner (integrator.h) and cg_max_iterations of each linear solve (a solve that hits the limit is used as
+// it stands, as Blender's cloth solver does; the achieved residual is in the stats); newton: after that first step,
+// iterate Newton on the full nonlinear equations (contact still held at its start value) with a backtracking line
+// search on the residual, until max |M^-1 residual| <= newton_tolerance * max(1, max |v1|), at most
+// newton_max_iterations linear solves (the damper's x-dependence is not in the Jacobian, so convergence is linear
+// rather than quadratic when dampers act; it still converges to the exact backward-Euler step). The error rule
+// (cg_error_fraction = eta > 0, without newton): the solve also stops once its error is at most eta times the step's
+// own. Backward Euler's local error in v is about (h^2 / 2) a' ~ |dv_n - dv_(n-1)| / 2; the last two steps' velocity
+// changes estimate it, when both had this h and none of the last three steps had a contact constraint (contact impulses
+// make dv jump from step to step with no smooth error to match: on a jelly resting on the elevator the estimate let the
+// solve's error reach half the method's). The solve's error e = A^-1 r has |e| <= |r| / m_min, since A = M - h df/dv -
+// h^2 df/dx >= M (the spring and damper blocks are positive semidefinite, force_jacobian.h) on the filter's subspace.
+// So it stops at |S r| <= eta m_min |dv_n-1 - dv_n-2| / 2, or at cg_tolerance if that is looser: the solver's error
+// stays a fraction of the method's, at every step size (as implicit ODE codes tie their linear solves to the local
+// error test), and stiff steps, whose error is large, need fewer iterations. Throws std::invalid_argument if the
+// Dynamics offers no ForceJacobian.
 #include <algorithm>
 #include <cmath>
 #include <limits>
