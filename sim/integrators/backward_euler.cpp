@@ -27,8 +27,8 @@
 // step is solved again, so the stiff springs pass the impulse to the body inside the implicit solve and no position
 // is moved behind the solve's back (ForceJacobian::impactConstraints, docs/energy.md). Contact between bodies
 // (ForceJacobian::bodyContacts, docs/body-contact.md) goes into the solve as well: every point-triangle and edge-edge
-// pair whose gap, linearized at the step's start, the predicted or first solved end closes gets a stiff one-sided
-// quadratic penalty with its Jacobian (a stencil block), the set of pressed pairs updated after each solve (an
+// pair whose gap, linearized at the step's start, the solved step would close gets a stiff one-sided quadratic
+// penalty with its Jacobian (a stencil block of the matrix), the set of pressed pairs updated after each solve (an
 // active set), and Coulomb friction as a tangential damper sized from the pressed pair's normal force (lagged, as IPC
 // does: Li et al. 2020, "Incremental Potential Contact"). The penalty is convex, and backward Euler is the minimizer of
 // the incremental potential (Gast et al. 2015, "Optimization integrator for large time steps"), so an exact step never
@@ -259,23 +259,21 @@ class BackwardEuler final : public Integrator {
   // normal to its bounce and solve again (warm-started), so the springs share its impulse with the body within the
   // step; likewise while it ends two bodies' surface elements within their thickness (ForceJacobian::bodyContacts:
   // the pairs' penalty, addPairs). At most kImpactPasses more solves (what still ends inside is lifted by the step
-  // end's projection, what still ends too near is the post-step pass's). Between bodies the search for new pairs runs
-  // at the predicted end (step) and after the first solve only; the later checks update the found pairs' activity, and
-  // from the second on a check that changes fewer than kSettledShare of the step's pairs (and finds no impact) ends
-  // the step with the last solve (docs/body-contact.md, "Cost"). On a landing cloth the later searches each cost a
-  // broad phase (the solved end had moved beyond the candidates' margin) and found pairs that, left to the post-step
-  // pass, changed neither its contacts nor the energy; the checks past the first few flipped tens of pairs among tens
-  // of thousands, each at the price of a solve, up to the cap.
+  // end's projection, what still ends too near is the post-step pass's). Between bodies, from the second check on, one
+  // that changes the activity of fewer than kSettledShare of the step's pairs (new pressed pairs included) and finds
+  // no impact ends the step with the last solve (docs/body-contact.md, "Cost"): on a landing cloth the checks past the
+  // first few flipped tens of pairs among tens of thousands, each at the price of a solve, up to the cap; what they
+  // leave is the post-step pass's.
   void solveImpacts(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v, double absolute) {
     for (int pass = 0; pass < (pairs_.empty() ? kImpactPasses : kBodyPasses); ++pass) {
       setEnd(h, x, v);
       const bool impacts = jacobian.impactConstraints(t, h, x, v, end_x_, end_v_, contacts_);
       const bool found = jacobian.colliderPairs(t, h, x, v, end_x_, pairs_);
-      const bool search = options_.body_contact_in_solve && pass < kSearchPasses;
-      const std::size_t changes = ((search && jacobian.bodyContacts(x, end_x_, pairs_)) || found || !pairs_.empty())
-                                      ? updatePairs(jacobian, h, x, end_x_, false)
-                                      : 0;
-      const bool settled = pass >= kSearchPasses && double(changes) < kSettledShare * double(pairs_.size());
+      const std::size_t changes =
+          ((options_.body_contact_in_solve && jacobian.bodyContacts(x, end_x_, pairs_)) || found || !pairs_.empty())
+              ? updatePairs(jacobian, h, x, end_x_, false)
+              : 0;
+      const bool settled = pass > 0 && double(changes) < kSettledShare * double(pairs_.size());
       if (!impacts && (changes == 0 || settled)) return;
       const bool pairs = changes > 0;
       history_ = 0;  // this step's dv carries impulses: not the smooth error's measure
@@ -518,10 +516,8 @@ class BackwardEuler final : public Integrator {
   bool two_level_ = false;  // cg_preconditioner auto: the next solve's choice
   static constexpr int kImpactPasses = 4;
   static constexpr int kBodyPasses = 8;  // ... when bodies touch
-  // The check after the first solve searches for new pairs between bodies; later ones update the activity of the
-  // pairs found (solveImpacts). Measured in docs/performance.md.
-  static constexpr int kSearchPasses = 1;
-  // A later check that changes the activity of fewer than this share of the step's pairs ends the step.
+  // A later check that changes the activity of fewer than this share of the step's pairs ends the step (solveImpacts;
+  // measured in docs/performance.md).
   static constexpr double kSettledShare = 0.003;
   // The share of a pair's overlap of the thickness that its penalty removes in a step (updatePairs).
   static constexpr double kRecovery = 0.1;
