@@ -98,6 +98,7 @@ struct BodyCollisions::Impl {
   std::vector<std::array<int, 3>> triangles;
   std::vector<std::array<int, 2>> edges;
   std::vector<int> triangle_body, edge_body, vertex_body;
+  std::vector<std::array<int, 1>> single_nodes;  // each node as a one-node element (the vertices' boxes)
   std::vector<SurfaceParams> params;
   std::vector<double> stiffness;
   const VecX& inv_mass;
@@ -188,6 +189,8 @@ struct BodyCollisions::Impl {
     for (int p = 0; p < n; ++p)
       if (particle_node_start[p + 1] > particle_node_start[p]) pass_particles.push_back(p);
     node_mark.assign(nodeCount(), 0);
+    single_nodes.resize(nodeCount());
+    for (int k = 0; k < nodeCount(); ++k) single_nodes[k] = {k};
   }
 
   // Node k's blend of a flat per-particle vector s, into out (3 per node); a node of one particle of weight 1 copies.
@@ -408,16 +411,9 @@ struct BodyCollisions::Impl {
         for (const int p : items[k]) moved[k] |= node_marks[p];
       }
     };
-    mark(singles(), vertex_moved);
+    mark(single_nodes, vertex_moved);
     mark(edges, edge_moved);
     mark(triangles, triangle_moved);
-  }
-  // Each node as a one-node element (the vertices' boxes).
-  const std::vector<std::array<int, 1>>& singles() const {
-    thread_local std::vector<std::array<int, 1>> single;
-    single.resize(nodeCount());
-    for (int k = 0; k < nodeCount(); ++k) single[k] = {k};
-    return single;
   }
   // Into vf_out and ee_out, ascending: the pairs whose boxes swept from nxs to `end` (each in its body's frame when
   // shifts is not empty, the world's for pairs of two bodies; padded by pad) overlap. marked: only the pairs with an
@@ -425,7 +421,6 @@ struct BodyCollisions::Impl {
   // broad phase; false when it would exceed the candidate budget (the lists are then incomplete).
   bool listPairs(const VecX& end, const std::vector<Vec3>& shifts, double pad, bool marked, bool apart,
                  std::vector<std::pair<int, int>>& vf_out, std::vector<std::pair<int, int>>& ee_out) {
-    const auto& single = singles();
     // The boxes of every element, each in its body's frame (shifted) or the world's.
     const auto fillAll = [&](bool shifted) {
       const auto fill = [&](auto& boxes, const auto& items, const std::vector<int>& body) {
@@ -435,7 +430,7 @@ struct BodyCollisions::Impl {
             boxes[k] = box(items[k], pad, end, shifted ? shifts[body[k]] : Vec3::Zero());
         });
       };
-      fill(vertex_boxes, single, vertex_body);
+      fill(vertex_boxes, single_nodes, vertex_body);
       fill(edge_boxes, edges, edge_body);
       fill(triangle_boxes, triangles, triangle_body);
     };
@@ -1125,10 +1120,7 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
   if (only) {
     const auto still_in_out = [&](int k) {
       const std::size_t at = s.step.joined[k];
-      if (at >= before) return false;
-      const std::array<int, 4>& e = out[at].element;
-      const std::array<int, 4> q = s.pairNodes(k);
-      return e[0] == q[0] && e[1] == q[1] && e[2] == q[2] && e[3] == q[3];
+      return at < before && ContactPairSet::same(out[at].element, s.pairNodes(k));
     };
     s.subset.erase(std::remove_if(s.subset.begin(), s.subset.end(), still_in_out), s.subset.end());
   }
