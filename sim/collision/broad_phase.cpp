@@ -14,7 +14,7 @@ constexpr std::int64_t kMaxCellsPerBox = 512;  // a larger box (a fast element) 
 
 class HashGrid {
  public:
-  explicit HashGrid(const std::vector<Box>& targets) {
+  HashGrid(const std::vector<Box>& targets, bool parallel) {
     const int n = static_cast<int>(targets.size());
     double extent = 0;
     Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
@@ -29,25 +29,36 @@ class HashGrid {
     while (size < 2 * std::uint64_t(n)) size *= 2;
     mask_ = size - 1;
     start_.assign(size + 1, 0);
-    // Two passes of a counting sort: count each box's cells per bucket, then place.
-    for (int pass = 0; pass < 2; ++pass) {
-      if (pass == 1) {
-        for (std::uint64_t k = 0; k < size; ++k) start_[k + 1] += start_[k];
-        entries_.resize(start_[size]);
+    // Each target's buckets, one per cell of its box, found on threads (the floors and hashes are the work) into one
+    // list in target order; then a counting sort of that list by bucket on one thread, in target order: the same grid
+    // whatever the threads (and a build that was a serial part of every step no longer is).
+    std::vector<int> first(n + 1, 0);  // target t's buckets: keys[first[t], first[t + 1])
+    std::vector<Eigen::Array3i> low(n), high(n);
+    forEachChunk(n, parallel, [&](int begin, int end) {
+      for (int t = begin; t < end; ++t)
+        first[t + 1] = cellRange(targets[t], low[t], high[t]) ? (high[t] - low[t] + 1).prod() : -1;
+    });
+    for (int t = 0; t < n; ++t) {
+      if (first[t + 1] < 0) {
+        oversized_.push_back(t);
+        first[t + 1] = 0;
       }
-      std::vector<int> fill = pass == 1 ? std::vector<int>(start_.begin(), start_.end() - 1) : std::vector<int>();
-      for (int t = 0; t < n; ++t) {
-        Eigen::Array3i a, b;
-        if (!cellRange(targets[t], a, b)) {
-          if (pass == 0) oversized_.push_back(t);
-          continue;
-        }
-        forCells(a, b, [&](std::uint64_t k) {
-          if (pass == 0) ++start_[k + 1];
-          else entries_[fill[k]++] = t;
-        });
-      }
+      first[t + 1] += first[t];
     }
+    std::vector<std::uint32_t> keys(first[n]);
+    forEachChunk(n, parallel, [&](int begin, int end) {
+      for (int t = begin; t < end; ++t) {
+        if (first[t + 1] == first[t]) continue;  // oversized (a box in the grid has a cell at least)
+        int j = first[t];
+        forCells(low[t], high[t], [&](std::uint64_t k) { keys[j++] = std::uint32_t(k); });
+      }
+    });
+    for (const std::uint32_t k : keys) ++start_[k + 1];
+    for (std::uint64_t k = 0; k < size; ++k) start_[k + 1] += start_[k];
+    entries_.resize(start_[size]);
+    std::vector<int> fill(start_.begin(), start_.end() - 1);
+    for (int t = 0; t < n; ++t)
+      for (int j = first[t]; j < first[t + 1]; ++j) entries_[fill[keys[j]]++] = t;
   }
 
   // fn(t) for every target in the buckets of the box's cells (duplicates and false overlaps included).
@@ -140,7 +151,7 @@ bool overlappingPairs(const std::vector<Box>& queries, const std::vector<Box>& t
   out.clear();
   if (queries.empty() || targets.empty()) return true;
   return lookUp(
-      HashGrid(targets), queries, targets, {}, same, parallel, [](int) { return true; },
+      HashGrid(targets, parallel), queries, targets, {}, same, parallel, [](int) { return true; },
       [&](int q, int t) { return keep(q, t); }, out, limit);
 }
 
@@ -155,7 +166,7 @@ bool overlappingMarkedPairs(const std::vector<Box>& queries, const std::vector<B
   // comes from a when a is marked, else from b's mark through the second list, each once.
   std::vector<std::pair<int, int>> marked_queries, other_queries;
   if (!lookUp(
-          HashGrid(targets), queries, targets, {}, same, parallel, [&](int q) { return query_marked[q] != 0; },
+          HashGrid(targets, parallel), queries, targets, {}, same, parallel, [&](int q) { return query_marked[q] != 0; },
           [&](int q, int t) { return keep(q, t); }, marked_queries, limit))
     return false;
   std::vector<Box> marked;
@@ -167,7 +178,7 @@ bool overlappingMarkedPairs(const std::vector<Box>& queries, const std::vector<B
     }
   if (!marked.empty() &&
       !lookUp(
-          HashGrid(marked), queries, targets, index, same, parallel, [&](int q) { return query_marked[q] == 0; },
+          HashGrid(marked, parallel), queries, targets, index, same, parallel, [&](int q) { return query_marked[q] == 0; },
           [&](int q, int t) { return keep(q, t); }, other_queries, limit - std::min(limit, marked_queries.size())))
     return false;
   out.reserve(marked_queries.size() + other_queries.size());

@@ -2,8 +2,9 @@
 // al. 2003, "Optimized spatial hashing for collision detection of deformable objects"). The targets are counted into
 // hash buckets of a grid whose cell is their mean extent; each query visits the buckets of its cells. A hash rather
 // than a refitted BVH or Embree's rtcCollide: sim/ may not include render/ (where Embree is wrapped), the hash is
-// rebuilt from scratch in two linear passes each time (no refit quality to lose as a cloth crumples), and its output
-// is sorted, hence the same whatever the thread count (docs/body-contact.md).
+// rebuilt from scratch each time (the boxes' cells found on threads, then a counting sort), with no refit quality to
+// lose as a cloth crumples, and its output is sorted, hence the same whatever the thread count
+// (docs/body-contact.md).
 #pragma once
 #include <cstdint>
 #include <functional>
