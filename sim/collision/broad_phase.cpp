@@ -31,7 +31,7 @@ class HashGrid {
     start_.assign(size + 1, 0);
     // Each target's buckets, one per cell of its box, found on threads (the floors and hashes are the work) into one
     // list in target order; then a counting sort of that list by bucket on one thread, in target order: the same grid
-    // whatever the threads (and a build that was a serial part of every step no longer is).
+    // whatever the threads, and most of a build, once all on one thread at every broad phase, shared.
     std::vector<int> first(n + 1, 0);  // target t's buckets: keys[first[t], first[t + 1])
     std::vector<Eigen::Array3i> low(n), high(n);
     forEachChunk(n, parallel, [&](int begin, int end) {
@@ -166,8 +166,8 @@ bool overlappingMarkedPairs(const std::vector<Box>& queries, const std::vector<B
   // comes from a when a is marked, else from b's mark through the second list, each once.
   std::vector<std::pair<int, int>> marked_queries, other_queries;
   if (!lookUp(
-          HashGrid(targets, parallel), queries, targets, {}, same, parallel, [&](int q) { return query_marked[q] != 0; },
-          [&](int q, int t) { return keep(q, t); }, marked_queries, limit))
+          HashGrid(targets, parallel), queries, targets, {}, same, parallel,
+          [&](int q) { return query_marked[q] != 0; }, [&](int q, int t) { return keep(q, t); }, marked_queries, limit))
     return false;
   std::vector<Box> marked;
   std::vector<int> index;
@@ -176,10 +176,10 @@ bool overlappingMarkedPairs(const std::vector<Box>& queries, const std::vector<B
       marked.push_back(targets[t]);
       index.push_back(int(t));
     }
-  if (!marked.empty() &&
-      !lookUp(
-          HashGrid(marked, parallel), queries, targets, index, same, parallel, [&](int q) { return query_marked[q] == 0; },
-          [&](int q, int t) { return keep(q, t); }, other_queries, limit - std::min(limit, marked_queries.size())))
+  if (!marked.empty() && !lookUp(
+                             HashGrid(marked, parallel), queries, targets, index, same, parallel,
+                             [&](int q) { return query_marked[q] == 0; }, [&](int q, int t) { return keep(q, t); },
+                             other_queries, limit - std::min(limit, marked_queries.size())))
     return false;
   out.reserve(marked_queries.size() + other_queries.size());
   std::merge(marked_queries.begin(), marked_queries.end(), other_queries.begin(), other_queries.end(),
