@@ -31,7 +31,7 @@ class HashGrid {
     start_.assign(size + 1, 0);
     // Each target's buckets, one per cell of its box, found on threads (the floors and hashes are the work) into one
     // list in target order; then a counting sort of that list by bucket on one thread, in target order: the same grid
-    // whatever the threads, and most of a build, once all on one thread at every broad phase, shared.
+    // whatever the threads, with the costly part of a build (once all of it serial at every broad phase) shared.
     std::vector<int> first(n + 1, 0);  // target t's buckets: keys[first[t], first[t + 1])
     std::vector<Eigen::Array3i> low(n), high(n);
     forEachChunk(n, parallel, [&](int begin, int end) {
