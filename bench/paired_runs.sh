@@ -1,0 +1,57 @@
+#!/bin/bash
+# Two commands run at the same time, each pinned to a core of its own, then again with the cores swapped: their CPU
+# times and the ratio A/B a round. Both runs meet the same load from the machine's other tenants at once, so the ratio
+# holds still where whole-process times taken in turn move by 10% (docs/performance.md, "Running the benchmarks").
+# Each command runs on one thread (its core); give each its own --out.
+#
+#   bench/paired_runs.sh [-n PAIRS] 'COMMAND A' 'COMMAND B'
+#
+# PAIRS (default 2) rounds of two runs each (A on core 0 and B on core 1, then swapped); prints each run's CPU seconds
+# and ratio, each pair's geometric mean of its two ratios (which cancels a core that is faster than the other) and the
+# median of those. Exit 1 if a command fails.
+set -euo pipefail
+
+pairs=2
+if [[ ${1:-} == -n ]]; then
+  pairs=$2
+  shift 2
+fi
+if [[ $# -ne 2 ]]; then
+  sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//' >&2
+  exit 2
+fi
+if (($(nproc) < 2)); then
+  echo "paired_runs.sh: needs 2 cores, this machine has $(nproc)" >&2
+  exit 2
+fi
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+# CPU seconds (user + system) of COMMAND on CORE, into FILE.
+timed() {
+  local core=$1 file=$2 command=$3
+  /usr/bin/time -f '%U %S' -o "$file.time" taskset -c "$core" bash -c "$command" >"$file.log" 2>&1 ||
+    { echo "paired_runs.sh: failed on core $core: $command; its output:" >&2; cat "$file.log" >&2; return 1; }
+  awk '{ print $1 + $2 }' "$file.time" >"$file"
+}
+
+ratios=()
+for ((round = 0; round < 2 * pairs; ++round)); do
+  core_a=$((round % 2)) core_b=$((1 - round % 2))
+  timed "$core_a" "$work/a" "$1" &
+  run_a=$!
+  timed "$core_b" "$work/b" "$2" &
+  run_b=$!
+  wait "$run_a" || exit 1
+  wait "$run_b" || exit 1
+  a=$(cat "$work/a") b=$(cat "$work/b")
+  ratio=$(awk -v a="$a" -v b="$b" 'BEGIN { printf "%.3f", (b > 0 ? a / b : 0) }')
+  ratios+=("$ratio")
+  printf 'A on core %d: %6.2f s   B on core %d: %6.2f s   A/B %s\n' "$core_a" "$a" "$core_b" "$b" "$ratio"
+done
+printf '%s\n' "${ratios[@]}" |
+  awk 'NR % 2 { first = $1; next } { printf "%.3f\n", sqrt(first * $1) }' |
+  sort -n | awk '{ g[NR] = $1; list = list " " $1 } END {
+    print "each pair (the geometric mean of its two ratios), ascending:" list
+    printf "A/B median %.3f over %d pairs\n", NR % 2 ? g[(NR + 1) / 2] : (g[NR / 2] + g[NR / 2 + 1]) / 2, NR }'
