@@ -259,11 +259,11 @@ class BackwardEuler final : public Integrator {
   // normal to its bounce and solve again (warm-started), so the springs share its impulse with the body within the
   // step; likewise while it ends two bodies' surface elements within their thickness (ForceJacobian::bodyContacts:
   // the pairs' penalty, addPairs). At most kImpactPasses more solves (what still ends inside is lifted by the step
-  // end's projection, what still ends too near is the post-step pass's). Between bodies, from the second check on, one
-  // that changes the activity of fewer than kSettledShare of the step's pairs (new pressed pairs included) and finds
-  // no impact ends the step with the last solve (docs/body-contact.md, "Cost"): on a landing cloth the checks past the
-  // first few flipped tens of pairs among tens of thousands, each at the price of a solve, up to the cap; what they
-  // leave is the post-step pass's.
+  // end's projection, what still ends too near is the post-step pass's). Between bodies, a check that changes the
+  // activity of fewer than kSettledShare of the step's pairs (new pressed pairs included) and finds no impact ends the
+  // step with the last solve, the first check included (docs/body-contact.md, "Cost"): on a landing cloth the checks
+  // past the first few flipped tens of pairs among tens of thousands, and on a cloth lying collapsed on itself the
+  // first check a few tens among 95 000, each at the price of a solve; what they leave is the post-step pass's.
   void solveImpacts(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v, double absolute) {
     for (int pass = 0; pass < (pairs_.empty() ? kImpactPasses : kBodyPasses); ++pass) {
       setEnd(h, x, v);
@@ -273,7 +273,7 @@ class BackwardEuler final : public Integrator {
           ((options_.body_contact_in_solve && jacobian.bodyContacts(x, end_x_, pairs_)) || found || !pairs_.empty())
               ? updatePairs(jacobian, h, x, end_x_, false)
               : 0;
-      const bool settled = pass > 0 && double(changes) < kSettledShare * double(pairs_.size());
+      const bool settled = double(changes) < kSettledShare * double(pairs_.size());
       if (!impacts && (changes == 0 || settled)) return;
       const bool pairs = changes > 0;
       history_ = 0;  // this step's dv carries impulses: not the smooth error's measure
