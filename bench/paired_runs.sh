@@ -28,10 +28,10 @@ fi
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-# CPU seconds (user + system) of COMMAND on CORE, into FILE.
+# CPU seconds (user + system) of COMMAND on CORE, into FILE (bash's own `time`: no other program needed).
 timed() {
-  local core=$1 file=$2 command=$3
-  /usr/bin/time -f '%U %S' -o "$file.time" taskset -c "$core" bash -c "$command" >"$file.log" 2>&1 ||
+  local core=$1 file=$2 command=$3 TIMEFORMAT='%U %S'
+  { time taskset -c "$core" bash -c "$command" >"$file.log" 2>&1; } 2>"$file.time" ||
     { echo "paired_runs.sh: failed on core $core: $command; its output:" >&2; cat "$file.log" >&2; return 1; }
   awk '{ print $1 + $2 }' "$file.time" >"$file"
 }
