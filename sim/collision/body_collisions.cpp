@@ -911,11 +911,36 @@ struct BodyCollisions::Impl {
     return expand(s, w).inverseMass(inv_mass);
   }
 
+  // The normal of a touching pair (no direction between its nearest points): the triangle's, or the edges'.
+  static Vec3 contactNormal(Primitive kind, const std::array<Vec3, 4>& x) {
+    if (kind == Primitive::PointTriangle) return (x[2] - x[1]).cross(x[3] - x[1]).normalized();
+    return (x[1] - x[0]).cross(x[3] - x[2]).normalized();
+  }
+  std::vector<long> contact_counts;  // repel's per chunk, kept from step to step
   // Step 1: repulsion and friction for pairs within the thickness at the start (only counted without impulses).
   void repel(double h, Stats& stats, bool impulses) {
     // With the step's candidates: those within the thickness at the start, the smallest distance of the others known.
     const auto* only = from_step ? &step.near : nullptr;
     if (only) stats.min_distance = std::min(stats.min_distance, step.boxed_min);
+    if (only && !impulses && !from_skin) {
+      // Counting is all that is left (the pairs' distances are in boxed_min): the pairs the gather below would
+      // return as contacts, counted per chunk, without gathering them.
+      const std::vector<int>& near = *only;
+      stats.contacts += sumOverChunks(int(near.size()), parallel, contact_counts, [&](int begin, int end) {
+        long count = 0;
+        for (int j = begin; j < end; ++j) {
+          const int k = near[j];
+          const PairInfo p = pairInfo(k);
+          const auto x = points(nxs, p.stencil);
+          const Closest& c = step.closest[k];
+          if (startBoxGap(p, x) > p.thickness || !(c.distance < p.thickness)) continue;
+          count += (c.distance > 0 ? Vec3(c.delta / c.distance) : contactNormal(p.kind, x)).allFinite();
+        }
+        return count;
+      });
+      round_closest_valid = false;
+      return;
+    }
     round_closest_valid = !from_step;
     if (round_closest_valid)
       round_closest.assign(pairCount(), Closest{std::numeric_limits<double>::quiet_NaN(), {}, Vec3::Zero()});
@@ -936,14 +961,7 @@ struct BodyCollisions::Impl {
           if (fill) skin.lower[k] = c.distance;
           if (round_closest_valid) round_closest[k] = c;                          // each k on one thread
           if (c.distance >= p.thickness) return Contact{k, c, Vec3::Zero(), -1};  // only its distance counts
-          Vec3 normal;
-          if (c.distance > 0) {
-            normal = c.delta / c.distance;
-          } else if (p.kind == Primitive::PointTriangle) {
-            normal = (x[2] - x[1]).cross(x[3] - x[1]).normalized();
-          } else {
-            normal = (x[1] - x[0]).cross(x[3] - x[2]).normalized();
-          }
+          const Vec3 normal = c.distance > 0 ? Vec3(c.delta / c.distance) : contactNormal(p.kind, x);
           if (!normal.allFinite()) return Contact{k, c, Vec3::Zero(), -1};
           return Contact{k, c, normal, 0};
         },

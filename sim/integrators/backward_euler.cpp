@@ -310,8 +310,11 @@ class BackwardEuler final : public Integrator {
   // solved end x1 (first: the step's first pairs, active as the last step left them); returns how many changed.
   std::size_t updatePairs(const ForceJacobian& jacobian, double h, const VecX& x0, const VecX& x1, bool first) {
     const VecX& inverse_mass = jacobian.inverseMass();
-    std::size_t changed = 0;
-    for (std::size_t k = terms_.size(); k < pairs_.size(); ++k) {
+    // On threads in fixed chunks of pairs (each pair's term its own; the counts summed per chunk, in order).
+    const std::size_t known = terms_.size();
+    terms_.resize(pairs_.size());
+    std::size_t changed = countOverPairs(pairs_.size() - known, [&](std::size_t j) {
+      const std::size_t k = known + j;
       const ContactPair& c = pairs_[k];
       const double weight = c.stencil.inverseMass(inverse_mass);
       const double stiffness = weight > 0 ? kPenalty / (weight * h * h) : 0;
@@ -321,21 +324,30 @@ class BackwardEuler final : public Integrator {
         const auto it = std::lower_bound(carried_.begin(), carried_.end(), CarriedPair{c.element, 0});
         if (it != carried_.end() && it->element == c.element && stiffness > 0) {
           term.active = true;
-          ++changed;
           term.damping = it->damping;
         }
       }
-      terms_.push_back(term);
-    }
+      terms_[k] = term;
+      return term.active;
+    });
     if (first) return changed;
-    for (std::size_t k = 0; k < pairs_.size(); ++k) {
+    changed += countOverPairs(pairs_.size(), [&](std::size_t k) {
       const double past = pairs_[k].gap(x1) - terms_[k].rest;  // < 0: pressed
       const bool active = terms_[k].stiffness > 0 && past < 0;
-      if (active == terms_[k].active || std::abs(past) < kActiveSlack * pairs_[k].thickness) continue;
-      ++changed;
+      if (active == terms_[k].active || std::abs(past) < kActiveSlack * pairs_[k].thickness) return false;
       terms_[k].active = active;
-    }
+      return true;
+    });
     return changed;
+  }
+  // How many of the pairs 0 .. n - 1 fn(pair) returns true for, each pair once, on threads.
+  template <class Fn>
+  std::size_t countOverPairs(std::size_t n, Fn&& fn) {
+    return sumOverChunks(int(n), parallel_, pair_counts_, [&](int begin, int end) {
+      std::size_t count = 0;
+      for (int k = begin; k < end; ++k) count += fn(std::size_t(k)) ? 1 : 0;
+      return count;
+    });
   }
 
   // The right-hand side and stencils of the active pairs (with friction: their dampers too), from rhs_base_.
@@ -557,6 +569,7 @@ class BackwardEuler final : public Integrator {
   double history_h_ = 0;
   double lightest_ = 0;  // the lightest free particle's mass (m_min)
   std::vector<double> sums_;
+  std::vector<std::size_t> pair_counts_;                  // countOverPairs' per chunk
   VecX fs_, fc_, r_, x1_, v1_, delta_, trial_, trial_r_;  // Newton only
 };
 
