@@ -36,6 +36,13 @@ timed() {
   awk '{ print $1 + $2 }' "$file.time" >"$file"
 }
 
+set -m  # each run a process group of its own, so that a failure can stop the other run whole
+stop_runs() {  # and an interrupt stops both
+  local job
+  for job in $(jobs -p); do kill -- -"$job" 2>/dev/null || true; done
+  exit 130
+}
+trap stop_runs INT TERM
 ratios=()
 for ((round = 0; round < 2 * pairs; ++round)); do
   core_a=$((round % 2)) core_b=$((1 - round % 2))
@@ -43,8 +50,12 @@ for ((round = 0; round < 2 * pairs; ++round)); do
   run_a=$!
   timed "$core_b" "$work/b" "$2" &
   run_b=$!
-  wait "$run_a" || exit 1
-  wait "$run_b" || exit 1
+  # Whichever ends first; when it failed, the other is stopped rather than left to run on to its end.
+  if ! wait -n -p ended "$run_a" "$run_b"; then
+    kill -- -"$([[ $ended == "$run_a" ]] && echo "$run_b" || echo "$run_a")" 2>/dev/null || true
+    exit 1
+  fi
+  wait "$([[ $ended == "$run_a" ]] && echo "$run_b" || echo "$run_a")" || exit 1
   a=$(cat "$work/a") b=$(cat "$work/b")
   ratio=$(awk -v a="$a" -v b="$b" 'BEGIN { printf "%.3f", (b > 0 ? a / b : 0) }')
   ratios+=("$ratio")
