@@ -119,6 +119,13 @@ struct BodyCollisions::Impl {
   std::vector<Box> vertex_boxes, edge_boxes, triangle_boxes;
   std::vector<char> vertex_moved, edge_moved, triangle_moved;  // per element: a node of it is dirty
   std::vector<std::pair<int, int>> vf, ee;                     // candidate pairs: (vertex slot, triangle), (edge, edge)
+  // How a broad phase found vf and ee: the frames its boxes were swept in (frameShifts; empty: the world's) and their
+  // padding. A list kept from an earlier step (keptCandidates) leaves them as they were: it is never brought to new
+  // ends (StepCandidates::own).
+  struct Frames {
+    std::vector<Vec3> shifts;
+    double pad = 0;
+  } listed;
   UnionFind zones;
   std::vector<int> root;  // zones.find of each pass particle, for the threads of a detection round
 
@@ -392,15 +399,13 @@ struct BodyCollisions::Impl {
   bool broadPhase(bool after_impulses = false, double margin = 0, bool world_only = false) {
     newCandidates();
     const bool moved_only = after_impulses && cull;
-    listed_pad = 0.5 * max_thickness + margin;
-    listed_shifts = cull && !world_only ? frameShifts() : std::vector<Vec3>();
+    listed.pad = 0.5 * max_thickness + margin;
+    listed.shifts = cull && !world_only ? frameShifts() : std::vector<Vec3>();
     if (moved_only) markElements(dirty);
-    const bool found = listPairs(nxe, listed_shifts, listed_pad, moved_only, moved_only, vf, ee);
+    const bool found = listPairs(nxe, listed.shifts, listed.pad, moved_only, moved_only, vf, ee);
     if (!found) vf.clear(), ee.clear();
     return found;
   }
-  std::vector<Vec3> listed_shifts;  // the last broad phase's frames (frameShifts; empty: the world's) and padding
-  double listed_pad = 0;
 
   // vertex_moved, edge_moved, triangle_moved: whether an element has a node marked in `node_marks`.
   void markElements(const std::vector<char>& node_marks) {
@@ -545,8 +550,7 @@ struct BodyCollisions::Impl {
     // How the list was found, when by a broad phase for this start (own; not a list kept from an earlier step): the
     // frames and padding of its boxes, swept from start to end. updateStep brings it to a new end.
     bool own = false;
-    std::vector<Vec3> shifts;
-    double pad = 0;
+    Frames frames;
     // findStep's per-candidate values before they are sorted into the lists above.
     struct {
       std::vector<double> boxed, closing, hitting;
@@ -661,8 +665,7 @@ struct BodyCollisions::Impl {
     if (!found) return false;
     stats.skin_searches += found == 1;
     step.own = found != 1;
-    step.shifts = listed_shifts;
-    step.pad = listed_pad;
+    step.frames = listed;
     step.start = nxs;
     step.end = nxe;
     step.vf.swap(vf);
@@ -758,7 +761,7 @@ struct BodyCollisions::Impl {
     VecX end = step.end;
     for (int k = 0; k < nodeCount(); ++k)
       if (beyond[k]) particle(end, k) = particle(nxe, k);
-    if (!listPairs(end, step.shifts, step.pad, true, false, fresh_vf, fresh_ee)) return false;
+    if (!listPairs(end, step.frames.shifts, step.frames.pad, true, false, fresh_vf, fresh_ee)) return false;
     // The kept candidates (no marked element) and the fresh ones, merged in order; per merged candidate its old index
     // (-1: fresh).
     from.clear();
