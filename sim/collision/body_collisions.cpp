@@ -36,6 +36,18 @@ constexpr double kSkinFraction = 0.5;
 // and aims to end the step this fraction of the thickness apart.
 constexpr double kSeparation = 0.1, kEndGapFraction = 0.01;
 
+// Extents along the six diagonals of a box's axes, x + y, x - y, y + z, y - z, z + x, z - x (Impl::diagonals).
+struct Diagonals {
+  std::array<double, 6> lo{kEmptyLo, kEmptyLo, kEmptyLo, kEmptyLo, kEmptyLo, kEmptyLo};
+  std::array<double, 6> hi{-kEmptyLo, -kEmptyLo, -kEmptyLo, -kEmptyLo, -kEmptyLo, -kEmptyLo};
+  static constexpr double kEmptyLo = std::numeric_limits<double>::infinity();
+  void include(const Vec3& p) {
+    const std::array<double, 6> d{p.x() + p.y(), p.x() - p.y(), p.y() + p.z(),
+                                  p.y() - p.z(), p.z() + p.x(), p.z() - p.x()};
+    for (int k = 0; k < 6; ++k) lo[k] = std::min(lo[k], d[k]), hi[k] = std::max(hi[k], d[k]);
+  }
+};
+
 struct PairInfo {
   Primitive kind;
   Stencil stencil;
@@ -117,8 +129,9 @@ struct BodyCollisions::Impl {
   std::vector<int> node_mark;  // per node: the last impulse that refreshed it (refreshNodes)
   int mark = 0;
   std::vector<Box> vertex_boxes, edge_boxes, triangle_boxes;
-  std::vector<char> vertex_moved, edge_moved, triangle_moved;  // per element: a node of it is dirty
-  std::vector<std::pair<int, int>> vf, ee;                     // candidate pairs: (vertex slot, triangle), (edge, edge)
+  std::vector<Diagonals> vertex_diagonals, edge_diagonals, triangle_diagonals;  // beside the boxes (Diagonals)
+  std::vector<char> vertex_moved, edge_moved, triangle_moved;                   // per element: a node of it is dirty
+  std::vector<std::pair<int, int>> vf, ee;  // candidate pairs: (vertex slot, triangle), (edge, edge)
   // How a broad phase found vf and ee: the frames its boxes were swept in (frameShifts; empty: the world's) and their
   // padding. A list kept from an earlier step (keptCandidates) leaves them as they were: it is never brought to new
   // ends (StepCandidates::own).
@@ -269,6 +282,31 @@ struct BodyCollisions::Impl {
     p.friction = 0.5 * (params[a].friction + params[b].friction);
     p.stiffness = 0.5 * (stiffness[a] + stiffness[b]);
     return p;
+  }
+
+  // The extents along the six diagonals x + y, x - y, y + z, y - z, z + x, z - x of what a box (below) bounds, the
+  // points' swept hull grown by a cube of half-side pad: each of the points' own, grown by 2 pad (the cube's reach
+  // along a diagonal). Two elements whose padded hulls meet overlap along every diagonal, as along every axis; where
+  // their boxes overlap but a diagonal parts them, they do not meet (the six axes added to the box's three make an
+  // 18-DOP, as for cloth in Mezger, Kimmerle & Etzmuss 2003, "Hierarchical techniques in collision detection for cloth
+  // animation"). On a cloth the boxes of a diagonal edge and of a triangle cover a whole cell, and reach its corner
+  // vertices and the edges there, some 0.7 spacings away: the diagonals drop those pairs.
+  template <class Points>
+  Diagonals diagonals(const Points& points, double pad, const VecX& end_x, const Vec3& shift) const {
+    Diagonals out;
+    for (const int i : points) out.include(particle(nxs, i)), out.include(particle(end_x, i) - shift);
+    for (int k = 0; k < 6; ++k) out.lo[k] -= 2 * pad, out.hi[k] += 2 * pad;
+    return out;
+  }
+  // Whether a diagonal parts two extents (above) by more than gap. The sums' rounding (a few ulps of the
+  // coordinates) is allowed for: a gap within it is taken as none.
+  static bool diagonallyApart(const Diagonals& a, const Diagonals& b, double gap = 0) {
+    for (int k = 0; k < 6; ++k) {
+      const double scale = std::max({std::abs(a.lo[k]), std::abs(a.hi[k]), std::abs(b.lo[k]), std::abs(b.hi[k])});
+      const double most = gap + 1e-14 * scale;
+      if (b.lo[k] - a.hi[k] > most || a.lo[k] - b.hi[k] > most) return true;
+    }
+    return false;
   }
 
   // The box the points sweep from nxs to end_x, in a frame that moves by `shift` over the step (zero: the world's),
@@ -428,16 +466,20 @@ struct BodyCollisions::Impl {
                  std::vector<std::pair<int, int>>& vf_out, std::vector<std::pair<int, int>>& ee_out) {
     // The boxes of every element, each in its body's frame (shifted) or the world's.
     const auto fillAll = [&](bool shifted) {
-      const auto fill = [&](auto& boxes, const auto& items, const std::vector<int>& body) {
+      const auto fill = [&](auto& boxes, auto& diagonal_extents, const auto& items, const std::vector<int>& body) {
         boxes.resize(items.size());
+        diagonal_extents.resize(items.size());
         forEachChunk(int(items.size()), parallel, [&](int begin, int stop) {
-          for (int k = begin; k < stop; ++k)
-            boxes[k] = box(items[k], pad, end, shifted ? shifts[body[k]] : Vec3::Zero());
+          for (int k = begin; k < stop; ++k) {
+            const Vec3 shift = shifted ? shifts[body[k]] : Vec3::Zero();
+            boxes[k] = box(items[k], pad, end, shift);
+            diagonal_extents[k] = diagonals(items[k], pad, end, shift);
+          }
         });
       };
-      fill(vertex_boxes, single_nodes, vertex_body);
-      fill(edge_boxes, edges, edge_body);
-      fill(triangle_boxes, triangles, triangle_body);
+      fill(vertex_boxes, vertex_diagonals, single_nodes, vertex_body);
+      fill(edge_boxes, edge_diagonals, edges, edge_body);
+      fill(triangle_boxes, triangle_diagonals, triangles, triangle_body);
     };
     const std::size_t budget = candidateBudget();
     // The pairs of the boxes as they stand whose bodies `bodies` accepts, into two lists (each ascending).
@@ -460,6 +502,7 @@ struct BodyCollisions::Impl {
                 if (p == tri[0] || p == tri[1] || p == tri[2]) return false;
                 const auto& m = node_inv_mass;
                 if (!(m[p] + m[tri[0]] + m[tri[1]] + m[tri[2]] > 0)) return false;
+                if (cull && diagonallyApart(vertex_diagonals[v], triangle_diagonals[t])) return false;
                 return !apart || !apartAllStep(&p, 1, tri.data(), 3, pairThickness(vertex_body[v], triangle_body[t]));
               },
               vf_found, budget - std::min(budget, used)))
@@ -472,6 +515,7 @@ struct BodyCollisions::Impl {
             if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return false;
             const auto& m = node_inv_mass;
             if (!(m[a[0]] + m[a[1]] + m[b[0]] + m[b[1]] > 0)) return false;
+            if (cull && diagonallyApart(edge_diagonals[e], edge_diagonals[f])) return false;
             return !apart || !apartAllStep(a.data(), 2, b.data(), 2, pairThickness(edge_body[e], edge_body[f]));
           },
           ee_found, budget - std::min(budget, used + vf_found.size()));
@@ -543,8 +587,8 @@ struct BodyCollisions::Impl {
     // along the step (detect). A candidate with slack above what any drift within the margin allows is left out.
     std::vector<int> near;
     std::vector<std::pair<int, double>> closing, hitting;
-    // The smallest start distance over the candidates whose start boxes are within the thickness (repel's statistic).
-    double boxed_min = std::numeric_limits<double>::infinity();
+    // The smallest start distance over the candidates within the thickness there (near: repel's statistic).
+    double near_min = std::numeric_limits<double>::infinity();
     // Per candidate, where nearPairs put its pair in out at this step (SIZE_MAX: nowhere yet).
     std::vector<std::size_t> joined;
     // How the list was found, when by a broad phase for this start (own; not a list kept from an earlier step): the
@@ -553,7 +597,7 @@ struct BodyCollisions::Impl {
     Frames frames;
     // findStep's per-candidate values before they are sorted into the lists above.
     struct {
-      std::vector<double> boxed, closing, hitting;
+      std::vector<double> closing, hitting;
       std::vector<char> near;
     } scratch;
   } step;
@@ -675,12 +719,12 @@ struct BodyCollisions::Impl {
     const int n = pairCount();
     step.joined.assign(n, SIZE_MAX);
     step.closest.resize(n);
-    auto& [boxed, closing, hitting, near] = step.scratch;  // kept: fresh pages each step cost more than the work
-    boxed.resize(n), closing.resize(n), hitting.resize(n), near.resize(n);
+    auto& [closing, hitting, near] = step.scratch;  // kept: fresh pages each step cost more than the work
+    closing.resize(n), hitting.resize(n), near.resize(n);
     forEachChunk(n, parallel, [&](int begin, int end) {
       for (int k = begin; k < end; ++k) measureStep(k);
     });
-    step.boxed_min = std::numeric_limits<double>::infinity();
+    step.near_min = std::numeric_limits<double>::infinity();
     sortStep();
     step.valid = true;
     return true;
@@ -688,7 +732,7 @@ struct BodyCollisions::Impl {
   // Candidate k of the step's lists: its nearest points at the start, and the values sortStep sorts it by, at the
   // nodes' ends step.end.
   void measureStep(int k) {
-    auto& [boxed, closing, hitting, near] = step.scratch;
+    auto& [closing, hitting, near] = step.scratch;
     const PairInfo p = pairInfo(k);
     const auto x = points(nxs, p.stencil);
     const Closest c = nearest(p.kind, x);
@@ -701,45 +745,41 @@ struct BodyCollisions::Impl {
     const double eta2 = 2 * kEtaFraction * p.thickness;
     closing[k] = c.distance > 0 ? gap - (1 + 1e-5) * p.thickness : std::numeric_limits<double>::infinity();
     hitting[k] = c.distance > eta2 ? gap - eta2 : -std::numeric_limits<double>::infinity();
-    boxed[k] = startBoxesNear(p, x) ? c.distance : std::numeric_limits<double>::infinity();
     near[k] = c.distance < p.thickness;
   }
-  // The step's lists (StepCandidates) from its candidates' measures, and boxed_min lowered by theirs. Only the
+  // The step's lists (StepCandidates) from its candidates' measures, and near_min lowered by theirs. Only the
   // candidates in a list stay (in order, their measures with them): any other can pass no test at an end the list
-  // serves, and is measured again only if updateStep finds it again. A candidate whose start boxes lie within the
-  // thickness (boxed) is found at every end, its swept boxes holding its start's: boxed_min stays the least over the
-  // candidates of the exact broad phase.
+  // serves, and is measured again only if updateStep finds it again.
   void sortStep() {
     // Any end the candidates serve lies within the margin of step.end along each axis: within sqrt(3) margin.
     const double most = 2 * std::sqrt(3.0) * step.margin;
-    auto& [boxed, closing, hitting, near] = step.scratch;
+    auto& [closing, hitting, near] = step.scratch;
     step.near.clear();
     step.closing.clear();
     step.hitting.clear();
     const int n = pairCount(), vf_count = int(step.vf.size());
     int kept = 0, kept_vf = 0;
     for (int k = 0; k < n; ++k) {
-      step.boxed_min = std::min(step.boxed_min, boxed[k]);
       if (!near[k] && closing[k] > most && hitting[k] > most) continue;
       const int j = kept++;
       if (k < vf_count) step.vf[kept_vf++] = step.vf[k];
       else step.ee[j - kept_vf] = step.ee[k - vf_count];
       step.closest[j] = step.closest[k], step.joined[j] = step.joined[k];
-      boxed[j] = boxed[k], closing[j] = closing[k], hitting[j] = hitting[k], near[j] = near[k];
-      if (near[j]) step.near.push_back(j);
+      closing[j] = closing[k], hitting[j] = hitting[k], near[j] = near[k];
+      if (near[j]) step.near.push_back(j), step.near_min = std::min(step.near_min, step.closest[j].distance);
       if (!(closing[j] > most)) step.closing.emplace_back(j, closing[j]);
       if (!(hitting[j] > most)) step.hitting.emplace_back(j, hitting[j]);
     }
     step.ee.resize(kept - kept_vf), step.vf.resize(kept_vf);
     step.closest.resize(kept), step.joined.resize(kept);
-    boxed.resize(kept), closing.resize(kept), hitting.resize(kept), near.resize(kept);
+    closing.resize(kept), hitting.resize(kept), near.resize(kept);
   }
   struct {
     std::vector<char> beyond;
     std::vector<std::pair<int, int>> fresh_vf, fresh_ee, merged_vf, merged_ee;
     std::vector<int> from;
     std::vector<Closest> closest;
-    std::vector<double> old_boxed, old_closing, old_hitting;
+    std::vector<double> old_closing, old_hitting;
     std::vector<char> old_near;
     std::vector<std::size_t> joined;
   } update_scratch;  // updateStep's, kept from step to step
@@ -752,8 +792,8 @@ struct BodyCollisions::Impl {
   // margin of its reference, as reuseStep asks. Returns false (the list is left as it was) when it would exceed the
   // candidate budget.
   bool updateStep() {
-    auto& [beyond, fresh_vf, fresh_ee, merged_vf, merged_ee, from, closest, old_boxed, old_closing, old_hitting,
-           old_near, joined] = update_scratch;
+    auto& [beyond, fresh_vf, fresh_ee, merged_vf, merged_ee, from, closest, old_closing, old_hitting, old_near,
+           joined] = update_scratch;
     beyond.assign(nodeCount(), 0);
     for (int k = 0; k < nodeCount(); ++k)
       beyond[k] = !((particle(nxe, k) - particle(step.end, k)).cwiseAbs().maxCoeff() <= step.margin);
@@ -781,16 +821,16 @@ struct BodyCollisions::Impl {
     merge(step.ee, fresh_ee, edge_moved, edge_moved, int(step.vf.size()), merged_ee);
     if (merged_vf.size() + merged_ee.size() > candidateBudget()) return false;
     const int n = int(from.size());
-    auto& [boxed, closing, hitting, near] = step.scratch;
+    auto& [closing, hitting, near] = step.scratch;
     // The old measures copied aside (the kept list is short: sortStep keeps what a search may test), the step's
     // arrays refilled in place (they keep the room of the step's first, full list).
     closest.assign(step.closest.begin(), step.closest.end()), joined.assign(step.joined.begin(), step.joined.end());
-    old_boxed.assign(boxed.begin(), boxed.end()), old_closing.assign(closing.begin(), closing.end());
+    old_closing.assign(closing.begin(), closing.end());
     old_hitting.assign(hitting.begin(), hitting.end()), old_near.assign(near.begin(), near.end());
     step.vf.swap(merged_vf), step.ee.swap(merged_ee), step.end.swap(end);
     from_step = true;  // pairInfo reads the step's lists
     step.closest.resize(n), step.joined.resize(n);
-    boxed.resize(n), closing.resize(n), hitting.resize(n), near.resize(n);
+    closing.resize(n), hitting.resize(n), near.resize(n);
     forEachChunk(n, parallel, [&](int begin, int stop) {
       for (int k = begin; k < stop; ++k) {
         const int i = from[k];
@@ -800,7 +840,7 @@ struct BodyCollisions::Impl {
           continue;
         }
         step.closest[k] = closest[i], step.joined[k] = joined[i];
-        boxed[k] = old_boxed[i], closing[k] = old_closing[i], hitting[k] = old_hitting[i], near[k] = old_near[i];
+        closing[k] = old_closing[i], hitting[k] = old_hitting[i], near[k] = old_near[i];
       }
     });
     sortStep();
@@ -822,10 +862,6 @@ struct BodyCollisions::Impl {
       hi1 = x[1].cwiseMax(hi1);
     }
     return std::max((lo0.array() - hi1.array()).maxCoeff(), (lo1.array() - hi0.array()).maxCoeff());
-  }
-  // Whether the start's boxes of the pair's elements are within the thickness.
-  static bool startBoxesNear(const PairInfo& p, const std::array<Vec3, 4>& x) {
-    return !(startBoxGap(p, x) > p.thickness);
   }
   // With the step's candidates: those of a list (StepCandidates) whose slack is at most 2 drift, ascending; nullptr
   // (every candidate) otherwise.
@@ -924,9 +960,9 @@ struct BodyCollisions::Impl {
   void repel(double h, Stats& stats, bool impulses) {
     // With the step's candidates: those within the thickness at the start, the smallest distance of the others known.
     const auto* only = from_step ? &step.near : nullptr;
-    if (only) stats.min_distance = std::min(stats.min_distance, step.boxed_min);
+    if (only) stats.min_distance = std::min(stats.min_distance, step.near_min);
     if (only && !impulses && !from_skin) {
-      // Counting is all that is left (the pairs' distances are in boxed_min): the pairs the gather below would
+      // Counting is all that is left (the pairs' distances are in near_min): the pairs the gather below would
       // return as contacts, counted per chunk, without gathering them.
       const std::vector<int>& near = *only;
       stats.contacts += sumOverChunks(int(near.size()), parallel, contact_counts, [&](int begin, int end) {
@@ -962,8 +998,8 @@ struct BodyCollisions::Impl {
           }
           const Closest c = startClosest(k, p.kind, x);
           if (fill) skin.lower[k] = c.distance;
-          if (round_closest_valid) round_closest[k] = c;                          // each k on one thread
-          if (c.distance >= p.thickness) return Contact{k, c, Vec3::Zero(), -1};  // only its distance counts
+          if (round_closest_valid) round_closest[k] = c;  // each k on one thread
+          if (c.distance >= p.thickness) return std::nullopt;
           const Vec3 normal = c.distance > 0 ? Vec3(c.delta / c.distance) : contactNormal(p.kind, x);
           if (!normal.allFinite()) return Contact{k, c, Vec3::Zero(), -1};
           return Contact{k, c, normal, 0};

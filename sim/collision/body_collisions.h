@@ -55,8 +55,8 @@ struct Stats {
   long broad_phases = 0;      // broad phases run (a step's first, and those of its later rounds and solves)
   long candidates = 0;        // candidate pairs they listed (point-triangle and edge-edge)
   long step_updates = 0;      // backward Euler's searches that brought the step's candidates to a far end in part
-  // Smallest distance between non-adjacent surface elements seen at any step's start, over the pairs whose boxes
-  // there are within the thickness (infinity when no pair ever was).
+  // Smallest distance between non-adjacent surface elements seen at any step's start, over the pairs within the
+  // thickness there (infinity when no pair ever was).
   double min_distance = std::numeric_limits<double>::infinity();
 };
 
