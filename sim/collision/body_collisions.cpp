@@ -287,10 +287,11 @@ struct BodyCollisions::Impl {
   // The extents along the six diagonals x + y, x - y, y + z, y - z, z + x, z - x of what a box (below) bounds, the
   // points' swept hull grown by a cube of half-side pad: each of the points' own, grown by 2 pad (the cube's reach
   // along a diagonal). Two elements whose padded hulls meet overlap along every diagonal, as along every axis; where
-  // their boxes overlap but a diagonal parts them, they do not meet (the six axes added to the box's three make an
-  // 18-DOP, as for cloth in Mezger, Kimmerle & Etzmuss 2003, "Hierarchical techniques in collision detection for cloth
-  // animation"). On a cloth the boxes of a diagonal edge and of a triangle cover a whole cell, and reach its corner
-  // vertices and the edges there, some 0.7 spacings away: the diagonals drop those pairs.
+  // their boxes overlap but a diagonal parts them, they do not meet. Box and diagonals make an 18-DOP (Klosowski et
+  // al. 1998, "Efficient collision detection using bounding volume hierarchies of k-DOPs"; for cloth, Mezger,
+  // Kimmerle & Etzmuss 2003, "Hierarchical techniques in collision detection for cloth animation"). On a cloth the
+  // boxes of a diagonal edge and of a triangle cover a whole cell, and reach its corner vertices and the edges there,
+  // some 0.7 spacings away: the diagonals drop those pairs.
   template <class Points>
   Diagonals diagonals(const Points& points, double pad, const VecX& end_x, const Vec3& shift) const {
     Diagonals out;
