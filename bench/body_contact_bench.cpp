@@ -21,7 +21,7 @@
 //   and its edges' swept boxes from that step's start to its end, padded as body_collisions.cpp pads them): the
 //   spatial hash wobble uses (/0, broad_phase.h) against Embree's rtcCollide (/1: a BVH of user boxes per list, the
 //   float boxes rounded outward, its pairs filtered by the double boxes and sorted as the hash's); both give the
-//   same pairs (checked).
+//   same pairs (checked). Boxes only: the diagonals body_collisions.cpp keeps beside them filter the pairs after.
 // Run: taskset -c 0,1 build/body_contact_bench (two cores).
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
