@@ -38,9 +38,8 @@ constexpr double kSeparation = 0.1, kEndGapFraction = 0.01;
 
 // Extents along the six diagonals of a box's axes, x + y, x - y, y + z, y - z, z + x, z - x (Impl::diagonals).
 struct Diagonals {
-  std::array<double, 6> lo{kEmptyLo, kEmptyLo, kEmptyLo, kEmptyLo, kEmptyLo, kEmptyLo};
-  std::array<double, 6> hi{-kEmptyLo, -kEmptyLo, -kEmptyLo, -kEmptyLo, -kEmptyLo, -kEmptyLo};
-  static constexpr double kEmptyLo = std::numeric_limits<double>::infinity();
+  static constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::array<double, 6> lo{kInf, kInf, kInf, kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf, -kInf, -kInf, -kInf};  // empty
   void include(const Vec3& p) {
     const std::array<double, 6> d{p.x() + p.y(), p.x() - p.y(), p.y() + p.z(),
                                   p.y() - p.z(), p.z() + p.x(), p.z() - p.x()};
@@ -959,7 +958,7 @@ struct BodyCollisions::Impl {
   std::vector<long> contact_counts;  // repel's per chunk, kept from step to step
   // Step 1: repulsion and friction for pairs within the thickness at the start (only counted without impulses).
   void repel(double h, Stats& stats, bool impulses) {
-    // With the step's candidates: those within the thickness at the start, the smallest distance of the others known.
+    // With the step's candidates: those within the thickness at the start, their smallest distance known (near_min).
     const auto* only = from_step ? &step.near : nullptr;
     if (only) stats.min_distance = std::min(stats.min_distance, step.near_min);
     if (only && !impulses && !from_skin) {

@@ -98,10 +98,10 @@ class BodyCollisions {
 };
 
 // Whether the broad phase takes its shortcuts (on by default): dropping the pairs a fixed axis keeps apart all
-// through the step, in the later rounds of a step listing only the pairs with a particle that moved, and keeping a
-// step's candidates and their nearest points at the start through an implicit step's solves and the pass after it
-// (found once with a margin; see nearPairs). The pass finds the same contacts in the same order either way, only
-// slower without; tests compare the two.
+// through the step and those whose boxes meet but a diagonal keeps apart (an 18-DOP), in the later rounds of a step
+// listing only the pairs with a particle that moved, and keeping a step's candidates and their nearest points at the
+// start through an implicit step's solves and the pass after it (found once with a margin; see nearPairs). The pass
+// finds the same contacts in the same order either way, only slower without; tests compare the two.
 void setBroadPhaseCulls(bool on);
 
 // The pass for a system's bodies (their SurfaceParams), or nothing when no two elements may collide.
