@@ -106,6 +106,7 @@ struct BodyCollisions::Impl {
   std::vector<int> particle_node_start, particle_nodes;  // per particle, the nodes over it (CSR)
   std::vector<int> pass_particles;                       // every particle a node rides on, ascending
   std::vector<double> node_inv_mass;                     // sum w^2 / m over a node's particles
+  bool single_particle_nodes = true;                     // every node one particle of weight 1 (no embedded points)
   std::vector<std::array<int, 3>> triangles;
   std::vector<std::array<int, 2>> edges;
   std::vector<int> triangle_body, edge_body, vertex_body;
@@ -207,6 +208,9 @@ struct BodyCollisions::Impl {
       }
     for (int p = 0; p < n; ++p)
       if (particle_node_start[p + 1] > particle_node_start[p]) pass_particles.push_back(p);
+    for (int k = 0; k < nodeCount(); ++k)
+      single_particle_nodes =
+          single_particle_nodes && node_start[k + 1] - node_start[k] == 1 && node_weight[node_start[k]] == 1;
     node_mark.assign(nodeCount(), 0);
     single_nodes.resize(nodeCount());
     for (int k = 0; k < nodeCount(); ++k) single_nodes[k] = {k};
@@ -1202,8 +1206,13 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
         for (int i = 0; i < 4; ++i) end_relative += c.w[i] * particle(s.nxe, p.stencil.vertex[i]);
         if (normal.dot(end_relative) - p.thickness > 1e-6 * p.thickness) return std::nullopt;
         if (before > 0 && s.known.contains(p.stencil.vertex)) return std::nullopt;  // (an empty out holds none)
-        ContactPair pair{p.stencil.vertex, s.expand(p.stencil, c.w), normal, p.thickness, p.friction};
-        if (!(pair.gap(x1) < 0)) return std::nullopt;
+        // Where every node is one particle of weight 1 the pair's own gap is the nodes' to the bit (the same particles,
+        // weights and sums): no pair (a stencil with room for 32 particles) built to find it.
+        const double gap =
+            s.single_particle_nodes
+                ? normal.dot(end_relative) - p.thickness
+                : ContactPair{p.stencil.vertex, s.expand(p.stencil, c.w), normal, p.thickness, p.friction}.gap(x1);
+        if (!(gap < 0)) return std::nullopt;
         // The linearized gap of a pair far apart at x0 says little: only a pair that does come within the thickness at
         // x1 (or crosses on the way) joins.
         const auto e = s.points(s.nxe, p.stencil);
