@@ -106,7 +106,7 @@ struct BodyCollisions::Impl {
   std::vector<int> particle_node_start, particle_nodes;  // per particle, the nodes over it (CSR)
   std::vector<int> pass_particles;                       // every particle a node rides on, ascending
   std::vector<double> node_inv_mass;                     // sum w^2 / m over a node's particles
-  bool single_particle_nodes = true;                     // every node one particle of weight 1 (no embedded points)
+  bool single_particle_nodes = true;  // no surface of embedded points: each node its own particle, of weight 1
   std::vector<std::array<int, 3>> triangles;
   std::vector<std::array<int, 2>> edges;
   std::vector<int> triangle_body, edge_body, vertex_body;
@@ -165,6 +165,7 @@ struct BodyCollisions::Impl {
       std::sort(used.begin(), used.end());
       used.erase(std::unique(used.begin(), used.end()), used.end());
       std::vector<int> node(used.empty() ? 0 : used.back() + 1, -1);
+      single_particle_nodes = single_particle_nodes && mesh.embedded.empty();
       for (const int u : used) {
         node[u] = nodeCount();
         vertex_body.push_back(int(b));
@@ -208,9 +209,6 @@ struct BodyCollisions::Impl {
       }
     for (int p = 0; p < n; ++p)
       if (particle_node_start[p + 1] > particle_node_start[p]) pass_particles.push_back(p);
-    for (int k = 0; k < nodeCount(); ++k)
-      single_particle_nodes =
-          single_particle_nodes && node_start[k + 1] - node_start[k] == 1 && node_weight[node_start[k]] == 1;
     node_mark.assign(nodeCount(), 0);
     single_nodes.resize(nodeCount());
     for (int k = 0; k < nodeCount(); ++k) single_nodes[k] = {k};
@@ -302,13 +300,13 @@ struct BodyCollisions::Impl {
     for (int k = 0; k < 6; ++k) out.lo[k] -= 2 * pad, out.hi[k] += 2 * pad;
     return out;
   }
-  // Whether a diagonal parts two extents (above) by more than gap. The sums' rounding (a few ulps of the
-  // coordinates) is allowed for: a gap within it is taken as none.
-  static bool diagonallyApart(const Diagonals& a, const Diagonals& b, double gap = 0) {
+  // Whether a diagonal parts two extents (above). The sums' rounding (a few ulps of the coordinates) is allowed for: a
+  // gap within it is taken as none.
+  static bool diagonallyApart(const Diagonals& a, const Diagonals& b) {
     for (int k = 0; k < 6; ++k) {
       const double scale = std::max({std::abs(a.lo[k]), std::abs(a.hi[k]), std::abs(b.lo[k]), std::abs(b.hi[k])});
-      const double most = gap + 1e-14 * scale;
-      if (b.lo[k] - a.hi[k] > most || a.lo[k] - b.hi[k] > most) return true;
+      const double rounding = 1e-14 * scale;
+      if (b.lo[k] - a.hi[k] > rounding || a.lo[k] - b.hi[k] > rounding) return true;
     }
     return false;
   }
@@ -477,7 +475,7 @@ struct BodyCollisions::Impl {
           for (int k = begin; k < stop; ++k) {
             const Vec3 shift = shifted ? shifts[body[k]] : Vec3::Zero();
             boxes[k] = box(items[k], pad, end, shift);
-            diagonal_extents[k] = diagonals(items[k], pad, end, shift);
+            if (cull) diagonal_extents[k] = diagonals(items[k], pad, end, shift);  // read under the culls only
           }
         });
       };
@@ -954,8 +952,10 @@ struct BodyCollisions::Impl {
     return expand(s, w).inverseMass(inv_mass);
   }
 
-  // The normal of a touching pair (no direction between its nearest points): the triangle's, or the edges'.
-  static Vec3 contactNormal(Primitive kind, const std::array<Vec3, 4>& x) {
+  // The normal of a pair whose nearest points at x are c: along them, or where they touch (no direction between
+  // them) the triangle's or the edges'. Not finite for a degenerate touching pair.
+  static Vec3 contactNormal(Primitive kind, const std::array<Vec3, 4>& x, const Closest& c) {
+    if (c.distance > 0) return c.delta / c.distance;
     if (kind == Primitive::PointTriangle) return (x[2] - x[1]).cross(x[3] - x[1]).normalized();
     return (x[1] - x[0]).cross(x[3] - x[2]).normalized();
   }
@@ -977,7 +977,7 @@ struct BodyCollisions::Impl {
           const auto x = points(nxs, p.stencil);
           const Closest& c = step.closest[k];
           if (startBoxGap(p, x) > p.thickness || !(c.distance < p.thickness)) continue;
-          count += (c.distance > 0 ? Vec3(c.delta / c.distance) : contactNormal(p.kind, x)).allFinite();
+          count += contactNormal(p.kind, x, c).allFinite();
         }
         return count;
       });
@@ -1004,7 +1004,7 @@ struct BodyCollisions::Impl {
           if (fill) skin.lower[k] = c.distance;
           if (round_closest_valid) round_closest[k] = c;  // each k on one thread
           if (c.distance >= p.thickness) return std::nullopt;
-          const Vec3 normal = c.distance > 0 ? Vec3(c.delta / c.distance) : contactNormal(p.kind, x);
+          const Vec3 normal = contactNormal(p.kind, x, c);
           if (!normal.allFinite()) return Contact{k, c, Vec3::Zero(), -1};
           return Contact{k, c, normal, 0};
         },
