@@ -649,6 +649,8 @@ struct BodyCollisions::Impl {
     VecX reference;             // the nodes' start when the list was found
     std::vector<double> lower;  // the pass's, per candidate: a lower bound of its distance there
     bool lower_valid = false;   // filled by the repulsion of the step that found the list
+    int served = 0;             // steps the list served
+    bool last_served = true;    // whether the last list served a step before it was left
   } skin, step_skin;
   bool from_skin = false;  // the round's candidates are the pass's skin's (vf, ee copied from it)
   // The largest distance of a node from the skin's reference, over the given per-node vectors.
@@ -661,7 +663,11 @@ struct BodyCollisions::Impl {
   }
   // vf and ee for (nxs, nxe) from a broad phase padded by `margin` more than the exact one: k's list when it serves
   // (returns 1), else a new list for k when the step moved every node by less than half k's margin (then it likely
-  // serves a step or more; returns 2), else the broad phase's (3). 0: over the budget.
+  // serves a step or more; returns 2), else the broad phase's (3). 0: over the budget. After a list that served no
+  // step, the next is found only after a step that moved every node by less than a quarter of the margin: a list costs
+  // more to find than the exact one (twice the candidates on a collapsed cloth), and a body whose every step moves
+  // some node by a third to a half of the margin or more (a cloth settling onto itself) otherwise finds one nearly
+  // every step and leaves it the next.
   int keptCandidates(Skin& k, double margin) {
     const double skin_margin = kSkinFraction * max_thickness;
     if (motion_cull && k.valid && k.lo.size() == nxs.size()) {
@@ -672,11 +678,13 @@ struct BodyCollisions::Impl {
         newCandidates();
         vf = k.vf;
         ee = k.ee;
+        ++k.served;
         return 1;
       }
     }
+    if (k.valid) k.last_served = k.served > 0;
     k.valid = false;
-    if (motion_cull && (nxe - nxs).cwiseAbs().maxCoeff() < skin_margin / 2 &&
+    if (motion_cull && (nxe - nxs).cwiseAbs().maxCoeff() < skin_margin / (k.last_served ? 2 : 4) &&
         broadPhase(false, margin + skin_margin, true)) {
       k.lo = nxs.cwiseMin(nxe).array() - skin_margin / 2;
       k.hi = nxs.cwiseMax(nxe).array() + skin_margin / 2;
@@ -684,6 +692,8 @@ struct BodyCollisions::Impl {
       k.ee = ee;
       k.reference = nxs;
       k.valid = true;
+      k.served = 0;
+      ++counters->skin_lists;
       return 2;
     }
     return broadPhase(false, margin) ? 3 : 0;
