@@ -51,11 +51,14 @@ for ((round = 0; round < 2 * pairs; ++round)); do
   timed "$core_b" "$work/b" "$2" &
   run_b=$!
   # Whichever ends first; when it failed, the other is stopped rather than left to run on to its end.
-  if ! wait -n -p ended "$run_a" "$run_b"; then
-    kill -- -"$([[ $ended == "$run_a" ]] && echo "$run_b" || echo "$run_a")" 2>/dev/null || true
+  failed=0
+  wait -n -p ended "$run_a" "$run_b" || failed=$?
+  other=$([[ $ended == "$run_a" ]] && echo "$run_b" || echo "$run_a")
+  if ((failed != 0)); then
+    kill -- -"$other" 2>/dev/null || true
     exit 1
   fi
-  wait "$([[ $ended == "$run_a" ]] && echo "$run_b" || echo "$run_a")" || exit 1
+  wait "$other" || exit 1
   a=$(cat "$work/a") b=$(cat "$work/b")
   ratio=$(awk -v a="$a" -v b="$b" 'BEGIN { printf "%.3f", (b > 0 ? a / b : 0) }')
   ratios+=("$ratio")

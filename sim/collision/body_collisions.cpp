@@ -649,8 +649,7 @@ struct BodyCollisions::Impl {
     VecX reference;             // the nodes' start when the list was found
     std::vector<double> lower;  // the pass's, per candidate: a lower bound of its distance there
     bool lower_valid = false;   // filled by the repulsion of the step that found the list
-    int served = 0;             // steps the list served
-    bool last_served = true;    // whether the last list served a step before it was left
+    int served = 1;             // steps the last list found served (before any: taken as served)
   } skin, step_skin;
   bool from_skin = false;  // the round's candidates are the pass's skin's (vf, ee copied from it)
   // The largest distance of a node from the skin's reference, over the given per-node vectors.
@@ -682,9 +681,8 @@ struct BodyCollisions::Impl {
         return 1;
       }
     }
-    if (k.valid) k.last_served = k.served > 0;
     k.valid = false;
-    if (motion_cull && (nxe - nxs).cwiseAbs().maxCoeff() < skin_margin / (k.last_served ? 2 : 4) &&
+    if (motion_cull && (nxe - nxs).cwiseAbs().maxCoeff() < skin_margin / (k.served > 0 ? 2 : 4) &&
         broadPhase(false, margin + skin_margin, true)) {
       k.lo = nxs.cwiseMin(nxe).array() - skin_margin / 2;
       k.hi = nxs.cwiseMax(nxe).array() + skin_margin / 2;
@@ -1214,13 +1212,14 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
         // its particles, decides (it differs in rounding only, far below this margin).
         Vec3 end_relative = Vec3::Zero();
         for (int i = 0; i < 4; ++i) end_relative += c.w[i] * particle(s.nxe, p.stencil.vertex[i]);
-        if (normal.dot(end_relative) - p.thickness > 1e-6 * p.thickness) return std::nullopt;
+        const double node_gap = normal.dot(end_relative) - p.thickness;
+        if (node_gap > 1e-6 * p.thickness) return std::nullopt;
         if (before > 0 && s.known.contains(p.stencil.vertex)) return std::nullopt;  // (an empty out holds none)
         // Where every node is one particle of weight 1 the pair's own gap is the nodes' to the bit (the same particles,
         // weights and sums): no pair (a stencil with room for 32 particles) built to find it.
         const double gap =
             s.single_particle_nodes
-                ? normal.dot(end_relative) - p.thickness
+                ? node_gap
                 : ContactPair{p.stencil.vertex, s.expand(p.stencil, c.w), normal, p.thickness, p.friction}.gap(x1);
         if (!(gap < 0)) return std::nullopt;
         // The linearized gap of a pair far apart at x0 says little: only a pair that does come within the thickness at
