@@ -68,7 +68,7 @@ class StencilCouplings {
   // its entries [first_[r], first_[r + 1]) of (stencil, weight) in stencil order.
   mutable bool indexed_ = false;
   mutable std::vector<int> touched_, first_, entry_stencil_;
-  // The stencils packed for the first pass (a WeightedStencil has room for 32 particles, most use 4): stencil k's
+  // The stencils packed for the first pass (a WeightedStencil holds up to 32 particles, most hold 4): stencil k's
   // particles and weights [packed_first_[k], packed_first_[k + 1]), weights of 0 left out.
   mutable std::vector<int> packed_first_, packed_particle_;
   mutable Values<double> double_;
