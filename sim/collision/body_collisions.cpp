@@ -615,16 +615,28 @@ struct BodyCollisions::Impl {
   const std::vector<std::pair<int, int>>& vfList() const { return from_step ? step.vf : vf; }
   const std::vector<std::pair<int, int>>& eeList() const { return from_step ? step.ee : ee; }
 
-  // Takes the step's candidates if they stand for (nxs, nxe), or can be brought to it (updateStep); returns whether it
-  // did.
-  bool reuseStep() {
+  // Takes the step's candidates if they stand for (nxs, nxe), or can be brought to it (update: updateStep); returns
+  // whether it did.
+  bool reuseStep(bool update = true) {
     if (!motion_cull || !step.valid || step.start.size() != nxs.size() || step.end.size() != nxe.size()) return false;
     if (std::memcmp(step.start.data(), nxs.data(), sizeof(double) * std::size_t(nxs.size())) != 0) return false;
-    if (!((nxe - step.end).cwiseAbs().maxCoeff() <= step.margin) && !(step.own && updateStep())) return false;
+    if (!((nxe - step.end).cwiseAbs().maxCoeff() <= step.margin) && !(update && step.own && updateStep())) return false;
     from_step = true;
     drift = 0;
     for (int k = 0; k < nodeCount(); ++k) drift = std::max(drift, (particle(nxe, k) - particle(step.end, k)).norm());
     return true;
+  }
+  // The candidates of a later round of the pass, after impulses changed some trajectories (dirty nodes): the step's
+  // list where it stands for the new ends as it is (each within the margin of the end it was found for: detect then
+  // tests its candidates with a dirty node), else a broad phase of the elements holding a dirty node. Never the step's
+  // list brought up to date: impulses may move many nodes a little beyond the margin, and an update sorts the whole
+  // list again, where the marked lookup touches only what moved. False: over the budget.
+  bool laterRoundCandidates(Stats& stats) {
+    if (reuseStep(false)) {
+      ++stats.step_rounds;
+      return true;
+    }
+    return broadPhase(true);
   }
   // Candidates kept across steps, as a Verlet list keeps its neighbours within a skin: found for boxes padded by a
   // margin (kSkinFraction of the largest thickness) more than a broad phase needs, they hold every pair of that broad
@@ -1264,7 +1276,7 @@ std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v
   bool all = true, clean = false;  // the first detection tests every pair: repulsion moved only some
   std::vector<Contact> hits;
   for (int round = 0; round < s.settings.ccd_iterations; ++round) {
-    if (round > 0 && !s.broadPhase(true)) return s.overwhelmedFailure();
+    if (round > 0 && !s.laterRoundCandidates(stats_)) return s.overwhelmedFailure();
     hits = s.detect(all);
     all = false;
     if (hits.empty()) {
@@ -1275,7 +1287,7 @@ std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v
     s.impulses(hits, h);
   }
   if (!clean) {  // the last round's impulses are not checked yet
-    if (!s.broadPhase(!all)) return s.overwhelmedFailure();
+    if (all ? !s.broadPhase() : !s.laterRoundCandidates(stats_)) return s.overwhelmedFailure();
     hits = s.detect(all);
   }
   if (!hits.empty()) {
