@@ -1084,9 +1084,12 @@ struct BodyCollisions::Impl {
           if (within_zones && inOneZone(p.stencil)) return std::nullopt;
           const auto& q = p.stencil.vertex;
           const int first = p.first();
-          // Two filters, the cheaper first (one direction where repulsion found the nearest points, else three axes).
-          if (all && cull && round_closest_valid && apartAlongNearest(round_closest[k], q, first, p.thickness))
-            return std::nullopt;
+          // Two filters, the cheaper first (one direction where the nearest points at the start are known, else three
+          // axes): the step's list carries them for every candidate, repulsion finds them for the round's first test.
+          const Closest* start = from_step                    ? &step.closest[k]
+                                 : all && round_closest_valid ? &round_closest[k]
+                                                              : nullptr;
+          if (cull && start && apartAlongNearest(*start, q, first, p.thickness)) return std::nullopt;
           if (apartAllStep(q.data(), first, q.data() + first, 4 - first, p.thickness)) return std::nullopt;
           const auto hit = firstHit(p.kind, points(nxs, p.stencil), points(nxe, p.stencil), kEtaFraction * p.thickness);
           if (!hit) return std::nullopt;
