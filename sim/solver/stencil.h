@@ -18,8 +18,8 @@ struct WeightedStencil {
   // them to the heap. Backward Euler lists some 100 000 pairs a step on a cloth collapsed on itself (690 000 at 256 x
   // 256), each written, copied and read several times: room for all 32 in place made a pair 472 bytes, 152 now.
   static constexpr int kInline = 4;
-  // Entries past size are never read: no member is zeroed, so that a vector's resize (value-initialization) writes
-  // only the pointers and the size of every stencil.
+  // Entries past size are never read, nor initialized: a user-provided constructor, so that value-initializing a
+  // stencil writes its size and pointers only.
   WeightedStencil() {}
   WeightedStencil(const WeightedStencil& o) { copyEntries(o); }
   WeightedStencil(WeightedStencil&& o) noexcept { take(o); }
