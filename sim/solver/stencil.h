@@ -45,13 +45,7 @@ struct WeightedStencil {
         w[i] += weight;
         return;
       }
-    if (size == kInline && particle == inline_particle_) {
-      int* heap_particle = new int[kCapacity];
-      double* heap_w = new double[kCapacity];
-      std::copy(particle, particle + size, heap_particle);
-      std::copy(w, w + size, heap_w);
-      particle = heap_particle, w = heap_w;
-    }
+    if (size == kInline && !onHeap()) moveToHeap();
     particle[size] = p;
     w[size++] = weight;
   }
@@ -74,6 +68,14 @@ struct WeightedStencil {
 
  private:
   bool onHeap() const { return particle != inline_particle_; }
+  // Room for kCapacity entries on the heap, with the entries so far.
+  void moveToHeap() {
+    int* heap_particle = new int[kCapacity];
+    double* heap_w = new double[kCapacity];
+    std::copy(particle, particle + size, heap_particle);
+    std::copy(w, w + size, heap_w);
+    particle = heap_particle, w = heap_w;
+  }
   void release() {
     if (!onHeap()) return;
     delete[] particle;
@@ -82,20 +84,16 @@ struct WeightedStencil {
   }
   // This stencil's entries become o's (its heap kept when it has one; taken when o has more than fit in place).
   void copyEntries(const WeightedStencil& o) {
-    if (o.size > kInline && !onHeap()) particle = new int[kCapacity], w = new double[kCapacity];
+    if (o.size > kInline && !onHeap()) moveToHeap();
     size = o.size;
     std::copy(o.particle, o.particle + o.size, particle);
     std::copy(o.w, o.w + o.size, w);
   }
+  // This stencil (in place) takes o's heap, or copies o's entries held in place.
   void take(WeightedStencil& o) {
-    if (o.onHeap()) {
-      particle = o.particle, w = o.w, size = o.size;
-      o.particle = o.inline_particle_, o.w = o.inline_w_, o.size = 0;
-      return;
-    }
-    size = o.size;
-    std::copy(o.particle, o.particle + o.size, particle);
-    std::copy(o.w, o.w + o.size, w);
+    if (!o.onHeap()) return copyEntries(o);
+    particle = o.particle, w = o.w, size = o.size;
+    o.particle = o.inline_particle_, o.w = o.inline_w_, o.size = 0;
   }
   int inline_particle_[kInline];
   double inline_w_[kInline];
