@@ -32,6 +32,9 @@ constexpr double kStepMarginFraction = 0.25;
 // The pass's candidates kept across steps (Impl::Skin) are found with boxes padded by this fraction of the largest
 // thickness more than the exact broad phase's, and serve while every node stays within half of it of the box it swept.
 constexpr double kSkinFraction = 0.5;
+// Backward Euler's step lists are kept across steps (Impl::StepSkin) with each node's interval reaching this fraction
+// of the largest thickness beyond its start and end, each way.
+constexpr double kNodeSlackFraction = 0.5;
 // A collision impulse leaves at most this fraction of the approach speed as separation (no restitution beyond it),
 // and aims to end the step this fraction of the thickness apart.
 constexpr double kSeparation = 0.1, kEndGapFraction = 0.01;
@@ -45,6 +48,21 @@ struct Diagonals {
                                   p.y() - p.z(), p.z() + p.x(), p.z() - p.x()};
     for (int k = 0; k < 6; ++k) lo[k] = std::min(lo[k], d[k]), hi[k] = std::max(hi[k], d[k]);
   }
+  // Every point of the box [a, b]: each sum or difference at its least and greatest (rounding is monotone, so a
+  // point's own rounded sums lie within these).
+  void include(const Vec3& a, const Vec3& b) {
+    const std::array<double, 6> l{a.x() + a.y(), a.x() - b.y(), a.y() + a.z(),
+                                  a.y() - b.z(), a.z() + a.x(), a.z() - b.x()};
+    const std::array<double, 6> h{b.x() + b.y(), b.x() - a.y(), b.y() + b.z(),
+                                  b.y() - a.z(), b.z() + b.x(), b.z() - a.x()};
+    for (int k = 0; k < 6; ++k) lo[k] = std::min(lo[k], l[k]), hi[k] = std::max(hi[k], h[k]);
+  }
+};
+
+// Each element's box and diagonals (those of a broad phase, or of a skin's intervals).
+struct ElementBoxes {
+  std::vector<Box> vertex, edge, triangle;
+  std::vector<Diagonals> vertex_diagonals, edge_diagonals, triangle_diagonals;
 };
 
 struct PairInfo {
@@ -128,13 +146,12 @@ struct BodyCollisions::Impl {
   std::vector<char> dirty;     // per node: moved since the last detection
   std::vector<int> node_mark;  // per node: the last impulse that refreshed it (refreshNodes)
   int mark = 0;
-  std::vector<Box> vertex_boxes, edge_boxes, triangle_boxes;
-  std::vector<Diagonals> vertex_diagonals, edge_diagonals, triangle_diagonals;  // beside the boxes (Diagonals)
-  std::vector<char> vertex_moved, edge_moved, triangle_moved;                   // per element: a node of it is dirty
-  std::vector<std::pair<int, int>> vf, ee;  // candidate pairs: (vertex slot, triangle), (edge, edge)
+  ElementBoxes boxes;                                          // the last broad phase's
+  std::vector<char> vertex_moved, edge_moved, triangle_moved;  // per element: a node of it is dirty
+  std::vector<std::pair<int, int>> vf, ee;                     // candidate pairs: (vertex slot, triangle), (edge, edge)
   // How a broad phase found vf and ee: the frames its boxes were swept in (frameShifts; empty: the world's) and their
-  // padding. A list kept from an earlier step (keptCandidates) leaves them as they were: it is never brought to new
-  // ends (StepCandidates::own).
+  // padding (the step skin's list, cut down to a broad phase's in the world's frame, sets them too). The pass's list
+  // kept from an earlier step (keptCandidates) leaves them as they were: it only serves the pass.
   struct Frames {
     std::vector<Vec3> shifts;
     double pad = 0;
@@ -468,72 +485,28 @@ struct BodyCollisions::Impl {
                  std::vector<std::pair<int, int>>& vf_out, std::vector<std::pair<int, int>>& ee_out) {
     // The boxes of every element, each in its body's frame (shifted) or the world's.
     const auto fillAll = [&](bool shifted) {
-      const auto fill = [&](auto& boxes, auto& diagonal_extents, const auto& items, const std::vector<int>& body) {
-        boxes.resize(items.size());
-        diagonal_extents.resize(items.size());
-        forEachChunk(int(items.size()), parallel, [&](int begin, int stop) {
-          for (int k = begin; k < stop; ++k) {
-            const Vec3 shift = shifted ? shifts[body[k]] : Vec3::Zero();
-            boxes[k] = box(items[k], pad, end, shift);
-            if (cull) diagonal_extents[k] = diagonals(items[k], pad, end, shift);  // read under the culls only
-          }
-        });
-      };
-      fill(vertex_boxes, vertex_diagonals, single_nodes, vertex_body);
-      fill(edge_boxes, edge_diagonals, edges, edge_body);
-      fill(triangle_boxes, triangle_diagonals, triangles, triangle_body);
-    };
-    const std::size_t budget = candidateBudget();
-    // The pairs of the boxes as they stand whose bodies `bodies` accepts, into two lists (each ascending).
-    const auto find = [&](const auto& bodies, std::vector<std::pair<int, int>>& vf_found,
-                          std::vector<std::pair<int, int>>& ee_found, std::size_t used) {
-      const auto pairs = [&](const std::vector<Box>& queries, const std::vector<Box>& targets, bool same,
-                             const std::vector<char>& query_moved, const std::vector<char>& target_moved,
-                             const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out,
-                             std::size_t limit) {
-        return marked ? overlappingMarkedPairs(queries, targets, same, parallel, query_moved, target_moved, keep, out,
-                                               limit)
-                      : overlappingPairs(queries, targets, same, parallel, keep, out, limit);
-      };
-      if (!pairs(
-              vertex_boxes, triangle_boxes, false, vertex_moved, triangle_moved,
-              [&](int v, int t) {
-                if (!bodies(vertex_body[v], triangle_body[t])) return false;
-                const int p = v;
-                const auto& tri = triangles[t];
-                if (p == tri[0] || p == tri[1] || p == tri[2]) return false;
-                const auto& m = node_inv_mass;
-                if (!(m[p] + m[tri[0]] + m[tri[1]] + m[tri[2]] > 0)) return false;
-                if (cull && diagonallyApart(vertex_diagonals[v], triangle_diagonals[t])) return false;
-                return !apart || !apartAllStep(&p, 1, tri.data(), 3, pairThickness(vertex_body[v], triangle_body[t]));
-              },
-              vf_found, budget - std::min(budget, used)))
-        return false;
-      return pairs(
-          edge_boxes, edge_boxes, true, edge_moved, edge_moved,
-          [&](int e, int f) {
-            if (!bodies(edge_body[e], edge_body[f])) return false;
-            const auto &a = edges[e], &b = edges[f];
-            if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return false;
-            const auto& m = node_inv_mass;
-            if (!(m[a[0]] + m[a[1]] + m[b[0]] + m[b[1]] > 0)) return false;
-            if (cull && diagonallyApart(edge_diagonals[e], edge_diagonals[f])) return false;
-            return !apart || !apartAllStep(a.data(), 2, b.data(), 2, pairThickness(edge_body[e], edge_body[f]));
-          },
-          ee_found, budget - std::min(budget, used + vf_found.size()));
+      fillBoxes(boxes, false, [&](const auto& nodes, int body, Box& box_out, Diagonals& diagonals_out) {
+        const Vec3 shift = shifted ? shifts[body] : Vec3::Zero();
+        box_out = box(nodes, pad, end, shift);
+        if (cull) diagonals_out = diagonals(nodes, pad, end, shift);  // read under the culls only
+      });
     };
     bool found;
     if (shifts.empty()) {
       fillAll(false);
-      found = find([&](int a, int b) { return bodiesMeet(a, b); }, vf_out, ee_out, 0);
+      found = findPairs(
+          boxes, [&](int a, int b) { return bodiesMeet(a, b); }, marked, apart, vf_out, ee_out, 0);
     } else {
       fillAll(true);
-      found = find([&](int a, int b) { return a == b && params[a].self_contact; }, vf_out, ee_out, 0);
+      found = findPairs(
+          boxes, [&](int a, int b) { return a == b && params[a].self_contact; }, marked, apart, vf_out, ee_out, 0);
       if (found && params.size() > 1) {
         thread_local std::vector<std::pair<int, int>> self_vf, self_ee, other_vf, other_ee;
         self_vf.swap(vf_out), self_ee.swap(ee_out);
         fillAll(false);
-        found = find([&](int a, int b) { return a != b; }, other_vf, other_ee, self_vf.size() + self_ee.size());
+        found = findPairs(
+            boxes, [&](int a, int b) { return a != b; }, marked, apart, other_vf, other_ee,
+            self_vf.size() + self_ee.size());
         vf_out.clear(), ee_out.clear();
         std::merge(self_vf.begin(), self_vf.end(), other_vf.begin(), other_vf.end(), std::back_inserter(vf_out));
         std::merge(self_ee.begin(), self_ee.end(), other_ee.begin(), other_ee.end(), std::back_inserter(ee_out));
@@ -542,6 +515,66 @@ struct BodyCollisions::Impl {
     ++counters->broad_phases;
     counters->candidates += long(vf_out.size() + ee_out.size());
     return found;
+  }
+  // Every element's box and diagonals into out by fill(nodes, body, box, diagonals), on threads; only those of the
+  // elements markElements marked when marked_only.
+  template <class Fill>
+  void fillBoxes(ElementBoxes& out, bool marked_only, Fill&& fill) const {
+    const auto each = [&](std::vector<Box>& element_boxes, std::vector<Diagonals>& element_diagonals, const auto& items,
+                          const std::vector<int>& body, const std::vector<char>& moved) {
+      element_boxes.resize(items.size());
+      element_diagonals.resize(items.size());
+      forEachChunk(int(items.size()), parallel, [&](int begin, int stop) {
+        for (int k = begin; k < stop; ++k)
+          if (!marked_only || moved[k]) fill(items[k], body[k], element_boxes[k], element_diagonals[k]);
+      });
+    };
+    each(out.vertex, out.vertex_diagonals, single_nodes, vertex_body, vertex_moved);
+    each(out.edge, out.edge_diagonals, edges, edge_body, edge_moved);
+    each(out.triangle, out.triangle_diagonals, triangles, triangle_body, triangle_moved);
+  }
+  // Into vf_found and ee_found, ascending: the pairs whose boxes in b overlap and whose bodies `bodies` accepts, less
+  // those of adjacent elements, of pinned nodes only, and (with the culls) those the diagonals part; marked and apart
+  // as for listPairs. used: candidates found already (of the budget). False: over the budget.
+  template <class Bodies>
+  bool findPairs(const ElementBoxes& b, const Bodies& bodies, bool marked, bool apart,
+                 std::vector<std::pair<int, int>>& vf_found, std::vector<std::pair<int, int>>& ee_found,
+                 std::size_t used) {
+    const std::size_t budget = candidateBudget();
+    const auto pairs = [&](const std::vector<Box>& queries, const std::vector<Box>& targets, bool same,
+                           const std::vector<char>& query_moved, const std::vector<char>& target_moved,
+                           const std::function<bool(int, int)>& keep, std::vector<std::pair<int, int>>& out,
+                           std::size_t limit) {
+      return marked
+                 ? overlappingMarkedPairs(queries, targets, same, parallel, query_moved, target_moved, keep, out, limit)
+                 : overlappingPairs(queries, targets, same, parallel, keep, out, limit);
+    };
+    if (!pairs(
+            b.vertex, b.triangle, false, vertex_moved, triangle_moved,
+            [&](int v, int t) {
+              if (!bodies(vertex_body[v], triangle_body[t])) return false;
+              const int p = v;
+              const auto& tri = triangles[t];
+              if (p == tri[0] || p == tri[1] || p == tri[2]) return false;
+              const auto& m = node_inv_mass;
+              if (!(m[p] + m[tri[0]] + m[tri[1]] + m[tri[2]] > 0)) return false;
+              if (cull && diagonallyApart(b.vertex_diagonals[v], b.triangle_diagonals[t])) return false;
+              return !apart || !apartAllStep(&p, 1, tri.data(), 3, pairThickness(vertex_body[v], triangle_body[t]));
+            },
+            vf_found, budget - std::min(budget, used)))
+      return false;
+    return pairs(
+        b.edge, b.edge, true, edge_moved, edge_moved,
+        [&](int e, int f) {
+          if (!bodies(edge_body[e], edge_body[f])) return false;
+          const auto &a = edges[e], &c = edges[f];
+          if (a[0] == c[0] || a[0] == c[1] || a[1] == c[0] || a[1] == c[1]) return false;
+          const auto& m = node_inv_mass;
+          if (!(m[a[0]] + m[a[1]] + m[c[0]] + m[c[1]] > 0)) return false;
+          if (cull && diagonallyApart(b.edge_diagonals[e], b.edge_diagonals[f])) return false;
+          return !apart || !apartAllStep(a.data(), 2, c.data(), 2, pairThickness(edge_body[e], edge_body[f]));
+        },
+        ee_found, budget - std::min(budget, used + vf_found.size()));
   }
 
   // Why the pass stops when the broad phase exceeds its budget: the vertex that moved furthest in the step.
@@ -593,9 +626,8 @@ struct BodyCollisions::Impl {
     double near_min = std::numeric_limits<double>::infinity();
     // Per candidate, where nearPairs put its pair in out at this step (SIZE_MAX: nowhere yet).
     std::vector<std::size_t> joined;
-    // How the list was found, when by a broad phase for this start (own; not a list kept from an earlier step): the
-    // frames and padding of its boxes, swept from start to end. updateStep brings it to a new end.
-    bool own = false;
+    // How the list was found: the frames and padding of its boxes, swept from start to end (a list the step skin
+    // served is cut down to such a broad phase's, in the world's frame). updateStep brings it to a new end.
     Frames frames;
     // findStep's per-candidate values before they are sorted into the lists above.
     struct {
@@ -620,7 +652,7 @@ struct BodyCollisions::Impl {
   bool reuseStep(bool update = true) {
     if (!motion_cull || !step.valid || step.start.size() != nxs.size() || step.end.size() != nxe.size()) return false;
     if (std::memcmp(step.start.data(), nxs.data(), sizeof(double) * std::size_t(nxs.size())) != 0) return false;
-    if (!((nxe - step.end).cwiseAbs().maxCoeff() <= step.margin) && !(update && step.own && updateStep())) return false;
+    if (!((nxe - step.end).cwiseAbs().maxCoeff() <= step.margin) && !(update && updateStep())) return false;
     from_step = true;
     drift = 0;
     for (int k = 0; k < nodeCount(); ++k) drift = std::max(drift, (particle(nxe, k) - particle(step.end, k)).norm());
@@ -645,8 +677,8 @@ struct BodyCollisions::Impl {
   // inside the skin's. The surplus pairs, in the same ascending order, fail the geometric tests that follow (start
   // boxes within the thickness, an axis apart all along, a hit, a gap): the same contacts in the same order. Serves
   // steps that move a node by a small part of the thickness (an explicit integrator's; a body resting under backward
-  // Euler), where the broad phase is much of the work; a skin is built only after such a step. Two are kept: the
-  // pass's (the exact broad phase's pairs) and the step's (findStep: padded by the step margin as well).
+  // Euler), where the broad phase is much of the work; a skin is built only after such a step. This one is the pass's
+  // (the exact broad phase's pairs; backward Euler's step lists keep theirs up to date in part, StepSkin).
   // The pass's also keeps a lower bound of each candidate's distance at the start of the step that found the list
   // (its nearest points' distance where repulsion found them, else its start boxes' gap along an axis). Moving each
   // node by at most D from there changes the distance between two elements by at most 2 D (each element's hull moves
@@ -662,7 +694,7 @@ struct BodyCollisions::Impl {
     std::vector<double> lower;  // the pass's, per candidate: a lower bound of its distance there
     bool lower_valid = false;   // filled by the repulsion of the step that found the list
     int served = 1;             // steps the last list found served (before any: taken as served)
-  } skin, step_skin;
+  } skin;
   bool from_skin = false;  // the round's candidates are the pass's skin's (vf, ee copied from it)
   // The largest distance of a node from the skin's reference, over the given per-node vectors.
   double skinDrift(std::initializer_list<const VecX*> xs) const {
@@ -708,6 +740,144 @@ struct BodyCollisions::Impl {
     }
     return broadPhase(false, margin) ? 3 : 0;
   }
+  // Backward Euler's step lists kept across steps, as a Verlet list kept up to date in part (the pass's Skin is kept
+  // whole or not at all): each node has an interval per coordinate, its start and end when it was set widened by
+  // kNodeSlackFraction of the largest thickness each way; each element a box (and diagonals) over its nodes'
+  // intervals, padded as the step's boxes are; and the list holds every pair whose boxes overlap (found as a broad
+  // phase finds them). At a step whose nodes all lie, at its start and its end, within their intervals, each element's
+  // box for the step (in the world's frame) lies inside its kept one (rounding is monotone: the same sums of smaller
+  // numbers are no larger), so every pair of that step's broad phase is in the list, and testing each listed pair's
+  // boxes and diagonals for the step cuts the list down to exactly that broad phase's pairs, in the same order, with no
+  // lookup. A node outside its interval gets a new one, and only the elements holding such a node are looked up again
+  // (their kept pairs dropped, their new ones merged in order): on a cloth lying collapsed on itself 3 to 10% of the
+  // nodes a step, where a whole broad phase was the largest part of detection.
+  struct StepSkin {
+    bool valid = false;
+    VecX lo, hi;  // per node coordinate
+    ElementBoxes boxes;
+    std::vector<std::pair<int, int>> vf, ee;
+    std::vector<char> outside;  // per node: outside its interval at this step
+    std::vector<std::pair<int, int>> fresh_vf, fresh_ee, merged;
+  } step_skin;
+  // The box and diagonals of an element over its nodes' step skin intervals, padded (fillBoxes).
+  auto stepSkinBox(double pad) const {
+    return [this, pad](const auto& nodes, int, Box& box_out, Diagonals& diagonals_out) {
+      const StepSkin& k = step_skin;
+      box_out = Box{Vec3::Constant(std::numeric_limits<double>::infinity()),
+                    Vec3::Constant(-std::numeric_limits<double>::infinity())};
+      diagonals_out = Diagonals{};
+      for (const int i : nodes) {
+        const Vec3 lo = particle(k.lo, i), hi = particle(k.hi, i);
+        box_out.lo = box_out.lo.cwiseMin(lo);
+        box_out.hi = box_out.hi.cwiseMax(hi);
+        diagonals_out.include(lo, hi);
+      }
+      box_out.lo.array() -= pad;
+      box_out.hi.array() -= -pad;
+      for (int j = 0; j < 6; ++j) diagonals_out.lo[j] -= 2 * pad, diagonals_out.hi[j] += 2 * pad;
+    };
+  }
+  // Into vf and ee, the pairs of a broad phase over (nxs, nxe) in the world's frame with boxes padded by pad, from the
+  // step skin: 1 when it served (brought up to date or not), 2 when it was found anew; 0 when it cannot serve this
+  // step (the caller then runs the broad phase): more than a quarter of the nodes left their intervals, or it is not
+  // found anew after a step that moved more than an eighth of the nodes by more than their slack (most of a falling
+  // body's: they would leave at the next step), or it would exceed the candidate budget.
+  int stepSkinCandidates(double pad) {
+    StepSkin& k = step_skin;
+    newCandidates();
+    const int n = nodeCount();
+    if (!motion_cull || k.lo.size() != nxs.size()) k.valid = false;
+    const double slack = kNodeSlackFraction * max_thickness;
+    int result = 1;
+    if (k.valid) {
+      k.outside.assign(n, 0);
+      int count = 0;
+      for (int i = 0; i < n; ++i) {
+        bool inside = true;
+        for (int j = 3 * i; j < 3 * i + 3; ++j)
+          inside = inside && std::min(nxs[j], nxe[j]) >= k.lo[j] && std::max(nxs[j], nxe[j]) <= k.hi[j];
+        k.outside[i] = !inside;
+        count += !inside;
+      }
+      k.valid = count <= n / 4 && (count == 0 || updateStepSkin(pad, slack));
+    }
+    if (!k.valid) {
+      int fast = 0;
+      for (int i = 0; i < n; ++i) fast += !((particle(nxe, i) - particle(nxs, i)).cwiseAbs().maxCoeff() <= slack);
+      if (!motion_cull || fast > n / 8) return 0;
+      k.lo = nxs.cwiseMin(nxe).array() - slack;
+      k.hi = nxs.cwiseMax(nxe).array() + slack;
+      fillBoxes(k.boxes, false, stepSkinBox(pad));
+      if (!findPairs(
+              k.boxes, [&](int a, int b) { return bodiesMeet(a, b); }, false, false, k.vf, k.ee, 0))
+        return 0;
+      ++counters->broad_phases;
+      counters->candidates += long(k.vf.size() + k.ee.size());
+      ++counters->skin_lists;
+      k.valid = true;
+      result = 2;
+    }
+    // The skin's pairs whose boxes and diagonals for this step meet.
+    listed.pad = pad;
+    listed.shifts.clear();
+    fillBoxes(boxes, false, [&](const auto& nodes, int, Box& box_out, Diagonals& diagonals_out) {
+      box_out = box(nodes, pad, nxe, Vec3::Zero());
+      diagonals_out = diagonals(nodes, pad, nxe, Vec3::Zero());
+    });
+    keepPairs(k.vf, vf, [&](int v, int t) {
+      return boxes.vertex[v].overlaps(boxes.triangle[t]) &&
+             !diagonallyApart(boxes.vertex_diagonals[v], boxes.triangle_diagonals[t]);
+    });
+    keepPairs(k.ee, ee, [&](int e, int f) {
+      return boxes.edge[e].overlaps(boxes.edge[f]) &&
+             !diagonallyApart(boxes.edge_diagonals[e], boxes.edge_diagonals[f]);
+    });
+    return result;
+  }
+  // The step skin's nodes marked outside get new intervals, and the pairs of the elements holding one are found
+  // again. False: over the budget.
+  bool updateStepSkin(double pad, double slack) {
+    StepSkin& k = step_skin;
+    for (int i = 0; i < nodeCount(); ++i)
+      if (k.outside[i])
+        for (int j = 3 * i; j < 3 * i + 3; ++j)
+          k.lo[j] = std::min(nxs[j], nxe[j]) - slack, k.hi[j] = std::max(nxs[j], nxe[j]) + slack;
+    markElements(k.outside);
+    fillBoxes(k.boxes, true, stepSkinBox(pad));
+    if (!findPairs(
+            k.boxes, [&](int a, int b) { return bodiesMeet(a, b); }, true, false, k.fresh_vf, k.fresh_ee, 0))
+      return false;
+    ++counters->broad_phases;
+    ++counters->skin_updates;
+    counters->candidates += long(k.fresh_vf.size() + k.fresh_ee.size());
+    mergeUnmarked(k.vf, k.fresh_vf, vertex_moved, triangle_moved, k.merged);
+    k.vf.swap(k.merged);
+    mergeUnmarked(k.ee, k.fresh_ee, edge_moved, edge_moved, k.merged);
+    k.ee.swap(k.merged);
+    return k.vf.size() + k.ee.size() <= candidateBudget();
+  }
+  std::vector<char> keep_scratch;  // keepPairs', kept from step to step
+  // The pairs of `in` for which keep(first, second) holds, into out in order (on threads).
+  template <class Keep>
+  void keepPairs(const std::vector<std::pair<int, int>>& in, std::vector<std::pair<int, int>>& out, Keep&& keep) {
+    const int n = int(in.size()), chunk = particleChunk(n), chunks = (n + chunk - 1) / chunk;
+    std::vector<int> count(chunks + 1, 0);
+    std::vector<char>& kept = keep_scratch;  // per pair
+    kept.resize(n);
+    forEachChunk(n, parallel, [&](int begin, int end) {
+      int c = 0;
+      for (int j = begin; j < end; ++j) c += kept[j] = keep(in[j].first, in[j].second);
+      count[begin / chunk + 1] = c;
+    });
+    for (int c = 0; c < chunks; ++c) count[c + 1] += count[c];
+    out.resize(count[chunks]);
+    forEachChunk(n, parallel, [&](int begin, int end) {
+      int at = count[begin / chunk];
+      for (int j = begin; j < end; ++j)
+        if (kept[j]) out[at++] = in[j];
+    });
+  }
+
   // The candidates for the pass over (nxs, nxe) (keptCandidates). False: over the budget.
   bool passCandidates(Stats& stats) {
     const int found = keptCandidates(skin, 0);
@@ -727,10 +897,10 @@ struct BodyCollisions::Impl {
   bool findStep(Stats& stats) {
     step.margin = kStepMarginFraction * max_thickness;
     step.valid = false;
-    const int found = keptCandidates(step_skin, step.margin);
+    int found = stepSkinCandidates(0.5 * max_thickness + step.margin);
+    if (!found) found = broadPhase(false, step.margin) ? 3 : 0;
     if (!found) return false;
     stats.skin_searches += found == 1;
-    step.own = found != 1;
     step.frames = listed;
     step.start = nxs;
     step.end = nxe;
@@ -827,20 +997,8 @@ struct BodyCollisions::Impl {
     // The kept candidates (no marked element) and the fresh ones, merged in order; per merged candidate its old index
     // (-1: fresh).
     from.clear();
-    const auto merge = [&](const std::vector<std::pair<int, int>>& old, const std::vector<std::pair<int, int>>& fresh,
-                           const std::vector<char>& first_moved, const std::vector<char>& second_moved, int offset,
-                           std::vector<std::pair<int, int>>& out) {
-      out.clear();
-      std::size_t j = 0;
-      for (std::size_t i = 0; i < old.size(); ++i) {
-        if (first_moved[old[i].first] || second_moved[old[i].second]) continue;
-        for (; j < fresh.size() && fresh[j] < old[i]; ++j) out.push_back(fresh[j]), from.push_back(-1);
-        out.push_back(old[i]), from.push_back(offset + int(i));
-      }
-      for (; j < fresh.size(); ++j) out.push_back(fresh[j]), from.push_back(-1);
-    };
-    merge(step.vf, fresh_vf, vertex_moved, triangle_moved, 0, merged_vf);
-    merge(step.ee, fresh_ee, edge_moved, edge_moved, int(step.vf.size()), merged_ee);
+    mergeUnmarked(step.vf, fresh_vf, vertex_moved, triangle_moved, merged_vf, &from, 0);
+    mergeUnmarked(step.ee, fresh_ee, edge_moved, edge_moved, merged_ee, &from, int(step.vf.size()));
     if (merged_vf.size() + merged_ee.size() > candidateBudget()) return false;
     const int n = int(from.size());
     auto& [closing, hitting, near] = step.scratch;
@@ -868,6 +1026,25 @@ struct BodyCollisions::Impl {
     sortStep();
     ++counters->step_updates;
     return true;
+  }
+  // The pairs of old with neither element marked (first_marked, second_marked) and the fresh ones, merged in order into
+  // out; per pair of out, appended to from when given, its index in old plus offset (-1: fresh).
+  static void mergeUnmarked(const std::vector<std::pair<int, int>>& old, const std::vector<std::pair<int, int>>& fresh,
+                            const std::vector<char>& first_marked, const std::vector<char>& second_marked,
+                            std::vector<std::pair<int, int>>& out, std::vector<int>* from = nullptr, int offset = 0) {
+    out.clear();
+    std::size_t j = 0;
+    const auto add_fresh = [&] {
+      out.push_back(fresh[j++]);
+      if (from) from->push_back(-1);
+    };
+    for (std::size_t i = 0; i < old.size(); ++i) {
+      if (first_marked[old[i].first] || second_marked[old[i].second]) continue;
+      while (j < fresh.size() && fresh[j] < old[i]) add_fresh();
+      out.push_back(old[i]);
+      if (from) from->push_back(offset + int(i));
+    }
+    while (j < fresh.size()) add_fresh();
   }
   // The nearest points at the start of candidate k (whose stencil's start points are x), from the step's when known.
   Closest startClosest(int k, Primitive kind, const std::array<Vec3, 4>& x) const {

@@ -56,6 +56,7 @@ struct Stats {
   long candidates = 0;        // candidate pairs they listed (point-triangle and edge-edge)
   long step_updates = 0;      // backward Euler's searches that brought the step's candidates to a far end in part
   long skin_lists = 0;        // lists found padded for later steps (skins: the pass's and backward Euler's)
+  long skin_updates = 0;      // backward Euler's kept lists brought up to date in part (vertices that left theirs)
   long step_rounds = 0;       // the pass's later rounds that took backward Euler's step list, not a broad phase
   // Smallest distance between non-adjacent surface elements seen at any step's start, over the pairs within the
   // thickness there (infinity when no pair ever was).
