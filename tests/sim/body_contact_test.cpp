@@ -264,8 +264,9 @@ TEST(BodyContact, ACollapsedClothSolvesAboutOnceAStep) {
   const IntegratorStats& s = sim.integrator().stats();
   EXPECT_EQ(s.body_contact_steps - landed.body_contact_steps, steps) << "the layers must touch at every step";
   EXPECT_LE(s.body_contact_active_set_solves - landed.body_contact_active_set_solves, steps / 4);
-  // Its steps move some vertex by a sixth to a third of the thickness: a list padded for later steps (skin) is left
-  // at the next step, and is not found again and again (each costs more than the exact broad phase).
+  // Its steps move some vertex by a sixth to a third of the thickness: a list padded for later steps (a skin) is
+  // brought up to date where vertices left it, or left, and is not found again and again (each costs more than the
+  // exact broad phase).
   const collision::Stats& c = *sim.bodyContact();
   const auto served = [](const collision::Stats& t) { return t.skin_searches + t.skin_passes; };
   EXPECT_LE(c.skin_lists - landed_contact.skin_lists, served(c) - served(landed_contact) + 1);
