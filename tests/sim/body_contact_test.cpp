@@ -369,8 +369,8 @@ TEST(BodyContact, BroadPhaseCullsFindTheSameContacts) {
     if (std::string(integrator) == "backward-euler") {
       EXPECT_GT(cull.stats.ccd_hits, 0);
       // With the contacts in the solve the pass's later rounds mostly take the step's list (laterRoundCandidates).
-      // and, as the layers settle, most of the solves' searches take the step skin's list, brought up to date where
-      // vertices left their intervals (body_collisions.cpp, StepSkin).
+      // and, as the layers settle, its searches take the step skin's list, brought up to date where vertices left
+      // their intervals (body_collisions.cpp, StepSkin).
       if (in_solve) {
         EXPECT_GT(cull.stats.step_rounds, 0);
         EXPECT_GT(cull.stats.skin_updates, 0);
