@@ -483,27 +483,19 @@ struct BodyCollisions::Impl {
   // broad phase; false when it would exceed the candidate budget (the lists are then incomplete).
   bool listPairs(const VecX& end, const std::vector<Vec3>& shifts, double pad, bool marked, bool apart,
                  std::vector<std::pair<int, int>>& vf_out, std::vector<std::pair<int, int>>& ee_out) {
-    // The boxes of every element, each in its body's frame (shifted) or the world's.
-    const auto fillAll = [&](bool shifted) {
-      fillBoxes(boxes, false, [&](const auto& nodes, int body, Box& box_out, Diagonals& diagonals_out) {
-        const Vec3 shift = shifted ? shifts[body] : Vec3::Zero();
-        box_out = box(nodes, pad, end, shift);
-        if (cull) diagonals_out = diagonals(nodes, pad, end, shift);  // read under the culls only
-      });
-    };
     bool found;
     if (shifts.empty()) {
-      fillAll(false);
+      fillSweptBoxes(end, nullptr, pad);
       found = findPairs(
           boxes, [&](int a, int b) { return bodiesMeet(a, b); }, marked, apart, vf_out, ee_out, 0);
     } else {
-      fillAll(true);
+      fillSweptBoxes(end, &shifts, pad);  // each body's pairs with itself in its own frame
       found = findPairs(
           boxes, [&](int a, int b) { return a == b && params[a].self_contact; }, marked, apart, vf_out, ee_out, 0);
       if (found && params.size() > 1) {
         thread_local std::vector<std::pair<int, int>> self_vf, self_ee, other_vf, other_ee;
         self_vf.swap(vf_out), self_ee.swap(ee_out);
-        fillAll(false);
+        fillSweptBoxes(end, nullptr, pad);  // pairs of two bodies in the world's
         found = findPairs(
             boxes, [&](int a, int b) { return a != b; }, marked, apart, other_vf, other_ee,
             self_vf.size() + self_ee.size());
@@ -515,6 +507,15 @@ struct BodyCollisions::Impl {
     ++counters->broad_phases;
     counters->candidates += long(vf_out.size() + ee_out.size());
     return found;
+  }
+  // Every element's box (in boxes) swept from nxs to end, each in its body's frame (moving by shifts[body] over the
+  // step) or, without shifts, the world's, padded by pad; with the culls, its diagonals too.
+  void fillSweptBoxes(const VecX& end, const std::vector<Vec3>* shifts, double pad) {
+    fillBoxes(boxes, false, [&](const auto& nodes, int body, Box& box_out, Diagonals& diagonals_out) {
+      const Vec3 shift = shifts ? (*shifts)[body] : Vec3::Zero();
+      box_out = box(nodes, pad, end, shift);
+      if (cull) diagonals_out = diagonals(nodes, pad, end, shift);  // read under the culls only
+    });
   }
   // Every element's box and diagonals into out by fill(nodes, body, box, diagonals), on threads; only those of the
   // elements markElements marked when marked_only.
@@ -670,6 +671,10 @@ struct BodyCollisions::Impl {
     }
     return broadPhase(true);
   }
+  // Whether coordinate j of the nodes, swept over the step (nxs to nxe), lies within [lo[j], hi[j]].
+  bool sweptWithin(const VecX& lo, const VecX& hi, Eigen::Index j) const {
+    return std::min(nxs[j], nxe[j]) >= lo[j] && std::max(nxs[j], nxe[j]) <= hi[j];
+  }
   // Candidates kept across steps, as a Verlet list keeps its neighbours within a skin: found for boxes padded by a
   // margin (kSkinFraction of the largest thickness) more than a broad phase needs, they hold every pair of that broad
   // phase for any step whose nodes all lie, at its start and its end, within half that margin of the box each swept
@@ -715,8 +720,7 @@ struct BodyCollisions::Impl {
     const double skin_margin = kSkinFraction * max_thickness;
     if (motion_cull && k.valid && k.lo.size() == nxs.size()) {
       bool inside = true;
-      for (Eigen::Index j = 0; j < nxs.size() && inside; ++j)
-        inside = std::min(nxs[j], nxe[j]) >= k.lo[j] && std::max(nxs[j], nxe[j]) <= k.hi[j];
+      for (Eigen::Index j = 0; j < nxs.size() && inside; ++j) inside = sweptWithin(k.lo, k.hi, j);
       if (inside) {
         newCandidates();
         vf = k.vf;
@@ -784,9 +788,10 @@ struct BodyCollisions::Impl {
   // body's: they would leave at the next step), or it would exceed the candidate budget.
   int stepSkinCandidates(double pad) {
     StepSkin& k = step_skin;
+    if (!motion_cull) return k.valid = false, 0;  // the exact broad phase every time
     newCandidates();
     const int n = nodeCount();
-    if (!motion_cull || k.lo.size() != nxs.size()) k.valid = false;
+    if (k.lo.size() != nxs.size()) k.valid = false;
     const double slack = kNodeSlackFraction * max_thickness;
     int result = 1;
     if (k.valid) {
@@ -794,8 +799,7 @@ struct BodyCollisions::Impl {
       int count = 0;
       for (int i = 0; i < n; ++i) {
         bool inside = true;
-        for (int j = 3 * i; j < 3 * i + 3; ++j)
-          inside = inside && std::min(nxs[j], nxe[j]) >= k.lo[j] && std::max(nxs[j], nxe[j]) <= k.hi[j];
+        for (int j = 3 * i; j < 3 * i + 3; ++j) inside = inside && sweptWithin(k.lo, k.hi, j);
         k.outside[i] = !inside;
         count += !inside;
       }
@@ -804,7 +808,7 @@ struct BodyCollisions::Impl {
     if (!k.valid) {
       int fast = 0;
       for (int i = 0; i < n; ++i) fast += !((particle(nxe, i) - particle(nxs, i)).cwiseAbs().maxCoeff() <= slack);
-      if (!motion_cull || fast > n / 8) return 0;
+      if (fast > n / 8) return 0;
       k.lo = nxs.cwiseMin(nxe).array() - slack;
       k.hi = nxs.cwiseMax(nxe).array() + slack;
       fillBoxes(k.boxes, false, stepSkinBox(pad));
@@ -820,10 +824,7 @@ struct BodyCollisions::Impl {
     // The skin's pairs whose boxes and diagonals for this step meet.
     listed.pad = pad;
     listed.shifts.clear();
-    fillBoxes(boxes, false, [&](const auto& nodes, int, Box& box_out, Diagonals& diagonals_out) {
-      box_out = box(nodes, pad, nxe, Vec3::Zero());
-      diagonals_out = diagonals(nodes, pad, nxe, Vec3::Zero());
-    });
+    fillSweptBoxes(nxe, nullptr, pad);
     keepPairs(k.vf, vf, [&](int v, int t) {
       return boxes.vertex[v].overlaps(boxes.triangle[t]) &&
              !diagonallyApart(boxes.vertex_diagonals[v], boxes.triangle_diagonals[t]);
