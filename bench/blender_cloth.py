@@ -34,6 +34,9 @@ side, self_collision = int(argv[0]), argv[1] == "1"
 steps = int(argv[2]) if len(argv) > 2 else 40
 quality = int(argv[3]) if len(argv) > 3 else 5
 warm_up = 30
+if side < 11 or steps <= warm_up or quality < 1:  # below 11 the four layers and three folds do not fit in 2 m
+    sys.exit(f"blender_cloth.py: SIDE {side} must be at least 11, STEPS {steps} more than the {warm_up} warm-up "
+             f"frames, QUALITY {quality} at least 1")
 
 size, layers = 2.0, 4
 spacing = size / (side - 1)
