@@ -368,7 +368,7 @@ TEST(BodyContact, BroadPhaseCullsFindTheSameContacts) {
     EXPECT_GT(cull.stats.contacts, 0);
     if (std::string(integrator) == "backward-euler") {
       EXPECT_GT(cull.stats.ccd_hits, 0);
-      // With the contacts in the solve the pass's later rounds mostly take the step's list (laterRoundCandidates).
+      // With the contacts in the solve the pass's later rounds mostly take the step's list (laterRoundCandidates),
       // and, as the layers settle, its searches take the step skin's list, brought up to date where vertices left
       // their intervals (body_collisions.cpp, StepSkin).
       if (in_solve) {
