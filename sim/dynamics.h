@@ -1,6 +1,7 @@
 // What an integrator sees of a physical system: accelerations as a function of time and flat state, and, for
 // implicit integrators, an optional linearization of the forces.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <utility>
 #include <vector>
@@ -83,6 +84,28 @@ struct ContactPair {
   double gap(const VecX& x) const { return normal.dot(relative(x)) - surface - thickness; }
 };
 
+// Which of the pairs within reach a search for an implicit solve hands over (ForceJacobian::bodyContacts). A pair
+// the solve does not press contributes nothing to it, and every check after a solve searches again: so backward
+// Euler takes into a step's first solve only the pairs the last step left pressed, and after a solve only the pairs
+// its end presses, instead of every pair within reach to be checked at each solve's end (docs/body-contact.md).
+struct PairJoin {
+  // Set: only the pairs of these elements (ContactPair::element, ascending).
+  const std::vector<std::array<int, 4>>* only = nullptr;
+  // Else, when pressed: only the pairs whose gap at the end lies below their rest gap min(0, g(x0)) (1 - recovery) by
+  // more than slack times their thickness (backward Euler's active set).
+  bool pressed = false;
+  double recovery = 0, slack = 0;
+  // Out: how many pairs within reach, not in the list yet, the search held back (what the list would hold more had
+  // every one been handed over: the solver's stop rule counts them).
+  std::size_t held_back = 0;
+
+  // Whether a pair within reach is handed over: its element, its gap at the start and at the end, its thickness.
+  bool hands(const std::array<int, 4>& element, double start_gap, double end_gap, double thickness) const {
+    if (only) return std::binary_search(only->begin(), only->end(), element);
+    return !pressed || end_gap < std::min(0.0, start_gap) * (1 - recovery) - slack * thickness;
+  }
+};
+
 // Optional capability of a Dynamics, for implicit integrators: the lumped (diagonal) mass and the smooth forces with
 // their Jacobians. Smooth means every force except contact (support and friction): those are not differentiable,
 // so implicit methods take them explicitly, from Dynamics::acceleration at the step's start state.
@@ -123,11 +146,12 @@ class ForceJacobian {
     (void)t, (void)h, (void)x0, (void)v0, (void)x1, (void)v1, (void)out;
     return false;
   }
-  // Contact between bodies for a candidate step from x0 to x1: appends to out every pair of surface elements not yet
-  // in it whose gap (ContactPair) would end the step below 0, its normal and weights from x0 (so a pair found again is
-  // the same pair). Returns whether out grew; the solver then solves again with the pairs' penalty (the default: none).
-  virtual bool bodyContacts(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out) const {
-    (void)x0, (void)x1, (void)out;
+  // Contact between bodies for a candidate step from x0 to x1: appends to out the pairs of surface elements not yet in
+  // it whose gap (ContactPair) would end the step below 0 (those within reach), as far as join lets them, each with
+  // its normal and weights from x0 (so a pair found again is the same pair). Returns whether out grew; the solver then
+  // solves again with the pairs' penalty (the default: none).
+  virtual bool bodyContacts(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out, PairJoin& join) const {
+    (void)x0, (void)x1, (void)out, (void)join;
     return false;
   }
   // Contact of embedded points (weighted_points.h) with colliders for a candidate step from x0 at t to x1 at t + h:

@@ -112,8 +112,9 @@ bool MassSpringSystem::impactConstraints(double t, double h, const VecX& x0, con
   return addImpactConstraints(colliders_, t, h, x0, v0, x1, v1, collider_inv_mass_, out);
 }
 
-bool MassSpringSystem::bodyContacts(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out) const {
-  return body_contact_ && body_contact_->nearPairs(x0, x1, out);
+bool MassSpringSystem::bodyContacts(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out,
+                                    PairJoin& join) const {
+  return body_contact_ && body_contact_->nearPairs(x0, x1, out, join);
 }
 
 bool MassSpringSystem::colliderPairs(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,

@@ -64,7 +64,7 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   bool impactConstraints(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1, const VecX& v1,
                          std::vector<ContactConstraint>& out) const override;
   // Contact between bodies for an implicit step (BodyCollisions::nearPairs of the pass set below; none without one).
-  bool bodyContacts(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out) const override;
+  bool bodyContacts(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out, PairJoin& join) const override;
   // The embedded points a candidate implicit step ends within a collider's band, as penalty pairs (ForceJacobian).
   bool colliderPairs(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
                      std::vector<ContactPair>& out) const override;

@@ -138,11 +138,12 @@ class BackwardEuler final : public Integrator {
     });
     frictionBlocks(h, v);
     addPrescribedChange(contacts_, filter_, h, dv_);
-    // Contact between bodies: the pairs near the predicted end x0 + h (v0 + dv), dv the warm start (the last step's
-    // velocity change); those the last step ended pressed (a resting body's every step) go active into the first
-    // solve, the others as the solves find them pressed. Not the explicit flight x0 + h (v0 + h a0): with stiff springs
-    // a0 is huge wherever they are stretched (2e5 m/s^2 in a crumpling cloth's folds), and that flight would close the
-    // gap of a hundred thousand pairs far apart, each a stencil in every solve.
+    // Contact between bodies: of the pairs near the predicted end x0 + h (v0 + dv), dv the warm start (the last step's
+    // velocity change), those the last step ended pressed (a resting body's every step) go active into the first
+    // solve; the others join as the solves' ends press them (PairJoin: each check searches again, so a pair held
+    // back costs nothing but its test). Not the explicit flight x0 + h (v0 + h a0): with stiff springs a0 is huge
+    // wherever they are stretched (2e5 m/s^2 in a crumpling cloth's folds), and that flight would close the gap of a
+    // hundred thousand pairs far apart.
     pairs_.clear();
     terms_.clear();
     matrix_.stencils().clear();
@@ -151,7 +152,10 @@ class BackwardEuler final : public Integrator {
     forEachChunk(n_, parallel_, [&](int begin, int end) {
       for (int p = begin; p < end; ++p) particle(end_x_, p) = particle(x, p) + h * (particle(v, p) + particle(dv_, p));
     });
-    const bool body_pairs = options_.body_contact_in_solve && jacobian->bodyContacts(x, end_x_, pairs_);
+    carried_elements_.clear();
+    for (const CarriedPair& c : carried_) carried_elements_.push_back(c.element);
+    PairJoin first{.only = &carried_elements_};
+    const bool body_pairs = options_.body_contact_in_solve && jacobian->bodyContacts(x, end_x_, pairs_, first);
     if ((jacobian->colliderPairs(t, h, x, v, end_x_, pairs_) || body_pairs) &&
         updatePairs(*jacobian, h, x, end_x_, true))
       applyPairs(h, x, v);
@@ -269,11 +273,14 @@ class BackwardEuler final : public Integrator {
       setEnd(h, x, v);
       const bool impacts = jacobian.impactConstraints(t, h, x, v, end_x_, end_v_, contacts_);
       const bool found = jacobian.colliderPairs(t, h, x, v, end_x_, pairs_);
+      PairJoin pressed{.pressed = true, .recovery = kRecovery, .slack = kActiveSlack};
       const std::size_t changes =
-          ((options_.body_contact_in_solve && jacobian.bodyContacts(x, end_x_, pairs_)) || found || !pairs_.empty())
+          ((options_.body_contact_in_solve && jacobian.bodyContacts(x, end_x_, pairs_, pressed)) || found ||
+           !pairs_.empty())
               ? updatePairs(jacobian, h, x, end_x_, false)
               : 0;
-      const bool settled = double(changes) < kSettledShare * double(pairs_.size());
+      // Of the pairs within reach, handed over or not (the solve's are a few of them: PairJoin).
+      const bool settled = double(changes) < kSettledShare * double(pairs_.size() + pressed.held_back);
       if (!impacts && (changes == 0 || settled)) return;
       const bool pairs = changes > 0;
       history_ = 0;  // this step's dv carries impulses: not the smooth error's measure
@@ -556,11 +563,12 @@ class BackwardEuler final : public Integrator {
     ContactConstraint contact;
     bool in_matrix;  // its damper is in the matrix (dropFreedFriction)
   };
-  std::vector<SlidingContact> sliding_;  // the contacts sliding at the step's start (frictionBlocks)
-  std::vector<CarriedPair> carried_;     // the last step's active pairs, sorted
-  std::vector<ContactPair> pairs_;       // this step's contact between bodies, in the order found
-  std::vector<PairTerm> terms_;          // the same order
-  VecX rhs_base_;                        // the right-hand side without them (saved at the first pair of a step)
+  std::vector<SlidingContact> sliding_;               // the contacts sliding at the step's start (frictionBlocks)
+  std::vector<CarriedPair> carried_;                  // the last step's active pairs, sorted
+  std::vector<std::array<int, 4>> carried_elements_;  // their elements (the step's first search: PairJoin::only)
+  std::vector<ContactPair> pairs_;                    // this step's contact between bodies, in the order found
+  std::vector<PairTerm> terms_;                       // the same order
+  VecX rhs_base_;  // the right-hand side without them (saved at the first pair of a step)
   bool rhs_saved_ = false;
   VecX f0_, kv_, rhs_, dv_;
   VecX end_x_, end_v_;  // the candidate step's end state, for impacts

@@ -543,6 +543,84 @@ TEST(BodyContact, LaterNearPairSearchesFindWhatLeftTheList) {
   EXPECT_EQ(checked, 15);
 }
 
+// What a near-pair search hands backward Euler's solve (PairJoin): of the pairs within reach (what a search without a
+// rule lists), with `only` exactly the pairs of those elements, and with `pressed` exactly the pairs whose gap at the
+// end lies below the penalty's rest gap by more than the slack, each predicate evaluated here on the pairs themselves,
+// in the same order; every other pair within reach and not in the list yet counted as held back. On the folded cloth
+// collapsing onto itself, at ends where some vertices moved by up to a thickness, for a step's first search and for a
+// later one after it (whose candidates come from the first's list).
+TEST(BodyContact, ASearchHandsTheSolveThePairsItsRulePicks) {
+  const auto system = testing::foldedCloth(20, true);
+  const double h = 1.0 / 60;
+  Simulation sim(*system, makeIntegrator("backward-euler", {}), h);
+  ASSERT_FALSE(sim.advanceTo(0.45));
+  // Ends that press some pairs: a tenth of the vertices moved up or down by up to a thickness, and another twentieth.
+  const double thickness = system->bodies()[0].body.contact.thickness;
+  std::mt19937 random(11);
+  const auto moved = [&](VecX end, double share) {
+    for (Eigen::Index i = 0; i < end.size() / 3; ++i)
+      if (std::uniform_real_distribution<double>(0, 1)(random) < share)
+        end[3 * i + 1] += std::uniform_real_distribution<double>(-1, 1)(random) * thickness;
+    return end;
+  };
+  const VecX x0 = sim.x(), first_end = moved(x0 + h * sim.v(), 0.1), later_end = moved(first_end, 0.05);
+  const auto pressed = [&](const ContactPair& c, const VecX& end) {
+    return c.gap(end) < std::min(0.0, c.gap(x0)) * (1 - 0.1) - 0.25 * c.thickness;
+  };
+  // The later search follows a first that handed over a third of the pairs within reach at the first end.
+  std::vector<ContactPair> at_first, held;
+  collision::makeBodyCollisions(*system)->nearPairs(x0, first_end, at_first);
+  std::vector<std::array<int, 4>> thirds;
+  for (std::size_t i = 0; i < at_first.size(); i += 3)
+    thirds.push_back(at_first[i].element), held.push_back(at_first[i]);
+  std::sort(thirds.begin(), thirds.end());
+  for (const bool later : {false, true}) {
+    SCOPED_TRACE(later ? "a later search" : "a step's first search");
+    const VecX& end = later ? later_end : first_end;
+    const std::size_t before = later ? held.size() : 0;
+    // Every pair within reach, after those the solver's list holds: the exact broad phase's, without a rule.
+    std::vector<ContactPair> every(held.begin(), held.begin() + std::ptrdiff_t(before));
+    collision::setBroadPhaseCulls(false);
+    collision::makeBodyCollisions(*system)->nearPairs(x0, end, every);
+    collision::setBroadPhaseCulls(true);
+    ASSERT_GT(every.size(), before + 100);
+    const auto search = [&](PairJoin& join) {
+      auto collisions = collision::makeBodyCollisions(*system);
+      std::vector<ContactPair> out;
+      if (later) {
+        PairJoin first{.only = &thirds};
+        collisions->nearPairs(x0, first_end, out, first);
+        EXPECT_EQ(out.size(), held.size());
+      }
+      collisions->nearPairs(x0, end, out, join);
+      EXPECT_EQ(out.size() + join.held_back, every.size()) << "pairs within reach neither handed over nor held back";
+      return std::vector<ContactPair>(out.begin() + std::ptrdiff_t(before), out.end());
+    };
+    std::vector<std::array<int, 4>> some;
+    std::vector<ContactPair> expected_only, expected_pressed;
+    for (std::size_t i = before; i < every.size(); ++i) {
+      if (i % 3 == 1) some.push_back(every[i].element), expected_only.push_back(every[i]);
+      if (pressed(every[i], end)) expected_pressed.push_back(every[i]);
+    }
+    std::sort(some.begin(), some.end());
+    PairJoin only{.only = &some};
+    const std::vector<ContactPair> handed_only = search(only);
+    PairJoin press{.pressed = true, .recovery = 0.1, .slack = 0.25};
+    const std::vector<ContactPair> handed_pressed = search(press);
+    ASSERT_GT(expected_pressed.size(), 10u);
+    ASSERT_LT(expected_pressed.size(), (every.size() - before) / 2)
+        << "the rule would pick most pairs: nothing to check";
+    for (const auto& [handed, expected] :
+         {std::pair{&handed_only, &expected_only}, std::pair{&handed_pressed, &expected_pressed}}) {
+      ASSERT_EQ(handed->size(), expected->size());
+      for (std::size_t i = 0; i < expected->size(); ++i) {
+        ASSERT_EQ((*handed)[i].element, (*expected)[i].element) << "pair " << i;
+        ASSERT_EQ((*handed)[i].normal, (*expected)[i].normal) << "pair " << i;
+      }
+    }
+  }
+}
+
 // Backward Euler's step lists are kept from step to step and brought up to date where vertices left their intervals
 // (body_collisions.cpp, StepSkin). Over 24 steps of the folded cloth collapsing onto itself, a search at each step's
 // start by one instance kept throughout finds what a new instance with the exact broad phase finds, pair for pair and
