@@ -1387,7 +1387,7 @@ bool BodyCollisions::nearPairs(const VecX& x0, const VecX& x1, std::vector<Conta
   s.known.assign(out);  // the pairs already in out
   // A candidate whose pair an earlier search of this step put in out (the same list of candidates), and which is
   // still there, is in out: it leaves the subset before its tests and the set's lookup, as the lookup would drop it.
-  // (A step's later searches find most of their candidates so: the pairs the first one found.)
+  // (A step's later searches find the pairs the earlier ones handed over so.)
   if (only) {
     const auto still_in_out = [&](int k) {
       const std::size_t at = s.step.joined[k];

@@ -90,7 +90,7 @@ class BodyCollisions {
   // gap, linearized at x0 along their nearest points' direction there, ends below 0 at x1 (candidates from the swept
   // boxes of x0 to x1; those of the step's first call, padded by half the thickness more, serve its later calls and
   // the pass while x0 is the same and every end lies within that margin of the first's). In a fixed order; returns
-  // whether out grew. join: which of them it hands over (PairJoin; every one when left out), and how many there were.
+  // whether out grew. join: which of them it hands over (PairJoin; every one when left out), and how many it held back.
   bool nearPairs(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out, PairJoin& join);
   bool nearPairs(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out) {
     PairJoin every;
