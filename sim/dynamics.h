@@ -84,6 +84,10 @@ struct ContactPair {
   double gap(const VecX& x) const { return normal.dot(relative(x)) - surface - thickness; }
 };
 
+// The rest gap of backward Euler's penalty on a pair whose gap at the step's start is start_gap: 0, or for a pair
+// already within the thickness all but `recovery` of its overlap (backward_euler.cpp, updatePairs).
+inline double penaltyRestGap(double start_gap, double recovery) { return std::min(0.0, start_gap) * (1 - recovery); }
+
 // Which of the pairs within reach a search for an implicit solve hands over (ForceJacobian::bodyContacts). A pair
 // the solve does not press contributes nothing to it, and every check after a solve searches again: so backward
 // Euler takes into a step's first solve only the pairs the last step left pressed, and after a solve only the pairs
@@ -91,8 +95,8 @@ struct ContactPair {
 struct PairJoin {
   // Set: only the pairs of these elements (ContactPair::element, ascending).
   const std::vector<std::array<int, 4>>* only = nullptr;
-  // Else, when pressed: only the pairs whose gap at the end lies below their rest gap min(0, g(x0)) (1 - recovery) by
-  // more than slack times their thickness (backward Euler's active set).
+  // Else, when pressed: only the pairs whose gap at the end lies below their rest gap (penaltyRestGap) by more than
+  // slack times their thickness (backward Euler's active set).
   bool pressed = false;
   double recovery = 0, slack = 0;
   // Out: how many pairs within reach, not in the list yet, the search held back (what the list would hold more had
@@ -102,7 +106,7 @@ struct PairJoin {
   // Whether a pair within reach is handed over: its element, its gap at the start and at the end, its thickness.
   bool hands(const std::array<int, 4>& element, double start_gap, double end_gap, double thickness) const {
     if (only) return std::binary_search(only->begin(), only->end(), element);
-    return !pressed || end_gap < std::min(0.0, start_gap) * (1 - recovery) - slack * thickness;
+    return !pressed || end_gap < penaltyRestGap(start_gap, recovery) - slack * thickness;
   }
 };
 

@@ -325,7 +325,7 @@ class BackwardEuler final : public Integrator {
       const ContactPair& c = pairs_[k];
       const double weight = c.stencil.inverseMass(inverse_mass);
       const double stiffness = weight > 0 ? kPenalty / (weight * h * h) : 0;
-      PairTerm term{stiffness, 0, std::min(0.0, c.gap(x0)) * (1 - kRecovery), false};
+      PairTerm term{stiffness, 0, penaltyRestGap(c.gap(x0), kRecovery), false};
       if (c.collider) term.rest = std::max(term.rest, c.gap(x0) + c.rise);
       if (first) {  // the last step's active set, and its friction, start this step's
         const auto it = std::lower_bound(carried_.begin(), carried_.end(), CarriedPair{c.element, 0});
