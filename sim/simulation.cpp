@@ -33,37 +33,64 @@ std::optional<BlowUp> Simulation::advanceTo(double t_end) {
   constexpr double kSliver = 1e-9;
   const double remaining = (t_end - t_) / dt_;
   if (!(remaining > kSliver)) return std::nullopt;
-  const bool colliders = !system_.colliders().empty();
   const long count = std::max(1L, static_cast<long>(std::ceil(remaining - kSliver)));
   const double start = t_;
   for (long k = 1; k <= count; ++k) {
     const bool last = k == count;
-    const double h = last ? t_end - t_ : dt_;
-    if (collisions_ || colliders) x_before_ = x_;
-    if (colliders) v_before_ = v_;
-    const double t0 = t_;
-    integrator_->step(system_, t_, h, x_, v_);
-    t_ = last ? t_end : start + double(k) * dt_;
     ++steps_;
-    system_.resolveCollisions(t_, x_, v_);
-    if (collisions_)
-      if (auto failure = collisions_->resolve(x_before_, x_, v_, h, !integrator_->solvesBodyContact()))
-        return BlowUp{std::string(integrator_->name()),
-                      steps_,
-                      t_,
-                      failure->particle,
-                      0,
-                      failure->reason,
-                      failure->fix.empty() ? contactFix() : failure->fix};
-    if (auto blow_up = check()) return blow_up;
-    if (colliders) {
-      const double work = system_.colliderWork(t0, h, x_before_, v_before_, x_, v_);
-      collider_work_ += work;
-      collider_work_unsigned_ += std::abs(work);
-    }
-    if (step_observer_) step_observer_(t_, x_);
+    if (auto blow_up = step(t_, last ? t_end - t_ : dt_, last ? t_end : start + double(k) * dt_,
+                            collisions_ ? system_.contactSettings().split_steps : 0))
+      return blow_up;
   }
   checkEnergy();
+  return std::nullopt;
+}
+
+std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int splits) {
+  const bool colliders = !system_.colliders().empty();
+  if (collisions_ || colliders) x_before_ = x_;
+  if (collisions_ || colliders) v_before_ = v_;
+  integrator_->step(system_, t0, h, x_, v_);
+  system_.resolveCollisions(t1, x_, v_);
+  if (collisions_)
+    if (auto failure = collisions_->resolve(x_before_, x_, v_, h, !integrator_->solvesBodyContact())) {
+      if (splits > 0) {
+        // The same step again as two halves, from its start state (kept above). What the integrator and the pass
+        // carry from step to step (backward Euler's pressed pairs, the pass's kept candidates) comes from the failed
+        // attempt as from any step before: guesses that each checks again. Static friction's stick time follows the
+        // halves' size, and is set back after them.
+        ++split_steps_;
+        x_ = x_before_, v_ = v_before_;
+        const double size = system_.stepSize();
+        system_.setStepSize(h / 2);
+        const double mid = t0 + h / 2;
+        auto blow_up = step(t0, h / 2, mid, splits - 1);
+        if (!blow_up) blow_up = step(mid, t1 - mid, t1, splits - 1);
+        system_.setStepSize(size);
+        return blow_up;
+      }
+      t_ = t1;
+      std::ostringstream reason;
+      reason.precision(4);
+      reason << failure->reason;
+      if (const int halvings = system_.contactSettings().split_steps; halvings > 0)
+        reason << " (in a part of " << h << " s of the step, halved " << halvings << " times: [contact] split_steps)";
+      return BlowUp{std::string(integrator_->name()),
+                    steps_,
+                    t_,
+                    failure->particle,
+                    0,
+                    reason.str(),
+                    failure->fix.empty() ? contactFix() : failure->fix};
+    }
+  t_ = t1;
+  if (auto blow_up = check()) return blow_up;
+  if (colliders) {
+    const double work = system_.colliderWork(t0, h, x_before_, v_before_, x_, v_);
+    collider_work_ += work;
+    collider_work_unsigned_ += std::abs(work);
+  }
+  if (step_observer_) step_observer_(t_, x_);
   return std::nullopt;
 }
 
@@ -115,8 +142,8 @@ std::string Simulation::contactFix() const {
   std::ostringstream out;
   const bool solve = contactSolveOff();
   out << "a larger contact thickness, " << (solve ? "" : "or ")
-      << "more rounds in [contact] (now zone_iterations = " << s.zone_iterations
-      << ", ccd_iterations = " << s.ccd_iterations << ")";
+      << "more rounds or halvings in [contact] (now zone_iterations = " << s.zone_iterations
+      << ", ccd_iterations = " << s.ccd_iterations << ", split_steps = " << s.split_steps << ")";
   if (solve)
     out << ", or [contact] in_solve = true (" << integrator_->name() << " then keeps the bodies apart in its solve)";
   return out.str();

@@ -1,6 +1,8 @@
 // Steps a MassSpringSystem with an integrator: fixed steps of dt, the last one before a requested time shortened
 // to land on it exactly (never an extra sliver step for round-off: a 3 s run at dt 1e-4 is 30000 steps); contact
-// resolution at every step end; blow-up detection after every step.
+// resolution at every step end; blow-up detection after every step. A step the pass between bodies cannot make free
+// of collisions (impact zones over their cap, a broad phase over its budget) is taken again from its start as two
+// halves, up to [contact] split_steps halvings deep (docs/body-contact.md), before the run stops.
 #pragma once
 #include <functional>
 #include <memory>
@@ -83,8 +85,14 @@ class Simulation {
   const MassSpringSystem& system() const { return system_; }
   // Contact between bodies (sim/collision/): nothing when no two surface elements may meet.
   const collision::Stats* bodyContact() const { return collisions_ ? &collisions_->stats() : nullptr; }
+  // Steps (or parts of one) the pass between bodies failed on and took again as two halves ([contact] split_steps).
+  long splitSteps() const { return split_steps_; }
 
  private:
+  // Step steps_ (or a part of it) of h from t0 to t1 (the end time exact for advanceTo's last step), with the contact
+  // passes after it; splits: how many more times a step the pass between bodies fails on may be halved. Leaves t_ at
+  // t1 (on a failure, at the end of the part that failed).
+  std::optional<BlowUp> step(double t0, double h, double t1, int splits);
   std::optional<BlowUp> check();
   std::string contactFix() const;
   // Whether the integrator could carry contact between bodies in its solve but was told not to ([contact] in_solve).
@@ -96,7 +104,7 @@ class Simulation {
   double dt_;
   VecX x_, v_;
   double t_ = 0;
-  long steps_ = 0;
+  long steps_ = 0, split_steps_ = 0;
   double max_speed_squared_ = 0;
   std::unique_ptr<collision::BodyCollisions> collisions_;
   double energy_start_ = 0, collider_work_ = 0, collider_work_unsigned_ = 0, lift_margin_ = 0;

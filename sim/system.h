@@ -40,6 +40,7 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   // The step size the system will be integrated with: static friction stops sticking contacts over 2 h
   // (see contact.h). Simulation sets it; a constant during each step, so accelerations stay pure.
   void setStepSize(double h) { stick_time_ = 2 * h; }
+  double stepSize() const { return stick_time_ / 2; }
   // The caps of contact between bodies (sim/collision/body_collisions.h).
   void setContactSettings(const collision::Settings& s) { contact_settings_ = s; }
   const collision::Settings& contactSettings() const { return contact_settings_; }

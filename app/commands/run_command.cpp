@@ -74,6 +74,7 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
          {"failsafe_activations", c->zone_activations},
          {"impact_zone_rounds", c->zone_rounds},
          {"largest_impact_zone", c->largest_zone},
+         {"split_steps", sim.splitSteps()},
          {"min_distance_m",
           std::isfinite(c->min_distance) ? nlohmann::ordered_json(c->min_distance) : nlohmann::ordered_json(nullptr)},
          {"in_solve", sim.integrator().solvesBodyContact()}};        // [contact] in_solve, as the integrator took it

@@ -106,6 +106,7 @@ collision::Settings readContactTable(TableReader r, IntegratorOptions& options) 
   collision::Settings s;
   s.ccd_iterations = r.integer("ccd_iterations", s.ccd_iterations, Range{0, 1000});
   s.zone_iterations = r.integer("zone_iterations", s.zone_iterations, Range{1, 10000});
+  s.split_steps = r.integer("split_steps", s.split_steps, Range{0, 20});
   options.body_contact_in_solve = r.boolean("in_solve", options.body_contact_in_solve);
   r.finish();
   return s;

@@ -301,6 +301,24 @@ velocity = [0.0, -20.0, 0.0]
 [colliders.floor]
 type = "plane"
 )";
+  // The scene written by run(name) run again in this process (no files): each frame it writes, counted in frames,
+  // has no two triangles intersecting by the independent test.
+  RunReport runCheckingFrames(const std::string& name, int& frames) {
+    RunOptions o;
+    o.scene = dir() / (name + ".toml");
+    o.out = dir() / (name + "_again");
+    o.render.render = "none";
+    o.progress = false;
+    const SceneFile scene = loadRunScene(o);
+    testing::ParticleTriangles tris;
+    for (std::size_t b = 0; b < scene.system->bodies().size(); ++b)
+      testing::addSurface(tris, scene.system->bodies()[b].body.surface, scene.system->bodies()[b].first, int(b));
+    o.on_frame = [&](int frame, const VecX& x) {
+      ++frames;
+      EXPECT_EQ(testing::intersectingPairs(tris, x), 0) << "frame " << frame;
+    };
+    return runScene(o);
+  }
   std::string said;
   nlohmann::json json;
 };
@@ -348,21 +366,8 @@ TEST_P(FailSafe, UnresolvedCollisionStopsTheRunWithExit3) {
     EXPECT_EQ(readPc2(Pc2Writer::path(dir() / "capped" / "mesh", body)).header.samples, written) << body;
   }
   // The kept frames, from the same run in this process: no two triangles intersect in any of them.
-  RunOptions o;
-  o.scene = dir() / "capped.toml";
-  o.out = dir() / "again";
-  o.render.render = "none";
-  o.progress = false;
-  const SceneFile scene = loadRunScene(o);
-  testing::ParticleTriangles tris;
-  for (std::size_t b = 0; b < scene.system->bodies().size(); ++b)
-    testing::addSurface(tris, scene.system->bodies()[b].body.surface, scene.system->bodies()[b].first, int(b));
   int frames = 0;
-  o.on_frame = [&](int frame, const VecX& x) {
-    ++frames;
-    EXPECT_EQ(testing::intersectingPairs(tris, x), 0) << "frame " << frame;
-  };
-  const RunReport r = runScene(o);
+  const RunReport r = runCheckingFrames("capped", frames);
   ASSERT_TRUE(r.blow_up);
   EXPECT_EQ(r.blow_up->step, step);
   EXPECT_EQ(frames, written);
@@ -379,10 +384,53 @@ TEST_F(Sandwich, DefaultContactSettingsRunItToTheEnd) {
   EXPECT_GT(json["body_contact"]["pairs_in_solve"].get<long>(), 0);
 }
 
+// A step the pass cannot end clean within its caps is taken again as two halves ([contact] split_steps, 4 by
+// default): the capped sandwich that stops with exit 3 above (split_steps = 0) runs to its end when its failing steps
+// may be halved, with every written frame free of intersections by the independent test, no energy gained, and
+// run.json counting the halved steps. A step is still a step of dt in what the run reports: as many as without caps.
+TEST_F(Sandwich, AStepThePassFailsOnIsTakenAgainInHalves) {
+  ASSERT_EQ(run("default", ""), 0) << said;
+  EXPECT_EQ(json["body_contact"]["split_steps"].get<long>(), 0);
+  const long steps = json["steps"].get<long>();
+  const std::string capped = "[contact]\nccd_iterations = 0\nzone_iterations = 1\n";
+  ASSERT_EQ(run("halved", capped), 0) << said;
+  EXPECT_EQ(json["steps"].get<long>(), steps);
+  EXPECT_EQ(json["frames"]["written"].get<int>(), 30);
+  EXPECT_EQ(json["blew_up"], false);
+  EXPECT_EQ(json["gained_energy"], false);
+  const auto& contact = json["body_contact"];
+  EXPECT_GT(contact["split_steps"].get<long>(), 0);
+  EXPECT_GT(contact["failsafe_activations"].get<long>(), 0);  // the failed attempts, and perhaps some halves
+  int frames = 0;
+  const RunReport r = runCheckingFrames("halved", frames);
+  EXPECT_FALSE(r.blow_up) << r.blow_up_message;
+  EXPECT_EQ(frames, 30);
+}
+
+// Halving has its cap too: with the pass alone (in_solve = false) the capped sandwich fails even in quarter steps, and
+// the run stops as above, saying in which part of the step and how often it was halved; the step it names is a step
+// of dt (frames 1 .. step written before it), its time the end of the part that failed, within that step.
+TEST_F(Sandwich, HalvingsPastTheirCapStopTheRun) {
+  ASSERT_EQ(run("quartered", "[contact]\nin_solve = false\nccd_iterations = 0\nzone_iterations = 1\nsplit_steps = 2\n"),
+            3)
+      << said;
+  for (const char* part :
+       {"contact between bodies failed", "s of the step, halved 2 times: [contact] split_steps", "split_steps = 2"})
+    EXPECT_NE(said.find(part), std::string::npos) << part << " missing from: " << said;
+  const long step = json["blow_up"]["step"].get<long>();
+  EXPECT_EQ(json["steps"].get<long>(), step);
+  EXPECT_EQ(json["frames"]["written"].get<int>(), step);
+  const double time = json["blow_up"]["time"].get<double>();
+  EXPECT_GT(time, 0.01 * double(step - 1) + 1e-9);
+  EXPECT_LE(time, 0.01 * double(step) + 1e-12);
+  EXPECT_GE(json["body_contact"]["split_steps"].get<long>(), 2);
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Capped, FailSafe,
-    ::testing::Values(Caps{"in_solve", "[contact]\nccd_iterations = 0\nzone_iterations = 1\n", true},
-                      Caps{"pass_alone", "[contact]\nin_solve = false\nccd_iterations = 0\nzone_iterations = 1\n",
+    ::testing::Values(Caps{"in_solve", "[contact]\nccd_iterations = 0\nzone_iterations = 1\nsplit_steps = 0\n", true},
+                      Caps{"pass_alone",
+                           "[contact]\nin_solve = false\nccd_iterations = 0\nzone_iterations = 1\nsplit_steps = 0\n",
                            false}),
     [](const auto& info) { return std::string(info.param.name); });
 
