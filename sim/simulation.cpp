@@ -48,8 +48,7 @@ std::optional<BlowUp> Simulation::advanceTo(double t_end) {
 
 std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int splits) {
   const bool colliders = !system_.colliders().empty();
-  if (collisions_ || colliders) x_before_ = x_;
-  if (collisions_ || colliders) v_before_ = v_;
+  if (collisions_ || colliders) x_before_ = x_, v_before_ = v_;
   integrator_->step(system_, t0, h, x_, v_);
   system_.resolveCollisions(t1, x_, v_);
   if (collisions_)
