@@ -64,8 +64,8 @@ struct ReleasedSupport {
 // the stencil is the point's 8 particles, and the surface's offset comes off the gap.
 struct ContactPair {
   // Default-constructed pairs (a list resized before threads fill it) are left unwritten but for the stencil's size and
-  // pointers and the fields below with initializers: without a constructor of its own, resizing a list zeroed every
-  // 152-byte pair first (about 1% of a collapsed cloth's step, on one thread).
+  // pointers and the fields below with initializers: without a constructor of its own, resizing a list would zero
+  // every pair first, on one thread.
   ContactPair() {}
   ContactPair(const std::array<int, 4>& e, WeightedStencil s, const Vec3& n, double thickness_m, double friction_mu)
       : element(e), stencil(std::move(s)), normal(n), thickness(thickness_m), friction(friction_mu) {}

@@ -41,8 +41,8 @@ std::size_t Springs::count(SpringType t) const { return std::count(type.begin(),
 
 void addSpringForces(const Springs& s, int begin, int end, const VecX& x, const VecX& v, VecX& f) {
   // Scalar, with indexed loads: the reference, and the loop for springs outside long runs. The system's force loop
-  // takes runs of springs through spring_runs.h, whose contiguous loads vectorise (gathering a batch of scattered
-  // springs into arrays first ran no faster: such a loop is bound by its indexed loads and stores).
+  // takes runs of springs through spring_runs.h, whose contiguous loads vectorise; a loop over scattered
+  // springs is bound by its indexed loads and stores, so gathering them into arrays first would not help.
   for (int i = begin; i < end; ++i) {
     const int a = s.a[i], b = s.b[i];
     const Vec3 d = particle(x, a) - particle(x, b);

@@ -8,7 +8,7 @@
 
 int main(int argc, char** argv) {
   // A frame's buffers (film layers, denoiser planes: tens of MB) are freed and allocated again every frame. glibc
-  // serves blocks that large with fresh mmap()s, so every frame paid for zeroing new pages (3% of a run); keeping
+  // serves blocks that large with fresh mmap()s, so every frame would pay for zeroing new pages; keeping
   // them in the heap lets frames reuse the memory.
   mallopt(M_MMAP_THRESHOLD, 512 << 20);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);

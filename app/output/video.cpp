@@ -41,8 +41,7 @@ std::string rateOf(double fps) { return io::formatNumber(fps, io::kRoundTripDigi
 // dimensions, MP4 into `temp` ("-f mp4": the temporary name needs no extension); `frames` > 0 stops after that many.
 // Passed directly (no shell), so paths need no quoting.
 // x264's output depends on its thread count, by default 1.5 per CPU: a fixed count makes the same frames the same
-// video on any machine (measured: one CPU or two, the same bytes; by default, not). 4 is a fixed choice, not a tuned
-// one: encoding is about 5% of a rendered run.
+// video on any machine. 4 is a fixed choice, not a tuned one: encoding is a small share of a rendered run.
 std::vector<std::string> ffmpegCommand(const fs::path& ffmpeg, std::initializer_list<std::string> input, double fps,
                                        int frames, const fs::path& temp) {
   std::vector<std::string> args = {ffmpeg.string(), "-nostdin", "-y", "-loglevel", "error"};

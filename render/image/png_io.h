@@ -1,7 +1,7 @@
 // PNG files: readImage through stb (PNG and anything else stb_image reads) and writePng through libpng (atomic:
 // written to a temporary name in the same directory, then renamed into place, so no reader ever sees half a file).
-// Frames are written with the Sub filter and libdeflate at level 1: at 720p 4x faster than stb's encoder with zlib
-// level 1 through libpng (35 ms against 125) and 20% smaller, and libdeflate halves zlib's time again. A PNG may carry
+// Frames are written with the Sub filter and libdeflate at level 1, several times faster and smaller than stb's
+// encoder or zlib through libpng (docs/performance.md). A PNG may carry
 // text chunks (keyword and text): wobble's frames record the settings they were rendered with there
 // (app/view/picture_key.h), read back by readPngText without decoding the pixels. Errors throw std::runtime_error
 // naming the file and stb's reason.

@@ -34,14 +34,11 @@ struct PcgResult {
 // A two-level solve sets the coarse level up afresh when the one before it did not use it, when the matrix's contact
 // stencils have changed since (StencilCouplings::generation: backward Euler's active set changes between the solves of
 // a step, and a pair just pressed is a stiff coupling the kept factorization lacks), when a particle's kind of
-// constraint in the filter has (a particle that has just met the floor, or left it: measured on the 256 x 256 stacked
-// cloth, whose floor contacts change every step, 150 CG iterations a step instead of 204 and 0.8 of the CPU time,
-// docs/performance.md), or after it has served this many solves. In between, it keeps the last factorization: the sum
+// constraint in the filter has (a particle that has just met the floor, or left it: a factorization kept across such
+// a change preconditions a system it no longer matches), or after it has served this many solves. In between, it keeps the last factorization: the sum
 // stays symmetric positive definite (any SPD coarse matrix does), only a little less sharp as the system drifts.
-// Measured on the stiff cloth (docs/performance.md): every second solve costs 0.6 more CG iterations a step (22.65
-// against 22.05) and saves half the coarse fills and factorizations, 9% of the step; every fourth, 24.7 iterations.
-// With float iterations and the error rule (16.4 iterations a step) the factorization weighs more: every third
-// solve, 17.1 iterations, 2-3% faster than every second (medians and minima of 21 runs in turn).
+// Every third solve balances the few CG iterations a kept factorization adds against the fills and factorizations it
+// saves (docs/performance.md).
 inline constexpr int kCoarseRefresh = 3;
 
 // Tolerances at least this loose run their iterations in float (iterative refinement); tighter ones in double. Float

@@ -306,7 +306,7 @@ TEST(BodyContact, ContactFreeStepsAreTheSameBytes) {
 // The smallest distance reported is over the pairs within the thickness: a hanging cloth with self-contact falling
 // freely (cloth_drop.h, 24 x 24, its first 10 steps under backward Euler at 1/60 s and under RK4 at 5e-4 s, before it
 // meets the sphere) reports none, though the boxes of its diagonal edges and triangles meet its neighbours in the
-// plane, 0.7 spacings away (until 28 November 2026 it reported that distance); once it has landed and folded onto
+// plane, 0.7 spacings away (a distance it must not report); once it has landed and folded onto
 // itself (1.5 s, backward Euler) one below the thickness.
 TEST(BodyContact, TheSmallestDistanceIsOverPairsWithinTheThickness) {
   for (const auto& [integrator, dt] : {std::pair{"backward-euler", 1.0 / 60}, std::pair{"rk4", 5e-4}}) {
