@@ -1,4 +1,7 @@
 // The path tracer: next-event estimation of suns, area lights and the sky, BSDF-sampled bounces, MIS between them.
+// tracePath is one Path: its state (throughput, gathered light, what the last vertex sampled) and its steps, as
+// pbrt-v4's VolPathIntegrator::Li reads: travel through the medium, add the emitters the ray passed or escaped to,
+// then cross a gelatine interface or scatter at a surface. Light sampling sits in its own steps, outside the loop.
 #include "render/path_tracer.h"
 
 #include <algorithm>
@@ -90,275 +93,403 @@ Eigen::Vector3f offsetFromSurface(const Eigen::Vector3f& p, const Eigen::Vector3
   return p + (1e-4f * (1.0f + p.cwiseAbs().maxCoeff())) * n;
 }
 
-PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& camera, const PixelSampler& sampler,
-                     std::uint32_t sample) {
-  const Scene& scene = context.scene;
-  const Lights& lights = scene.lights;
-  const SampleLayout& layout = context.layout;
-  const int max_bounces = context.settings.max_bounces;
-  PathResult result;
+namespace {
 
+// One camera path: the state it carries from vertex to vertex and the steps it takes (pbrt-v4's VolPathIntegrator::Li
+// laid out as named steps). trace() is the loop; light sampling (next-event estimation) lives in its own steps below.
+class Path {
+ public:
+  Path(const PathContext& context, const Ray& ray, const CameraSample& camera, const PixelSampler& sampler,
+       std::uint32_t sample)
+      : context_(context),
+        scene_(context.scene),
+        lights_(context.scene.lights),
+        layout_(context.layout),
+        camera_(camera),
+        sampler_(sampler),
+        sample_(sample),
+        camera_ray_(ray),
+        time_(ray.time),
+        ray_(ray),
+        previous_sampled_sky_(context.settings.sample_sky) {}
+
+  PathResult trace();
+
+ private:
+  using Branch = CameraSample::Branch;
+  enum class Step { Next, Stop, Shade };  // go on with the new ray / end the path / shade the surface hit
+
+  // What a non-specular surface vertex needs to weigh the light it reflects.
+  struct SurfaceVertex {
+    const Bsdf& bsdf;
+    Eigen::Vector3f ns;
+    Color base, prefix;  // prefix: throughput of the specular prefix, if this is the first non-specular vertex
+    bool first, continues;
+    float q;  // the chance of continuing (Russian roulette)
+  };
+
+  // Steps of the loop.
+  Step travelMedium(int vertex, const std::optional<SurfaceHit>& hit);
+  void addLightsPassed(int vertex, const std::optional<SurfaceHit>& hit);
+  void addEscapedLight(int vertex);
+  Step crossInterface(int vertex, const SurfaceHit& hit, const Material& material, Branch branch);
+  Step scatterAtSurface(int vertex, SurfaceHit& hit, const Material& material);
+  Color surfaceBaseColor(int vertex, SurfaceHit& hit, const Material& material) const;
+
+  // Light sampling.
+  template <class Use>
+  int sampleLights(int vertex, const Eigen::Vector3f& origin, const Eigen::Vector3f& n, const Use& use) const;
+  void sampleLightsAtInterface(int vertex, const SurfaceHit& hit, const DielectricBsdf& bsdf, const Eigen::Vector3f& n,
+                               bool continues);
+  int sampleLightsAtSurface(int vertex, const SurfaceHit& hit, const SurfaceVertex& v, const Eigen::Vector3f& origin,
+                            const Eigen::Vector3f& ng);
+  void sampleSkyAtSurface(int vertex, int light_index, const SurfaceHit& hit, const SurfaceVertex& v,
+                          const Eigen::Vector3f& origin, const Eigen::Vector3f& ng);
+  void reflect(const SurfaceVertex& v, const Eigen::Vector3f& wi, const Color& incoming);
+
+  // The path's throughput and the light it has gathered.
+  void weigh(const Color& w) {
+    t_diffuse_ = t_diffuse_.cwiseProduct(w);
+    t_other_ = t_other_.cwiseProduct(w);
+  }
+  void arrive(const Color& light) {  // light arriving along the path's current ray
+    diffuse_ += t_diffuse_.cwiseProduct(light);
+    other_ += t_other_.cwiseProduct(light);
+  }
+  bool dark() const { return t_diffuse_.isZero() && t_other_.isZero(); }
+  // Every ray of the path is traced at the camera ray's instant (motion blur).
+  Ray atTime(Ray r) const {
+    r.time = time_;
+    return r;
+  }
+  // The guides' position of a vertex met through smooth interfaces: its virtual image, as far along the camera ray
+  // as the path has come (a reflection's image lies behind the mirror, never behind the camera).
+  Eigen::Vector3f guidePosition(const Eigen::Vector3f& p, float t) const {
+    return travelled_ == 0 ? p : Eigen::Vector3f(camera_ray_.at(travelled_ + t));
+  }
+
+  const PathContext& context_;
+  const Scene& scene_;
+  const Lights& lights_;
+  const SampleLayout& layout_;
+  const CameraSample& camera_;
+  const PixelSampler& sampler_;
+  const std::uint32_t sample_;
+  const Ray camera_ray_;
+  const float time_;
+
+  PathResult result_;
+  Ray ray_;
+  float travelled_ = 0;  // along the camera ray's unfolded specular chain (guidePosition)
   // Light reaching the camera is summed in two parts, split at the first non-specular vertex (the first surface,
   // unless the path first passes smooth gelatine) by the lobe it leaves by: `diffuse` (divided by that surface's
   // base colour) and `other` (coat, gelatine, and sky seen directly or through gelatine). t_diffuse and t_other are
   // the path's throughput beyond that vertex in those two parts; before it t_other is the throughput of the
   // specular prefix (the smooth interfaces and the absorption met so far).
-  Color diffuse = Color::Zero(), other = Color::Zero();
-  Color t_diffuse = Color::Zero(), t_other = Color::Ones();
-  Color first_base = Color::Zero();
-  bool split = false;  // the first non-specular vertex is behind
-  const auto weigh = [&](const Color& w) {
-    t_diffuse = t_diffuse.cwiseProduct(w);
-    t_other = t_other.cwiseProduct(w);
-  };
-  float previous_pdf = 0;  // density of the BSDF sample that made this ray; 0 for the camera ray
+  Color diffuse_ = Color::Zero(), other_ = Color::Zero();
+  Color t_diffuse_ = Color::Zero(), t_other_ = Color::Ones();
+  Color first_base_ = Color::Zero();
+  bool split_ = false;      // the first non-specular vertex is behind
+  float previous_pdf_ = 0;  // density of the BSDF sample that made this ray; 0 for the camera ray
   // What the vertex that made this ray sampled itself, so that a light this ray finds is weighted against it (MIS)
   // or, where that vertex could not sample it (a smooth interface, a scattering event), counted fully.
-  bool previous_sampled_lights = true, previous_sampled_sky = context.settings.sample_sky;
-  const auto arrive = [&](const Color& light) {  // light arriving along the path's current ray
-    diffuse += t_diffuse.cwiseProduct(light);
-    other += t_other.cwiseProduct(light);
-  };
+  bool previous_sampled_lights_ = true, previous_sampled_sky_;
+  int leaving_ = -1;                  // the surface the current ray starts on (none for the camera ray)
+  const Material* medium_ = nullptr;  // the gelatine the current ray travels through
+  int bounce_ = 0;                    // continuations from surfaces (max_bounces counts them)
+  int interface_events_ = 0, scatter_events_ = 0;
+};
 
-  // The guides' position of a vertex met through smooth interfaces: its virtual image, as far along the camera ray
-  // as the path has come (a reflection's image lies behind the mirror, never behind the camera).
-  const Ray camera_ray = ray;
-  const float time = ray.time;  // every ray of the path is traced at the camera ray's instant (motion blur)
-  const auto atTime = [time](Ray r) {
-    r.time = time;
-    return r;
-  };
-  float travelled = 0;
-  const auto guidePosition = [&](const Eigen::Vector3f& p, float t) {
-    return travelled == 0 ? p : Eigen::Vector3f(camera_ray.at(travelled + t));
-  };
-  // One sample of every sun and area light seen from origin above the normal n, each from its own slot, handed to
-  // use(LightSample); returns the next slot's light index.
-  const auto sampleLights = [&](int vertex, const Eigen::Vector3f& origin, const Eigen::Vector3f& n, const auto& use) {
-    int light_index = 0;
-    for (const SunCone& sun : context.suns) {
-      const Eigen::Vector2f u = sampler.get2D(sample, layout.light(vertex, light_index++));
-      use(sampleSun(sun, origin, n, u.x(), u.y()));
-    }
-    for (const RectLight& rect : lights.rects) {
-      const Eigen::Vector2f u = sampler.get2D(sample, layout.light(vertex, light_index++));
-      use(sampleRect(rect, origin, n, u.x(), u.y()));
-    }
-    return light_index;
-  };
-  int leaving = -1;                  // the surface the current ray starts on (none for the camera ray)
-  const Material* medium = nullptr;  // the gelatine the current ray travels through
-  int bounce = 0;                    // continuations from surfaces (max_bounces counts them)
-  int interface_events = 0, scatter_events = 0;
+PathResult Path::trace() {
   for (int vertex = 0;; ++vertex) {
-    ++result.rays;
-    auto hit = scene.intersect(ray, leaving);
-    if (medium) {
-      // Beer-Lambert absorption to the next surface or, in a scattering medium, to a collision drawn on the way.
-      const float t_hit = hit ? hit->t : std::numeric_limits<float>::infinity();
-      float t = t_hit;
-      if (medium->scatter > 0) {
-        const float u = sampler.get1D(sample, SampleLayout::medium(vertex));
-        t = std::min(t_hit, -std::log1p(-u) / medium->scatter);
-      }
-      if (!hit && t == t_hit) {  // left through an open surface: no longer inside anything
-        medium = nullptr;
-      } else {
-        weigh((-medium->absorption * t).array().exp().matrix());
-        if (t < t_hit) {  // scattered: an isotropic phase function, the throughput times the albedo
-          weigh(medium->scatter_albedo);
-          const Eigen::Vector3f p = ray.at(t);
-          if (!split) {
-            split = true, result.hit = true;
-            result.albedo = first_base = t_other;
-            result.normal = -ray.direction, result.position = guidePosition(p, t);
-            t_diffuse = Color::Zero();
-          }
-          if (++scatter_events > kMaxScatterEvents || (t_diffuse.isZero() && t_other.isZero())) break;
-          const Eigen::Vector2f u = sampler.get2D(sample, layout.bsdfDirection(vertex));
-          const float z = 1.0f - 2.0f * u.x(), r = std::sqrt(std::max(0.0f, 1.0f - z * z));
-          const Eigen::Vector2f phi = cosSin2Pi(u.y());
-          travelled += t;
-          ray = atTime(Ray{p, Eigen::Vector3f(r * phi.x(), r * phi.y(), z)});
-          previous_pdf = 1.0f / (4.0f * std::numbers::pi_v<float>);
-          previous_sampled_lights = previous_sampled_sky = false;  // lights are outside: a shadow ray from here is
-          leaving = -1;                                            // always blocked by the body's own surface
-          continue;
-        }
-      }
+    // Find the next surface.
+    ++result_.rays;
+    auto hit = scene_.intersect(ray_, leaving_);
+    // Inside gelatine: absorption on the way, or a scattering event before the surface.
+    if (medium_) {
+      const Step step = travelMedium(vertex, hit);
+      if (step == Step::Stop) break;
+      if (step == Step::Next) continue;
     }
-    const bool lights_weighed = previous_sampled_lights;
-    if (vertex > 0 && (context.settings.mis || !lights_weighed)) {  // a continuation may pass an area light
-      const float tmax = hit ? hit->t : ray.tfar;
-      for (const RectLight& rect : lights.rects) {
-        const LightHit h = rectAlongRay(rect, ray.origin, ray.direction, tmax);
-        if (h.pdf > 0) arrive(h.radiance * (lights_weighed ? powerHeuristic(previous_pdf, h.pdf) : 1.0f));
-      }
-    }
+    // Emitters the ray passes or escapes to.
+    addLightsPassed(vertex, hit);
     if (!hit) {
-      Color light = context.background.eval(ray.direction);
-      if (vertex > 0) {
-        if (context.settings.sample_sky && previous_sampled_sky)
-          light *= powerHeuristic(previous_pdf, context.background.pdf(ray.direction));
-        for (const SunCone& sun : context.suns) {
-          const LightHit h = sunInDirection(sun, ray.direction);
-          if (h.pdf > 0 && (context.settings.mis || !lights_weighed))
-            light += h.radiance * (lights_weighed ? powerHeuristic(previous_pdf, h.pdf) : 1.0f);
-        }
-      }
-      arrive(light);
+      addEscapedLight(vertex);
       break;
     }
-    const Eigen::Vector3f wo = -ray.direction;
-    const Material& material = scene.material(hit->material);
-    // Gelatine: its print layer (a diffuse surface, shaded below) with probability `print`, else the clear interface.
-    using Branch = CameraSample::Branch;
-    const Branch branch = vertex == 0 && material.dielectric ? camera.branch : Branch::Drawn;
-    if (vertex == 0 && material.dielectric) result.gelatine_first = true, result.print = material.print;
-    const bool printed = branch == Branch::Drawn
-                             ? material.print > 0 && sampler.get1D(sample, SampleLayout::print(vertex)) < material.print
-                             : branch == Branch::Print;
-    if (material.dielectric && !printed) {
-      const Eigen::Vector3f& outward = hit->ng;
-      const Eigen::Vector3f n = hit->ns.dot(outward) >= 0 ? hit->ns : Eigen::Vector3f(-hit->ns);
-      const bool entering = outward.dot(wo) > 0;
-      const DielectricBsdf bsdf(material.ior, material.roughness, n, wo);
-      if (!split) {  // the guides: this interface, unless a non-specular vertex follows
-        result.hit = true;
-        result.albedo = t_other;
-        result.normal = entering ? outward : Eigen::Vector3f(-outward);
-        result.position = guidePosition(hit->p, hit->t);
-        if (!bsdf.smooth()) split = true, first_base = t_other, t_diffuse = Color::Zero();
-      }
-      const bool continues = ++interface_events <= kMaxInterfaceEvents;
-      if (!bsdf.smooth()) {  // a rough interface: suns and area lights outside, seen by reflection or transmission
-        const Eigen::Vector3f origin = offsetFromSurface(hit->p, outward);
-        const auto sampleLight = [&](const LightSample& s) {
-          if (s.value.isZero()) return;
-          const float f = bsdf.eval(s.wi);
-          if (!(f > 0)) return;
-          ++result.rays;
-          if (!unoccluded(scene, atTime(s.shadow), hit->shape)) return;
-          const bool combined = continues && s.pdf > 0 && context.settings.mis;
-          const float weight = combined ? powerHeuristic(s.pdf, bsdf.pdf(s.wi)) : 1.0f;
-          arrive(s.value * (f * std::abs(n.dot(s.wi)) * weight));
-        };
-        sampleLights(vertex, origin, outward, sampleLight);
-      }
-      if (!continues) break;
-      float u_lobe = sampler.get1D(sample, layout.bsdfLobe(vertex));
-      if (bsdf.smooth() && branch != Branch::Drawn) {  // the branch asked for: below or above the reflectance
-        result.reflectance = fresnelDielectric(std::abs(n.dot(wo)), entering ? material.ior : 1 / material.ior);
-        u_lobe = branch == Branch::Reflect ? 0.0f : std::nextafter(1.0f, 0.0f);
-      }
-      const Eigen::Vector2f u = sampler.get2D(sample, layout.bsdfDirection(vertex));
-      const auto s = bsdf.sample(u_lobe, u.x(), u.y());
-      if (!s) break;
-      const bool outside = s->wi.dot(outward) > 0;
-      if (s->transmitted == (outside == entering)) break;  // the shading normal sent it to the wrong side
-      weigh(Color::Constant(s->weight));
-      if (t_diffuse.isZero() && t_other.isZero()) break;
-      if (s->transmitted) medium = entering ? &material : nullptr;
-      previous_pdf = s->pdf;
-      previous_sampled_lights = !bsdf.smooth();
-      previous_sampled_sky = false;
-      travelled += hit->t;
-      ray = atTime(Ray{offsetFromSurface(hit->p, outside ? outward : Eigen::Vector3f(-outward)), s->wi});
-      leaving = hit->shape;
-      continue;
-    }
-    const bool first = !split;
-    // Two-sided shading: turn both normals to the side the ray came from.
-    const Eigen::Vector3f ng = hit->ng.dot(wo) >= 0 ? hit->ng : Eigen::Vector3f(-hit->ng);
-    Eigen::Vector3f ns = hit->ns.dot(ng) >= 0 ? hit->ns : Eigen::Vector3f(-hit->ns);
-    if (ns.dot(wo) <= 0) ns = ng;  // interpolated normal facing away from the viewer: shade flat instead of black
-    Color base;
-    if (vertex == 0 && material.texture) {
-      scene.uvDerivatives(*hit);
-      TextureFootprint f = footprint(ray, camera.camera, *hit);
-      f.jitter = sampler.get2D(sample, SampleLayout::kTexture);
-      Eigen::Vector2f centre = hit->uv - camera.offset.x() * f.duvdx - camera.offset.y() * f.duvdy;
-      if (camera.camera) blurFootprint(f, centre, ray, *camera.camera, *hit);
-      base = material.baseColor(centre.allFinite() ? centre : hit->uv, f);
-    } else {
-      base = material.baseColor(hit->uv);
-    }
-    const Color prefix = first ? t_other : Color::Ones();  // throughput of the specular prefix, if any
-    if (first) {
-      split = true;
-      result.hit = true;
-      result.albedo = first_base = prefix.cwiseProduct(base);
-      result.normal = ns;
-      result.position = guidePosition(hit->p, hit->t);
-    }
-    const Bsdf bsdf(material, base, ns, wo);
-    const Eigen::Vector3f origin = offsetFromSurface(hit->p, ng);
-    const bool continues = bounce < max_bounces;
-    // The chance of continuing from here: 1 for the first continuation; with Russian roulette, from the second on,
-    // the path's throughput so far (its largest channel, at most 1), as pbrt-v4: paths that carry little light stop
-    // early, and the survivors' weight / q stays near 1, so the roulette adds little noise. The BSDF strategy's
-    // density as MIS sees it is what BSDF sampling draws times q.
-    float q = continues ? 1.0f : 0.0f;
-    if (continues && bounce > 0 && context.settings.roulette)
-      q = std::clamp((first_base.cwiseProduct(t_diffuse) + t_other).maxCoeff(), kMinContinuation, 1.0f);
-
-    // Light arriving at this surface from direction wi, already divided by its sampling density and weighted.
-    const auto reflect = [&](const Eigen::Vector3f& wi, const Color& incoming) {
-      const BsdfLobes f = bsdf.evalLobes(wi);
-      const float cos_i = ns.dot(wi);
-      if (first) {
-        diffuse += (f.diffuse * cos_i) * incoming;
-        other += prefix.cwiseProduct((f.specular * cos_i) * incoming);
-      } else {
-        arrive(((f.diffuse * cos_i) * base.array() + f.specular * cos_i).matrix().cwiseProduct(incoming));
-      }
-    };
-    const auto sampleLight = [&](const LightSample& s) {
-      if (!context.settings.light_samples || s.value.isZero() || ns.dot(s.wi) <= 0) return;
-      ++result.rays;
-      if (!unoccluded(scene, atTime(s.shadow), hit->shape)) return;
-      // With no continuation from here, light samples are the only strategy: full weight.
-      const bool combined = continues && s.pdf > 0 && context.settings.mis;
-      const float weight = combined ? powerHeuristic(s.pdf, q * bsdf.pdf(s.wi)) : 1.0f;
-      reflect(s.wi, s.value * weight);
-    };
-    int light_index = sampleLights(vertex, origin, ng, sampleLight);
-    if (!continues) break;
-    if (context.settings.sample_sky) {  // the sky is reached by continuations only, so only where one follows
-      const Eigen::Vector2f u = sampler.get2D(sample, layout.light(vertex, light_index++));
-      float pdf = 0;
-      const Eigen::Vector3f wi = context.background.sample(u.x(), u.y(), pdf);
-      if (pdf > 0 && wi.dot(ng) > 0 && ns.dot(wi) > 0) {
-        ++result.rays;
-        if (unoccluded(scene, atTime(Ray{origin, wi}), hit->shape))
-          reflect(wi, context.background.eval(wi) * (powerHeuristic(pdf, q * bsdf.pdf(wi)) / pdf));
-      }
-    }
-
-    if (q < 1 && sampler.get1D(sample, layout.roulette(vertex)) >= q) break;
-    const float u_lobe = sampler.get1D(sample, layout.bsdfLobe(vertex));
-    const Eigen::Vector2f u = sampler.get2D(sample, layout.bsdfDirection(vertex));
-    const auto s = bsdf.sample(u_lobe, u.x(), u.y());
-    if (!s || s->wi.dot(ng) <= 0) break;  // absorbed, or headed into the surface it left
-    if (first) {
-      t_diffuse = Color::Constant(s->lobes.diffuse / q);
-      t_other = prefix * (s->lobes.specular / q);
-    } else {
-      t_diffuse = t_diffuse.cwiseProduct(s->weight) / q;
-      t_other = t_other.cwiseProduct(s->weight) / q;
-    }
-    if (t_diffuse.isZero() && t_other.isZero()) break;
-    previous_pdf = q * s->pdf;
-    previous_sampled_lights = context.settings.light_samples;
-    previous_sampled_sky = context.settings.sample_sky;
-    ray = atTime(Ray{origin, s->wi});
-    leaving = hit->shape;
-    ++bounce;
+    // Gelatine's clear interface, unless its print layer is drawn; else a surface with a BSDF.
+    const Material& material = scene_.material(hit->material);
+    const Branch branch = vertex == 0 && material.dielectric ? camera_.branch : Branch::Drawn;
+    if (vertex == 0 && material.dielectric) result_.gelatine_first = true, result_.print = material.print;
+    const bool printed =
+        branch == Branch::Drawn
+            ? material.print > 0 && sampler_.get1D(sample_, SampleLayout::print(vertex)) < material.print
+            : branch == Branch::Print;
+    const Step step = material.dielectric && !printed ? crossInterface(vertex, *hit, material, branch)
+                                                      : scatterAtSurface(vertex, *hit, material);
+    if (step == Step::Stop) break;
   }
-  result.diffuse = first_base.cwiseProduct(diffuse);
-  result.diffuse_demodulated = luminance(diffuse);
-  result.radiance = result.diffuse + other;
-  return result;
+  // The two parts, the diffuse one modulated by the first surface's base colour.
+  result_.diffuse = first_base_.cwiseProduct(diffuse_);
+  result_.diffuse_demodulated = luminance(diffuse_);
+  result_.radiance = result_.diffuse + other_;
+  return result_;
+}
+
+// Beer-Lambert absorption to the next surface or, in a scattering medium, to a collision drawn on the way (then an
+// isotropic phase function: the throughput times the albedo, a new direction drawn uniformly).
+Path::Step Path::travelMedium(int vertex, const std::optional<SurfaceHit>& hit) {
+  const Material& medium = *medium_;
+  const float t_hit = hit ? hit->t : std::numeric_limits<float>::infinity();
+  float t = t_hit;
+  if (medium.scatter > 0) {
+    const float u = sampler_.get1D(sample_, SampleLayout::medium(vertex));
+    t = std::min(t_hit, -std::log1p(-u) / medium.scatter);
+  }
+  if (!hit && t == t_hit) {  // left through an open surface: no longer inside anything
+    medium_ = nullptr;
+    return Step::Shade;
+  }
+  weigh((-medium.absorption * t).array().exp().matrix());
+  if (!(t < t_hit)) return Step::Shade;
+  weigh(medium.scatter_albedo);
+  const Eigen::Vector3f p = ray_.at(t);
+  if (!split_) {
+    split_ = true, result_.hit = true;
+    result_.albedo = first_base_ = t_other_;
+    result_.normal = -ray_.direction, result_.position = guidePosition(p, t);
+    t_diffuse_ = Color::Zero();
+  }
+  if (++scatter_events_ > kMaxScatterEvents || dark()) return Step::Stop;
+  const Eigen::Vector2f u = sampler_.get2D(sample_, layout_.bsdfDirection(vertex));
+  const float z = 1.0f - 2.0f * u.x(), r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+  const Eigen::Vector2f phi = cosSin2Pi(u.y());
+  travelled_ += t;
+  ray_ = atTime(Ray{p, Eigen::Vector3f(r * phi.x(), r * phi.y(), z)});
+  previous_pdf_ = 1.0f / (4.0f * std::numbers::pi_v<float>);
+  previous_sampled_lights_ = previous_sampled_sky_ = false;  // lights are outside: a shadow ray from here is
+  leaving_ = -1;                                             // always blocked by the body's own surface
+  return Step::Next;
+}
+
+// A continuation may pass an area light: counted fully where the vertex that made it could not sample lights, else
+// weighted against that vertex's light sample (MIS).
+void Path::addLightsPassed(int vertex, const std::optional<SurfaceHit>& hit) {
+  const bool lights_weighed = previous_sampled_lights_;
+  if (vertex == 0 || !(context_.settings.mis || !lights_weighed)) return;
+  const float tmax = hit ? hit->t : ray_.tfar;
+  for (const RectLight& rect : lights_.rects) {
+    const LightHit h = rectAlongRay(rect, ray_.origin, ray_.direction, tmax);
+    if (h.pdf > 0) arrive(h.radiance * (lights_weighed ? powerHeuristic(previous_pdf_, h.pdf) : 1.0f));
+  }
+}
+
+// An escaped ray: the sky (weighted against its light sample where one was taken) and any sun disc it points into.
+// Camera rays see the sky only.
+void Path::addEscapedLight(int vertex) {
+  const bool lights_weighed = previous_sampled_lights_;
+  Color light = context_.background.eval(ray_.direction);
+  if (vertex > 0) {
+    if (context_.settings.sample_sky && previous_sampled_sky_)
+      light *= powerHeuristic(previous_pdf_, context_.background.pdf(ray_.direction));
+    for (const SunCone& sun : context_.suns) {
+      const LightHit h = sunInDirection(sun, ray_.direction);
+      if (h.pdf > 0 && (context_.settings.mis || !lights_weighed))
+        light += h.radiance * (lights_weighed ? powerHeuristic(previous_pdf_, h.pdf) : 1.0f);
+    }
+  }
+  arrive(light);
+}
+
+// Gelatine's clear interface: reflect or refract (the branch asked for at the camera ray, else one drawn), entering
+// or leaving the medium. A rough interface samples the lights; a smooth one cannot.
+Path::Step Path::crossInterface(int vertex, const SurfaceHit& hit, const Material& material, Branch branch) {
+  const Eigen::Vector3f wo = -ray_.direction;
+  const Eigen::Vector3f& outward = hit.ng;
+  const Eigen::Vector3f n = hit.ns.dot(outward) >= 0 ? hit.ns : Eigen::Vector3f(-hit.ns);
+  const bool entering = outward.dot(wo) > 0;
+  const DielectricBsdf bsdf(material.ior, material.roughness, n, wo);
+  // The guides: this interface, unless a non-specular vertex follows.
+  if (!split_) {
+    result_.hit = true;
+    result_.albedo = t_other_;
+    result_.normal = entering ? outward : Eigen::Vector3f(-outward);
+    result_.position = guidePosition(hit.p, hit.t);
+    if (!bsdf.smooth()) split_ = true, first_base_ = t_other_, t_diffuse_ = Color::Zero();
+  }
+  const bool continues = ++interface_events_ <= kMaxInterfaceEvents;
+  if (!bsdf.smooth()) sampleLightsAtInterface(vertex, hit, bsdf, n, continues);
+  if (!continues) return Step::Stop;
+  // Reflect or refract.
+  float u_lobe = sampler_.get1D(sample_, layout_.bsdfLobe(vertex));
+  if (bsdf.smooth() && branch != Branch::Drawn) {  // the branch asked for: below or above the reflectance
+    result_.reflectance = fresnelDielectric(std::abs(n.dot(wo)), entering ? material.ior : 1 / material.ior);
+    u_lobe = branch == Branch::Reflect ? 0.0f : std::nextafter(1.0f, 0.0f);
+  }
+  const Eigen::Vector2f u = sampler_.get2D(sample_, layout_.bsdfDirection(vertex));
+  const auto s = bsdf.sample(u_lobe, u.x(), u.y());
+  if (!s) return Step::Stop;
+  const bool outside = s->wi.dot(outward) > 0;
+  if (s->transmitted == (outside == entering)) return Step::Stop;  // the shading normal sent it to the wrong side
+  weigh(Color::Constant(s->weight));
+  if (dark()) return Step::Stop;
+  if (s->transmitted) medium_ = entering ? &material : nullptr;
+  previous_pdf_ = s->pdf;
+  previous_sampled_lights_ = !bsdf.smooth();
+  previous_sampled_sky_ = false;
+  travelled_ += hit.t;
+  ray_ = atTime(Ray{offsetFromSurface(hit.p, outside ? outward : Eigen::Vector3f(-outward)), s->wi});
+  leaving_ = hit.shape;
+  return Step::Next;
+}
+
+// A surface with a BSDF (diffuse, coat, or gelatine's print layer): the guides if it is the first non-specular
+// vertex, light samples, then a continuation drawn from the BSDF (Russian roulette from the second on).
+Path::Step Path::scatterAtSurface(int vertex, SurfaceHit& hit, const Material& material) {
+  const Eigen::Vector3f wo = -ray_.direction;
+  const bool first = !split_;
+  // Two-sided shading: turn both normals to the side the ray came from.
+  const Eigen::Vector3f ng = hit.ng.dot(wo) >= 0 ? hit.ng : Eigen::Vector3f(-hit.ng);
+  Eigen::Vector3f ns = hit.ns.dot(ng) >= 0 ? hit.ns : Eigen::Vector3f(-hit.ns);
+  if (ns.dot(wo) <= 0) ns = ng;  // interpolated normal facing away from the viewer: shade flat instead of black
+  const Color base = surfaceBaseColor(vertex, hit, material);
+  const Color prefix = first ? t_other_ : Color::Ones();  // throughput of the specular prefix, if any
+  // The guides.
+  if (first) {
+    split_ = true;
+    result_.hit = true;
+    result_.albedo = first_base_ = prefix.cwiseProduct(base);
+    result_.normal = ns;
+    result_.position = guidePosition(hit.p, hit.t);
+  }
+  const Bsdf bsdf(material, base, ns, wo);
+  const Eigen::Vector3f origin = offsetFromSurface(hit.p, ng);
+  const bool continues = bounce_ < context_.settings.max_bounces;
+  // The chance of continuing from here: 1 for the first continuation; with Russian roulette, from the second on,
+  // the path's throughput so far (its largest channel, at most 1), as pbrt-v4: paths that carry little light stop
+  // early, and the survivors' weight / q stays near 1, so the roulette adds little noise. The BSDF strategy's
+  // density as MIS sees it is what BSDF sampling draws times q.
+  float q = continues ? 1.0f : 0.0f;
+  if (continues && bounce_ > 0 && context_.settings.roulette)
+    q = std::clamp((first_base_.cwiseProduct(t_diffuse_) + t_other_).maxCoeff(), kMinContinuation, 1.0f);
+  const SurfaceVertex v{bsdf, ns, base, prefix, first, continues, q};
+
+  // Light samples: suns and area lights; the sky only where a continuation follows (it is reached by them only).
+  const int light_index = sampleLightsAtSurface(vertex, hit, v, origin, ng);
+  if (!continues) return Step::Stop;
+  if (context_.settings.sample_sky) sampleSkyAtSurface(vertex, light_index, hit, v, origin, ng);
+
+  // Russian roulette, then the continuation.
+  if (q < 1 && sampler_.get1D(sample_, layout_.roulette(vertex)) >= q) return Step::Stop;
+  const float u_lobe = sampler_.get1D(sample_, layout_.bsdfLobe(vertex));
+  const Eigen::Vector2f u = sampler_.get2D(sample_, layout_.bsdfDirection(vertex));
+  const auto s = bsdf.sample(u_lobe, u.x(), u.y());
+  if (!s || s->wi.dot(ng) <= 0) return Step::Stop;  // absorbed, or headed into the surface it left
+  if (first) {
+    t_diffuse_ = Color::Constant(s->lobes.diffuse / q);
+    t_other_ = prefix * (s->lobes.specular / q);
+  } else {
+    t_diffuse_ = t_diffuse_.cwiseProduct(s->weight) / q;
+    t_other_ = t_other_.cwiseProduct(s->weight) / q;
+  }
+  if (dark()) return Step::Stop;
+  previous_pdf_ = q * s->pdf;
+  previous_sampled_lights_ = context_.settings.light_samples;
+  previous_sampled_sky_ = context_.settings.sample_sky;
+  ray_ = atTime(Ray{origin, s->wi});
+  leaving_ = hit.shape;
+  ++bounce_;
+  return Step::Next;
+}
+
+// The surface's base colour: at the camera ray's hit, a textured one averaged over the pixel's footprint (widened by
+// the motion over the shutter); elsewhere point-sampled.
+Color Path::surfaceBaseColor(int vertex, SurfaceHit& hit, const Material& material) const {
+  if (vertex != 0 || !material.texture) return material.baseColor(hit.uv);
+  scene_.uvDerivatives(hit);
+  TextureFootprint f = footprint(ray_, camera_.camera, hit);
+  f.jitter = sampler_.get2D(sample_, SampleLayout::kTexture);
+  Eigen::Vector2f centre = hit.uv - camera_.offset.x() * f.duvdx - camera_.offset.y() * f.duvdy;
+  if (camera_.camera) blurFootprint(f, centre, ray_, *camera_.camera, hit);
+  return material.baseColor(centre.allFinite() ? centre : hit.uv, f);
+}
+
+// One sample of every sun and area light seen from origin above the normal n, each from its own slot, handed to
+// use(LightSample); returns the next slot's light index.
+template <class Use>
+int Path::sampleLights(int vertex, const Eigen::Vector3f& origin, const Eigen::Vector3f& n, const Use& use) const {
+  int light_index = 0;
+  for (const SunCone& sun : context_.suns) {
+    const Eigen::Vector2f u = sampler_.get2D(sample_, layout_.light(vertex, light_index++));
+    use(sampleSun(sun, origin, n, u.x(), u.y()));
+  }
+  for (const RectLight& rect : lights_.rects) {
+    const Eigen::Vector2f u = sampler_.get2D(sample_, layout_.light(vertex, light_index++));
+    use(sampleRect(rect, origin, n, u.x(), u.y()));
+  }
+  return light_index;
+}
+
+// A rough interface: suns and area lights outside, seen by reflection or transmission.
+void Path::sampleLightsAtInterface(int vertex, const SurfaceHit& hit, const DielectricBsdf& bsdf,
+                                   const Eigen::Vector3f& n, bool continues) {
+  const Eigen::Vector3f& outward = hit.ng;
+  const Eigen::Vector3f origin = offsetFromSurface(hit.p, outward);
+  sampleLights(vertex, origin, outward, [&](const LightSample& s) {
+    if (s.value.isZero()) return;
+    const float f = bsdf.eval(s.wi);
+    if (!(f > 0)) return;
+    ++result_.rays;
+    if (!unoccluded(scene_, atTime(s.shadow), hit.shape)) return;
+    const bool combined = continues && s.pdf > 0 && context_.settings.mis;
+    const float weight = combined ? powerHeuristic(s.pdf, bsdf.pdf(s.wi)) : 1.0f;
+    arrive(s.value * (f * std::abs(n.dot(s.wi)) * weight));
+  });
+}
+
+// Suns and area lights at a surface, weighted against the BSDF's continuation (MIS); with no continuation from here
+// light samples are the only strategy: full weight. Returns the next slot's light index (the sky's).
+int Path::sampleLightsAtSurface(int vertex, const SurfaceHit& hit, const SurfaceVertex& v,
+                                const Eigen::Vector3f& origin, const Eigen::Vector3f& ng) {
+  return sampleLights(vertex, origin, ng, [&](const LightSample& s) {
+    if (!context_.settings.light_samples || s.value.isZero() || v.ns.dot(s.wi) <= 0) return;
+    ++result_.rays;
+    if (!unoccluded(scene_, atTime(s.shadow), hit.shape)) return;
+    const bool combined = v.continues && s.pdf > 0 && context_.settings.mis;
+    const float weight = combined ? powerHeuristic(s.pdf, v.q * v.bsdf.pdf(s.wi)) : 1.0f;
+    reflect(v, s.wi, s.value * weight);
+  });
+}
+
+// The sky (or environment map) at a surface, weighted against the BSDF's continuation (MIS).
+void Path::sampleSkyAtSurface(int vertex, int light_index, const SurfaceHit& hit, const SurfaceVertex& v,
+                              const Eigen::Vector3f& origin, const Eigen::Vector3f& ng) {
+  const Eigen::Vector2f u = sampler_.get2D(sample_, layout_.light(vertex, light_index));
+  float pdf = 0;
+  const Eigen::Vector3f wi = context_.background.sample(u.x(), u.y(), pdf);
+  if (!(pdf > 0 && wi.dot(ng) > 0 && v.ns.dot(wi) > 0)) return;
+  ++result_.rays;
+  if (unoccluded(scene_, atTime(Ray{origin, wi}), hit.shape))
+    reflect(v, wi, context_.background.eval(wi) * (powerHeuristic(pdf, v.q * v.bsdf.pdf(wi)) / pdf));
+}
+
+// Light arriving at a surface vertex from direction wi, already divided by its sampling density and weighted.
+void Path::reflect(const SurfaceVertex& v, const Eigen::Vector3f& wi, const Color& incoming) {
+  const BsdfLobes f = v.bsdf.evalLobes(wi);
+  const float cos_i = v.ns.dot(wi);
+  if (v.first) {
+    diffuse_ += (f.diffuse * cos_i) * incoming;
+    other_ += v.prefix.cwiseProduct((f.specular * cos_i) * incoming);
+  } else {
+    arrive(((f.diffuse * cos_i) * v.base.array() + f.specular * cos_i).matrix().cwiseProduct(incoming));
+  }
+}
+
+}  // namespace
+
+PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& camera, const PixelSampler& sampler,
+                     std::uint32_t sample) {
+  return Path(context, ray, camera, sampler, sample).trace();
 }
 
 PathResult tracePathSplit(const PathContext& context, const Ray& ray, CameraSample camera, const PixelSampler& sampler,
