@@ -1,0 +1,86 @@
+// The contact pairs of a backward-Euler step (ContactPair: two bodies' surface elements, or an embedded surface's point
+// against a collider) and their penalty inside the solve. Each pair, with gap g(x) = n . sum w_i x_i - thickness linear
+// in x over the step, has the one-sided penalty energy k min(0, g - g_rest)^2 / 2: convex, so backward Euler solved
+// exactly with it never gains energy (docs/body-contact.md). The force at the step's end F_i = -k (g(x1) - g_rest) w_i
+// n while the pair is pressed (active), its Jacobian -k w_i w_j n n^T: exact over the step, the system gains h^2 k u
+// u^T (u: the w_i n) as a stencil block, the right-hand side h (F(x0) + h dF/dx v0) = -h k (g(x0) - g_rest + h n . sum
+// w_i v0_i) w_i n. Which pairs are pressed is found by solving: active while the solved end has g(x1) < g_rest (an
+// active set, from the last step's and updated after each solve; a pair pulled would be an attraction the one-sided
+// energy does not have, and a source of energy: only within kActiveSlack of the rest gap does a pair keep its activity
+// against the solved end). The stiffness k = kPenalty m / h^2 (m = 1 / sum w_i^2 / m_i, the pair's effective mass).
+// g_rest is 0, or for a pair already within the thickness all but kRecovery of its overlap (a tenth a step, as Bridson
+// 2002's repulsion): a pair that entered the thickness outside the solve is not pushed out at once with the energy of
+// its whole overlap. Coulomb friction between pressed pairs is a tangential damper lagged by a step (carry), as IPC
+// lags its friction (Li et al. 2020, "Incremental Potential Contact").
+#pragma once
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "sim/dynamics.h"
+#include "sim/solver/pair_block_matrix.h"
+
+namespace wobble {
+
+class PenaltyPairs {
+ public:
+  // The share of a pair's overlap of the thickness that its penalty removes in a step (update).
+  static constexpr double kRecovery = 0.1;
+  // The penalty's h^2 k over the pair's effective mass; measured in docs/body-contact.md.
+  static constexpr double kPenalty = 100;
+  // A pair whose solved end is within this share of the thickness of its penalty's rest gap keeps its activity:
+  // without it, the last solves of a step flip a few hundred pairs by a fiftieth of the thickness each.
+  static constexpr double kActiveSlack = 0.25;
+  // m/s: below this sliding speed friction between bodies holds (carry).
+  static constexpr double kStickSpeed = 1e-3;
+
+  // Forgets the pairs the last step left pressed (a new topology: their particles' numbers are another's).
+  void forget() { carried_.clear(); }
+  // Starts a step with no pairs; returns the join of its first search: the pairs the last step left pressed.
+  PairJoin begin();
+  // The join of a search after a solve: the pairs its end presses past the active set's slack.
+  static PairJoin pressed() { return {.pressed = true, .recovery = kRecovery, .slack = kActiveSlack}; }
+
+  // This step's pairs, in the order found: the searches append to it.
+  std::vector<ContactPair>& list() { return pairs_; }
+  bool empty() const { return pairs_.empty(); }
+  std::size_t size() const { return pairs_.size(); }
+
+  // Sets the terms of the pairs found since the last call and each pair's activity at the solved end x1 (first: the
+  // step's first pairs, active as the last step left them, with its friction); returns how many changed.
+  std::size_t update(const VecX& inverse_mass, double h, const VecX& x0, const VecX& x1, bool first, bool parallel);
+  // The right-hand side and stencils of the active pairs (with friction: their dampers too), added to rhs as it stood
+  // before the step's first call; returns how many pairs are active.
+  long apply(double h, const VecX& x, const VecX& v, PairBlockMatrix& matrix, VecX& rhs);
+  // Keeps the active pairs for the next step, each with its Coulomb friction at the step's end (x + h (v + dv), v +
+  // dv).
+  void carry(double h, const VecX& x, const VecX& v, const VecX& dv);
+  // f += the active pairs' penalty and friction forces at (x1, v1) (Newton's residual).
+  void addForces(const VecX& x1, const VecX& v1, VecX& f) const;
+
+ private:
+  struct Term {
+    double stiffness;  // N/m of the penalty (0: a pair of pinned particles)
+    double damping;    // N s/m of friction (carried from the step before: carry)
+    double rest;       // m: the gap the penalty holds (update)
+    bool active;       // pressed at the last solved end
+  };
+  struct Carried {
+    std::array<int, 4> element;  // ContactPair::element
+    double damping;
+    bool operator<(const Carried& o) const { return element < o.element; }
+  };
+  // How many of the pairs 0 .. n - 1 fn(pair) returns true for, each pair once, on threads.
+  template <class Fn>
+  std::size_t countOverPairs(std::size_t n, bool parallel, Fn&& fn);
+
+  std::vector<ContactPair> pairs_;                    // this step's, in the order found
+  std::vector<Term> terms_;                           // the same order
+  std::vector<Carried> carried_;                      // the last step's active pairs, sorted
+  std::vector<std::array<int, 4>> carried_elements_;  // their elements (the step's first search: PairJoin::only)
+  VecX rhs_base_;  // the right-hand side without the pairs (saved at the step's first apply)
+  bool rhs_saved_ = false;
+  std::vector<std::size_t> pair_counts_;  // countOverPairs' per chunk
+};
+
+}  // namespace wobble
