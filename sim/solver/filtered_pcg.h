@@ -35,10 +35,10 @@ struct PcgResult {
 // stencils have changed since (StencilCouplings::generation: backward Euler's active set changes between the solves of
 // a step, and a pair just pressed is a stiff coupling the kept factorization lacks), when a particle's kind of
 // constraint in the filter has (a particle that has just met the floor, or left it: a factorization kept across such
-// a change preconditions a system it no longer matches), or after it has served this many solves. In between, it keeps the last factorization: the sum
-// stays symmetric positive definite (any SPD coarse matrix does), only a little less sharp as the system drifts.
-// Every third solve balances the few CG iterations a kept factorization adds against the fills and factorizations it
-// saves (docs/performance.md).
+// a change preconditions a system it no longer matches), or after it has served this many solves. In between, it keeps
+// the last factorization: the sum stays symmetric positive definite (any SPD coarse matrix does), only a little less
+// sharp as the system drifts. Every third solve balances the few CG iterations a kept factorization adds against the
+// fills and factorizations it saves (docs/performance.md).
 inline constexpr int kCoarseRefresh = 3;
 
 // Tolerances at least this loose run their iterations in float (iterative refinement); tighter ones in double. Float
