@@ -1,4 +1,4 @@
-// exr_error: render::imageError's figures (render/image_error.h) for an EXR image against an EXR reference, with the
+// exr_error: image::imageError's figures (image/image_error.h) for an EXR image against an EXR reference, with the
 // same tone map as wobble's scenes (ToneMap: exposure stops, then the ACES fit, then sRGB), so that an image from
 // another renderer (bench/cycles_compare.sh: Blender Cycles) is measured exactly as `wobble study render` measures
 // its own images.
@@ -26,15 +26,15 @@
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfRgbaFile.h>
 
-#include "render/color.h"
-#include "render/image/film.h"
-#include "render/image/image_error.h"
-#include "render/image/pfm_io.h"
-#include "render/image/png_io.h"
+#include "image/color.h"
+#include "image/film.h"
+#include "image/image_error.h"
+#include "image/pfm_io.h"
+#include "image/png_io.h"
 
 namespace {
 
-using wobble::render::Color;
+using wobble::image::Color;
 
 struct BadInput {
   std::string message;
@@ -48,7 +48,7 @@ struct ExrImage {
 ExrImage readExr(const std::string& file) {
   if (file.size() > 4 && file.compare(file.size() - 4, 4, ".pfm") == 0) {  // wobble's cached study references
     try {
-      wobble::render::FloatImage pfm = wobble::render::readPfm(file);
+      wobble::image::FloatImage pfm = wobble::image::readPfm(file);
       return {pfm.width, pfm.height, std::move(pfm.pixels)};
     } catch (const std::exception& e) {
       throw BadInput{std::string(e.what())};
@@ -93,7 +93,7 @@ void printMean(const std::string& key, const std::vector<Color>& pixels) {
   std::cout << key << "=" << sum.x() << "," << sum.y() << "," << sum.z() << "\n";
 }
 
-void print(const std::string& prefix, const wobble::render::ImageError& e) {
+void print(const std::string& prefix, const wobble::image::ImageError& e) {
   std::cout.precision(8);
   std::cout << prefix << "rmse=" << e.rmse << "\n"
             << prefix << "relmse=" << e.relmse << "\n"
@@ -104,7 +104,7 @@ void print(const std::string& prefix, const wobble::render::ImageError& e) {
 const char* kUsage =
     "usage: exr_error IMAGE.exr REFERENCE.exr [REFERENCE_B.exr] [--exposure STOPS] [--tile N] [--png OUT.png]\n"
     "       exr_error IMAGE.exr --png OUT.png [--exposure STOPS]\n"
-    "  prints rmse, relmse, worst_tile_rmse, worst_tile_relmse of IMAGE against REFERENCE (render/image_error.h),\n"
+    "  prints rmse, relmse, worst_tile_rmse, worst_tile_relmse of IMAGE against REFERENCE (image/image_error.h),\n"
     "  display values through wobble's tone map at --exposure (default -0.5, the scenes' default);\n"
     "  with REFERENCE_B the reference is the mean of the two, and half_* are REFERENCE against REFERENCE_B;\n"
     "  --png writes IMAGE tone-mapped as wobble's PNG frames\n";
@@ -114,7 +114,7 @@ const char* kUsage =
 int main(int argc, char** argv) {
   try {
     std::vector<std::string> files;
-    wobble::render::ToneMap tone;
+    wobble::image::ToneMap tone;
     tone.exposure = -0.5f;
     int tile = 32;
     std::string png;
@@ -149,7 +149,7 @@ int main(int argc, char** argv) {
     const ExrImage image = readExr(files[0]);
     if (!png.empty()) {
       try {
-        wobble::render::writePng(png, wobble::render::develop(image.width, image.height, image.pixels, tone));
+        wobble::image::writePng(png, wobble::image::develop(image.width, image.height, image.pixels, tone));
       } catch (const std::exception& e) {
         std::cerr << "exr_error: " << png << ": " << e.what() << "\n";
         return 1;
@@ -173,12 +173,11 @@ int main(int argc, char** argv) {
     if (files.size() == 3) {
       const ExrImage half_b = readExr(files[2]);
       sameSize(half_b, files[2]);
-      print("half_",
-            wobble::render::imageError(image.width, image.height, reference.pixels, half_b.pixels, tone, tile));
+      print("half_", wobble::image::imageError(image.width, image.height, reference.pixels, half_b.pixels, tone, tile));
       for (std::size_t i = 0; i < reference.pixels.size(); ++i)
         reference.pixels[i] = 0.5f * (reference.pixels[i] + half_b.pixels[i]);
     }
-    print("", wobble::render::imageError(image.width, image.height, image.pixels, reference.pixels, tone, tile));
+    print("", wobble::image::imageError(image.width, image.height, image.pixels, reference.pixels, tone, tile));
     printMean("image_mean", image.pixels);
     printMean("reference_mean", reference.pixels);
     return 0;

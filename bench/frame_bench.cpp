@@ -20,8 +20,8 @@
 #include "app/scene/render_config.h"
 #include "app/scene/scene_file.h"
 #include "app/view/frame_view.h"
+#include "image/png_io.h"
 #include "render/denoiser.h"
-#include "render/image/png_io.h"
 #include "render/renderer.h"
 
 namespace {
@@ -31,8 +31,8 @@ using namespace wobble;
 struct Prepared {
   SceneFile scene;
   FrameView view;
-  render::Film film;
-  std::vector<render::Color> denoised;
+  image::Film film;
+  std::vector<image::Color> denoised;
 };
 
 Prepared& prepared(int frame) {
@@ -73,14 +73,14 @@ void BM_Denoise(benchmark::State& state) {
 
 void BM_Develop(benchmark::State& state) {
   Prepared& p = prepared(int(state.range(0)));
-  for (auto _ : state) benchmark::DoNotOptimize(render::develop(p.film.width, p.film.height, p.denoised));
+  for (auto _ : state) benchmark::DoNotOptimize(image::develop(p.film.width, p.film.height, p.denoised));
 }
 
 void BM_Png(benchmark::State& state) {
   Prepared& p = prepared(int(state.range(0)));
-  const render::Image8 image = render::develop(p.film.width, p.film.height, p.denoised);
+  const image::Image8 image = image::develop(p.film.width, p.film.height, p.denoised);
   const auto file = std::filesystem::temp_directory_path() / "wobble_frame_bench.png";
-  for (auto _ : state) render::writePng(file, image);
+  for (auto _ : state) image::writePng(file, image);
   std::filesystem::remove(file);
 }
 

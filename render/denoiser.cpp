@@ -244,7 +244,7 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void inverseDeviati
 
 }  // namespace
 
-std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings) {
+std::vector<Color> denoise(const image::Film& film, const DenoiseSettings& settings) {
   const int w = film.width, h = film.height;
   const std::size_t n = std::size_t(w) * h;
   if (w <= 0 || h <= 0 || film.color.size() != n || film.albedo.size() != n || film.normal.size() != n ||

@@ -17,7 +17,8 @@
 #pragma once
 #include <vector>
 
-#include "render/image/film.h"
+#include "image/film.h"
+#include "render/color.h"
 
 namespace wobble::render {
 
@@ -31,6 +32,6 @@ struct DenoiseSettings {
 
 // The denoised colour, one per pixel (row-major, as film.color). Throws std::invalid_argument on an inconsistent
 // film or settings out of range.
-std::vector<Color> denoise(const Film& film, const DenoiseSettings& settings = {});
+std::vector<Color> denoise(const image::Film& film, const DenoiseSettings& settings = {});
 
 }  // namespace wobble::render

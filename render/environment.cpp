@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "render/image/image_file.h"
+#include "image/image_file.h"
 #include "render/sampling.h"
 
 namespace wobble::render {
@@ -20,7 +20,7 @@ std::string describe(const std::filesystem::path& file) { return file.empty() ? 
 
 }  // namespace
 
-EnvironmentMap::EnvironmentMap(const ImageF& rgb, float rotation_deg, float strength, std::filesystem::path file)
+EnvironmentMap::EnvironmentMap(const image::ImageF& rgb, float rotation_deg, float strength, std::filesystem::path file)
     : width_(rgb.width), height_(rgb.height), rotation_deg_(rotation_deg), strength_(strength), file_(std::move(file)) {
   const std::string name = describe(file_);
   if (rgb.height < 1 || rgb.width != 2 * rgb.height)
@@ -62,7 +62,7 @@ EnvironmentMap::EnvironmentMap(const ImageF& rgb, float rotation_deg, float stre
 }
 
 EnvironmentMap EnvironmentMap::load(const std::filesystem::path& file, float rotation_deg, float strength) {
-  const ImageFile f = readImageFile(file);
+  const image::ImageFile f = image::readImageFile(file);
   if (!f.linear)
     throw std::invalid_argument(file.string() + ": a " + f.format +
                                 " image holds display values; an environment map must be linear radiance: a Radiance "
@@ -70,14 +70,14 @@ EnvironmentMap EnvironmentMap::load(const std::filesystem::path& file, float rot
   const auto& c = f.channels;
   if (c.size() >= 3 && c[0] == "R" && c[1] == "G" && c[2] == "B") {
     if (c.size() == 3) return EnvironmentMap(f.image, rotation_deg, strength, file);
-    ImageF rgb(f.image.width, f.image.height, 3);
+    image::ImageF rgb(f.image.width, f.image.height, 3);
     for (int y = 0; y < rgb.height; ++y)
       for (int x = 0; x < rgb.width; ++x)
         for (int k = 0; k < 3; ++k) rgb.at(x, y, k) = f.image.at(x, y, k);
     return EnvironmentMap(rgb, rotation_deg, strength, file);
   }
   if (!c.empty() && c[0] == "Y") {
-    ImageF grey(f.image.width, f.image.height, 1);
+    image::ImageF grey(f.image.width, f.image.height, 1);
     for (int y = 0; y < grey.height; ++y)
       for (int x = 0; x < grey.width; ++x) grey.at(x, y) = f.image.at(x, y);
     return EnvironmentMap(grey, rotation_deg, strength, file);

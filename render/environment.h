@@ -28,8 +28,8 @@
 
 #include <Eigen/Core>
 
+#include "image/image.h"
 #include "render/color.h"
-#include "render/image/image.h"
 #include "render/piecewise_constant.h"
 
 namespace wobble::render {
@@ -39,8 +39,8 @@ class EnvironmentMap {
   // rgb: 1 (grey) or 3 (RGB) channels of linear radiance, width = 2 x height; negative values (ringing of some
   // filters) count as 0. Throws std::invalid_argument on another shape, a non-finite value, a negative or non-finite
   // strength, a non-finite rotation.
-  EnvironmentMap(const ImageF& rgb, float rotation_deg, float strength, std::filesystem::path file = {});
-  // Reads an HDR or EXR file (render/image/image_file.h): throws ImageFileError (unreadable, too large) or
+  EnvironmentMap(const image::ImageF& rgb, float rotation_deg, float strength, std::filesystem::path file = {});
+  // Reads an HDR or EXR file (image/image_file.h): throws ImageFileError (unreadable, too large) or
   // std::invalid_argument (not linear radiance, not 2:1, a value out of range) naming the file.
   static EnvironmentMap load(const std::filesystem::path& file, float rotation_deg, float strength);
 

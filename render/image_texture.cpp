@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "render/image/png_io.h"
+#include "image/png_io.h"
 
 namespace wobble::render {
 
@@ -18,10 +18,10 @@ ImageTexture::ImageTexture(int width, int height, std::vector<Color> texels, Wra
 }
 
 ImageTexture ImageTexture::load(const std::filesystem::path& file, Wrap wrap) {
-  return fromSrgb8(readImage(file), wrap);
+  return fromSrgb8(image::readImage(file), wrap);
 }
 
-ImageTexture ImageTexture::fromSrgb8(const Image8& image, Wrap wrap) {
+ImageTexture ImageTexture::fromSrgb8(const image::Image8& image, Wrap wrap) {
   if (image.channels < 1 || image.channels > 4)
     throw std::invalid_argument("image texture: unsupported channel count " + std::to_string(image.channels));
   std::vector<Color> texels(std::size_t(image.width) * image.height);

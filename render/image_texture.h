@@ -12,7 +12,8 @@
 #include <span>
 #include <vector>
 
-#include "render/image/image.h"
+#include "image/image.h"
+#include "render/color.h"
 #include "render/texture.h"
 
 namespace wobble::render {
@@ -26,7 +27,7 @@ class ImageTexture final : public Texture {
   // Throws std::runtime_error naming the file when it cannot be read.
   static ImageTexture load(const std::filesystem::path& file, Wrap wrap = Wrap::Repeat);
   // From 8-bit sRGB codes with 1 to 4 channels (grey is replicated to RGB; alpha is ignored).
-  static ImageTexture fromSrgb8(const Image8& image, Wrap wrap = Wrap::Repeat);
+  static ImageTexture fromSrgb8(const image::Image8& image, Wrap wrap = Wrap::Repeat);
 
   Color eval(const Eigen::Vector2f& uv) const override;
   float featureSize() const override { return 1.0f / static_cast<float>(std::max(width_, height_)); }  // a texel

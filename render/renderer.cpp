@@ -58,7 +58,7 @@ float adaptiveError(const Color& sum, const Color& half, std::uint32_t n) {
 
 // The light a pixel receives, per sample: its colour with the diffuse part divided by the albedo, so that texture
 // detail does not count as noise.
-Color receivedLight(const Film& film, std::size_t i) {
+Color receivedLight(const image::Film& film, std::size_t i) {
   const Color light = film.diffuse[i].cwiseQuotient(film.albedo[i].cwiseMax(0.05f * film.samples[i])) +
                       (film.color[i] - film.diffuse[i]) / float(film.samples[i]);
   return light;
@@ -84,7 +84,7 @@ float neighbourhoodError(const std::vector<Color>& light, int w, int h, int x, i
 
 }  // namespace
 
-Film render(const Scene& scene, const Camera& camera, const RenderSettings& settings, RenderStats* stats) {
+image::Film render(const Scene& scene, const Camera& camera, const RenderSettings& settings, RenderStats* stats) {
   if (!scene.committed()) throw std::logic_error("render: the scene changed since its last commit(); call commit()");
   if (settings.samples_per_pixel < 1 || settings.max_bounces < 0 || settings.tile_size < 1 ||
       settings.min_samples < 0 || !(settings.noise_threshold >= 0))
@@ -103,7 +103,7 @@ Film render(const Scene& scene, const Camera& camera, const RenderSettings& sett
   // nothing to normalise. The film is then set pixel by pixel as it is rendered, with no per-pixel state and no
   // final pass: about 150 MB less memory traffic a 720p frame.
   const bool single = spp == 1;
-  Film film = single ? Film::unfilled(w, h) : Film(w, h);
+  image::Film film = single ? image::Film::unfilled(w, h) : image::Film(w, h);
   std::vector<PixelState> state(single ? 0 : film.color.size());
   std::vector<std::uint64_t> tile_rays(std::size_t(tiles_x) * tiles_y, 0);
 

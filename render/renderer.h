@@ -32,8 +32,8 @@
 #pragma once
 #include <cstdint>
 
+#include "image/film.h"
 #include "render/camera.h"
-#include "render/image/film.h"
 #include "render/sampler.h"
 
 namespace wobble::render {
@@ -62,7 +62,7 @@ struct RenderStats {
 };
 
 // Throws std::logic_error if the scene has changes that were not committed, std::invalid_argument on bad settings.
-Film render(const Scene& scene, const Camera& camera, const RenderSettings& settings = {},
-            RenderStats* stats = nullptr);
+image::Film render(const Scene& scene, const Camera& camera, const RenderSettings& settings = {},
+                   RenderStats* stats = nullptr);
 
 }  // namespace wobble::render

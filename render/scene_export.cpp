@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "render/image/png_io.h"
+#include "image/png_io.h"
 
 namespace wobble::render {
 
@@ -16,14 +16,14 @@ nlohmann::json vec(const Eigen::Vector3f& v) { return {v.x(), v.y(), v.z()}; }
 
 void bakeTexture(const Texture& texture, const std::filesystem::path& file) {
   constexpr int kSize = 1024;
-  Image8 image(kSize, kSize, 3);
+  image::Image8 image(kSize, kSize, 3);
   for (int y = 0; y < kSize; ++y)
     for (int x = 0; x < kSize; ++x) {
       // Row 0 is the top of the image, v = 1 (OBJ convention, as ImageTexture reads it).
       const Color c = texture.eval({(x + 0.5f) / kSize, 1.0f - (y + 0.5f) / kSize});
       for (int k = 0; k < 3; ++k) image.at(x, y, k) = linearToSrgb8(c[k]);
     }
-  writePng(file, image);
+  image::writePng(file, image);
 }
 
 }  // namespace

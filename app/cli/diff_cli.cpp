@@ -1,5 +1,5 @@
 // `wobble diff A B`: compare two images, or two folders of them, with OpenImageIO idiff 2.4's semantics and exit
-// codes (render/image/image_diff.h; -p: render/image/yee.h) or with FLIP (--metric flip, render/image/flip.h);
+// codes (image/image_diff.h; -p: image/yee.h) or with FLIP (--metric flip, image/flip.h);
 // folders, heatmaps and JUnit reports: app/commands/diff_command.h. Exit status: 0 same or within tolerance,
 // 1 warning, 2 failure (also bad arguments), 4 a file cannot be read.
 #include <iostream>
@@ -75,7 +75,7 @@ void addDiffCommand(CLI::App& app, int& status) {
   cmd->callback([o, &status] {
     DiffCommandOptions command = o->command;
     command.metric = o->metric == "flip" ? DiffMetric::Flip : DiffMetric::Idiff;
-    if (!o->channels.empty()) command.idiff.channels.channels = render::splitChannelList(o->channels);
+    if (!o->channels.empty()) command.idiff.channels.channels = image::splitChannelList(o->channels);
     if (command.metric == DiffMetric::Flip) {
       if (!o->fail.empty()) command.flip_fail = parseFlipThresholds("--fail", o->fail);
       if (!o->warn.empty()) command.flip_warn = parseFlipThresholds("--warn", o->warn);

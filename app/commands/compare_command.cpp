@@ -25,12 +25,12 @@
 #include "app/view/frame_picture.h"
 #include "app/view/render_scene.h"
 #include "app/view/shutter.h"
+#include "image/compose.h"
+#include "image/font.h"
+#include "image/font_file.h"
+#include "image/png_io.h"
 #include "io/number_text.h"
 #include "io/text_file.h"
-#include "render/image/compose.h"
-#include "render/image/font.h"
-#include "render/image/font_file.h"
-#include "render/image/png_io.h"
 #include "sim/springs.h"
 
 namespace fs = std::filesystem;
@@ -39,7 +39,7 @@ namespace wobble {
 namespace {
 
 constexpr int kMaxVariants = 36;
-constexpr render::Rgb8 kEmptyCell{40, 40, 40};
+constexpr image::Rgb8 kEmptyCell{40, 40, 40};
 
 // Single quotes around a word the shell would split or expand.
 std::string shellWord(const std::string& word) {
@@ -245,14 +245,14 @@ void runVariants(std::vector<Planned>& plans, std::vector<Tracker>& trackers, in
     if (e) std::rethrow_exception(e);
 }
 
-render::Font loadLabelFont() {
-  const auto file = render::findFontFile();
+image::Font loadLabelFont() {
+  const auto file = image::findFontFile();
   if (!file)
-    throw std::runtime_error(std::string("no font for the tile labels: ") + render::kLabelFontFamily +
-                             " is neither known to fontconfig nor at " + render::kLabelFontPath +
+    throw std::runtime_error(std::string("no font for the tile labels: ") + image::kLabelFontFamily +
+                             " is neither known to fontconfig nor at " + image::kLabelFontPath +
                              "; install it (Debian: apt-get install fonts-dejavu-core; setup.sh does) or use "
                              "--render none");
-  return render::Font::load(*file);
+  return image::Font::load(*file);
 }
 
 // The checks only rendering needs, before anything is written.
@@ -283,7 +283,7 @@ bool hasObjFrame(const fs::path& mesh_dir, const SceneFile& scene, int k) {
 
 // Renders the tiles of every frame into OUT/frames/compare_NNNN.png and OUT/compare.mp4.
 void renderGrid(std::vector<Planned>& plans, const std::vector<Tracker>& trackers, const std::vector<VaryAxis>& axes,
-                const render::Font& font, double strain_bound, CompareReport& report) {
+                const image::Font& font, double strain_bound, CompareReport& report) {
   const SceneFile& lead_scene = plans.front().picture;
   const auto& box = lead_scene.render.camera.resolution;
   const GridLayout grid = axes.size() == 2
@@ -311,11 +311,11 @@ void renderGrid(std::vector<Planned>& plans, const std::vector<Tracker>& tracker
     t.strain_bound = strain_bound;
     tracks.push_back(t);
   }
-  std::vector<render::Image8> tiles(plans.size());                // each variant's last picture
+  std::vector<image::Image8> tiles(plans.size());                 // each variant's last picture
   std::vector<std::vector<SurfaceFrame>> previous(plans.size());  // each variant's last frame read, for motion blur
   std::vector<int> previous_frame(plans.size(), -1);
-  render::Image8 blank(grid.tile_width, grid.tile_height, 3);
-  render::fill(blank, {0, 0, blank.width, blank.height}, kEmptyCell);
+  image::Image8 blank(grid.tile_width, grid.tile_height, 3);
+  image::fill(blank, {0, 0, blank.width, blank.height}, kEmptyCell);
 
   fs::create_directories(report.out / "frames");
   std::unique_ptr<VideoStream> video =
@@ -327,8 +327,8 @@ void renderGrid(std::vector<Planned>& plans, const std::vector<Tracker>& tracker
         cameras.empty() ? CameraRig(lead_scene).params() : cameras[std::min<std::size_t>(k, cameras.size()) - 1];
     camera.width = grid.tile_width;
     camera.height = grid.tile_height;
-    auto canvas = std::make_shared<render::Image8>(grid.width(), grid.height(), 3);
-    render::fill(*canvas, {0, 0, canvas->width, canvas->height}, kEmptyCell);
+    auto canvas = std::make_shared<image::Image8>(grid.width(), grid.height(), 3);
+    image::fill(*canvas, {0, 0, canvas->width, canvas->height}, kEmptyCell);
     for (std::size_t i = 0; i < plans.size(); ++i) {
       const SceneFile& scene = plans[i].picture;
       const TileView view = tileView(tracks[i], k, scene.frameTime(k));
@@ -353,13 +353,13 @@ void renderGrid(std::vector<Planned>& plans, const std::vector<Tracker>& tracker
         previous[i] = std::move(surfaces);
         previous_frame[i] = k;
       }
-      render::Image8 tile = view.picture ? tiles[i] : blank;
+      image::Image8 tile = view.picture ? tiles[i] : blank;
       drawLabel(tile, font, plans[i].variant.label, view);
-      render::paste(*canvas, tile, grid.tileX(int(i)), grid.tileY(int(i)));
+      image::paste(*canvas, tile, grid.tileX(int(i)), grid.tileY(int(i)));
     }
     if (writing.valid()) writing.get();
     writing = std::async(std::launch::async, [&report, &video, canvas, k] {
-      render::writePng(report.out / "frames" / frameFileName("compare", k, "png"), *canvas);
+      image::writePng(report.out / "frames" / frameFileName("compare", k, "png"), *canvas);
       if (video) video->write(*canvas);
     });
     ++report.frames_rendered;
@@ -430,7 +430,7 @@ CompareReport runCompare(const CompareOptions& o) {
   }
   std::vector<Planned> plans = planVariants(o, axes, report.out);
   const bool rendering = plans.front().picture.render.options.png;
-  std::optional<render::Font> font;
+  std::optional<image::Font> font;
   if (rendering) {
     checkRenderable(plans);
     font = loadLabelFont();

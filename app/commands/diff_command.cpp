@@ -9,9 +9,9 @@
 #include <sstream>
 
 #include "app/scene/input_error.h"
+#include "image/png_io.h"
 #include "io/atomic_file.h"
 #include "io/text_table.h"
-#include "render/image/png_io.h"
 
 namespace fs = std::filesystem;
 
@@ -19,7 +19,7 @@ namespace wobble {
 
 namespace {
 
-using render::DiffCode;
+using image::DiffCode;
 
 std::string fixed(double v, int digits = 6) {
   char text[64];
@@ -27,27 +27,27 @@ std::string fixed(double v, int digits = 6) {
   return text;
 }
 
-double flipStatistic(const render::FlipStats& s, const render::ImageF& map, const std::string& name) {
+double flipStatistic(const image::FlipStats& s, const image::ImageF& map, const std::string& name) {
   if (name == "mean") return s.mean;
   if (name == "max") return s.max;
-  return render::flipPercentile(map, std::stod(name.substr(1)));  // pNN, checked when parsed
+  return image::flipPercentile(map, std::stod(name.substr(1)));  // pNN, checked when parsed
 }
 
 // A heatmap into out/<name>.heatmap.png.
-fs::path writeHeatmap(const fs::path& file, const render::ImageF& error) {
+fs::path writeHeatmap(const fs::path& file, const image::ImageF& error) {
   fs::create_directories(file.parent_path());
-  render::writePng(file, render::magmaHeatmap(error));
+  image::writePng(file, image::magmaHeatmap(error));
   return file;
 }
 
 struct Compared {
   DiffPair pair;
-  render::ImageF error_map;  // per pixel, in [0, 1] (idiff metric: scaled by --scale)
+  image::ImageF error_map;  // per pixel, in [0, 1] (idiff metric: scaled by --scale)
 };
 
 Compared compareIdiff(const fs::path& a, const fs::path& b, const DiffCommandOptions& o, const fs::path& difference) {
   Compared c;
-  const render::DiffResult r = render::diffFiles(a, b, o.idiff, difference, &c.error_map);
+  const image::DiffResult r = image::diffFiles(a, b, o.idiff, difference, &c.error_map);
   for (float& e : c.error_map.pixels) e = std::min(1.0f, e * o.idiff.diff_scale);
   c.pair.code = r.code;
   c.pair.report = r.message;
@@ -65,10 +65,10 @@ Compared compareIdiff(const fs::path& a, const fs::path& b, const DiffCommandOpt
 
 Compared compareFlip(const fs::path& a, const fs::path& b, const DiffCommandOptions& o) {
   Compared c;
-  render::ImageFile fa, fb;
+  image::ImageFile fa, fb;
   try {
-    fa = render::readImageFile(a, o.idiff.channels);
-    fb = render::readImageFile(b, o.idiff.channels);
+    fa = image::readImageFile(a, o.idiff.channels);
+    fb = image::readImageFile(b, o.idiff.channels);
   } catch (const std::exception& e) {
     c.pair.code = DiffCode::FileError;
     c.pair.summary = c.pair.report = e.what();
@@ -83,9 +83,9 @@ Compared compareFlip(const fs::path& a, const fs::path& b, const DiffCommandOpti
     return c;
   }
   const bool hdr = fa.linear || fb.linear;
-  c.error_map = hdr ? render::hdrFlip(fa.image, fb.image, o.pixels_per_degree)
-                    : render::ldrFlip(fa.image, fb.image, o.pixels_per_degree);
-  const render::FlipStats s = render::flipStats(c.error_map);
+  c.error_map = hdr ? image::hdrFlip(fa.image, fb.image, o.pixels_per_degree)
+                    : image::ldrFlip(fa.image, fb.image, o.pixels_per_degree);
+  const image::FlipStats s = image::flipStats(c.error_map);
   const auto exceeded = [&](const std::map<std::string, double>& limits, std::string& which) {
     for (const auto& [name, limit] : limits)
       if (const double v = flipStatistic(s, c.error_map, name); v > limit) {
@@ -101,7 +101,7 @@ Compared compareFlip(const fs::path& a, const fs::path& b, const DiffCommandOpti
   std::ostringstream r;
   r << "  " << (hdr ? "HDR" : "LDR") << "-FLIP, " << io::formatNumber(o.pixels_per_degree, 4) << " pixels per degree";
   if (hdr) {
-    const render::FlipExposures e = render::hdrFlipExposures(fa.image);
+    const image::FlipExposures e = image::hdrFlipExposures(fa.image);
     r << ", exposures " << fixed(e.start, 4) << " to " << fixed(e.stop, 4) << " (" << e.count << ")";
   }
   r << "\n  Mean: " << fixed(s.mean) << "\n  Weighted median: " << fixed(s.weighted_median)
@@ -109,7 +109,7 @@ Compared compareFlip(const fs::path& a, const fs::path& b, const DiffCommandOpti
     << "\n  Min: " << fixed(s.min) << "\n  Max: " << fixed(s.max) << "\n  p50: " << fixed(s.p50)
     << "\n  p95: " << fixed(s.p95) << "\n  p99: " << fixed(s.p99) << "\n";
   if (!why.empty()) r << "  " << why << "\n";
-  r << render::verdict(c.pair.code);
+  r << image::verdict(c.pair.code);
   c.pair.report = r.str();
   c.pair.summary = "FLIP mean " + fixed(s.mean) + ", p95 " + fixed(s.p95) + ", max " + fixed(s.max) +
                    (why.empty() ? "" : " (" + why + ")");
@@ -197,7 +197,7 @@ DiffReport runDiff(const DiffCommandOptions& o, std::ostream& log) {
   report.folders = fs::is_directory(o.a, ec) && fs::is_directory(o.b, ec);
   // As idiff: an image and a folder compare the image with the folder's file of the same name.
   const fs::path single_b = !report.folders && fs::is_directory(o.b, ec) ? o.b / o.a.filename() : o.b;
-  std::vector<std::pair<fs::path, render::ImageF>> heatmaps;  // written once all pairs are compared
+  std::vector<std::pair<fs::path, image::ImageF>> heatmaps;  // written once all pairs are compared
 
   const auto compare = [&](const fs::path& a, const fs::path& b, const std::string& name, bool single) {
     const auto start = std::chrono::steady_clock::now();
@@ -275,10 +275,10 @@ DiffReport runDiff(const DiffCommandOptions& o, std::ostream& log) {
     return report;
   }
   for (const DiffPair& p : report.pairs) {
-    log << render::verdict(p.code) << "  " << p.name << ": " << p.summary << "\n";
+    log << image::verdict(p.code) << "  " << p.name << ": " << p.summary << "\n";
     if (o.verbose) log << p.report << "\n";
   }
-  log << "\n" << diffTable(report) << render::verdict(report.worst) << "\n";
+  log << "\n" << diffTable(report) << image::verdict(report.worst) << "\n";
   return report;
 }
 
@@ -289,7 +289,7 @@ std::string diffTable(const DiffReport& report) {
   for (const DiffPair& p : report.pairs) {
     ++counts[static_cast<int>(p.code)];
     table.add(
-        {p.name, render::verdict(p.code), p.summary + (p.heatmap.empty() ? "" : "; heatmap " + p.heatmap.string())});
+        {p.name, image::verdict(p.code), p.summary + (p.heatmap.empty() ? "" : "; heatmap " + p.heatmap.string())});
   }
   return table.markdown() + "\n" + std::to_string(report.pairs.size()) + " pairs: " + std::to_string(counts[0]) +
          " pass, " + std::to_string(counts[1]) + " warning, " + std::to_string(counts[2]) + " failure, " +
@@ -322,7 +322,7 @@ std::string junitXml(const DiffReport& report, const std::string& suite) {
       x << ">\n      <error type=\"FILE ERROR\" message=\"" << xmlEscaped(p.summary) << "\">" << xmlEscaped(details)
         << "</error>\n    </testcase>\n";
     else
-      x << ">\n      <system-out>" << xmlEscaped(std::string(render::verdict(p.code)) + ": " + p.summary)
+      x << ">\n      <system-out>" << xmlEscaped(std::string(image::verdict(p.code)) + ": " + p.summary)
         << "</system-out>\n    </testcase>\n";
   }
   x << "  </testsuite>\n</testsuites>\n";

@@ -1,6 +1,6 @@
 // `wobble diff A B`: two images, or two folders of them (a suite of goldens against new renders), compared with
-// idiff 2.4's numbers and exit codes (render/image/image_diff.h, -p: render/image/yee.h) or with FLIP
-// (render/image/flip.h: LDR-FLIP for display images, HDR-FLIP when either file holds linear values: EXR, HDR, PFM).
+// idiff 2.4's numbers and exit codes (image/image_diff.h, -p: image/yee.h) or with FLIP
+// (image/flip.h: LDR-FLIP for display images, HDR-FLIP when either file holds linear values: EXR, HDR, PFM).
 //
 // An image and a folder: the image against the folder's file of the same name (as idiff).
 // Folders: the files of the same relative path in both (sub-folders included, names starting with '.' skipped) are
@@ -24,8 +24,8 @@
 #include <string>
 #include <vector>
 
-#include "render/image/flip.h"
-#include "render/image/image_diff.h"
+#include "image/flip.h"
+#include "image/image_diff.h"
 
 namespace wobble {
 
@@ -35,9 +35,9 @@ struct DiffCommandOptions {
   std::filesystem::path a, b;  // two files, or two folders (golden, new)
   std::filesystem::path out, junit, heatmap;
   DiffMetric metric = DiffMetric::Idiff;
-  render::DiffOptions idiff;  // thresholds and channels (the channel choice applies to FLIP too)
+  image::DiffOptions idiff;  // thresholds and channels (the channel choice applies to FLIP too)
   std::map<std::string, double> flip_fail = {{"mean", 0.0}}, flip_warn;  // statistic -> limit
-  double pixels_per_degree = render::kFlipDefaultPixelsPerDegree;
+  double pixels_per_degree = image::kFlipDefaultPixelsPerDegree;
   bool verbose = false;  // idiff's report for passing pairs too
 };
 
@@ -46,7 +46,7 @@ std::map<std::string, double> parseFlipThresholds(const std::string& flag, const
 
 struct DiffPair {
   std::string name;  // the relative path (folders) or "A vs B"
-  render::DiffCode code = render::DiffCode::Pass;
+  image::DiffCode code = image::DiffCode::Pass;
   std::string summary;  // one line: the key numbers or why it failed
   std::string report;   // the full report (idiff's, or FLIP's pooled values), ending in the verdict
   double seconds = 0;
@@ -55,7 +55,7 @@ struct DiffPair {
 
 struct DiffReport {
   std::vector<DiffPair> pairs;
-  render::DiffCode worst = render::DiffCode::Pass;
+  image::DiffCode worst = image::DiffCode::Pass;
   bool folders = false;
   int exitCode() const { return static_cast<int>(worst); }
 };

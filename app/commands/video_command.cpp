@@ -12,8 +12,8 @@
 #include "app/scene/scene_file.h"
 #include "app/view/frame_output.h"
 #include "app/view/picture_key.h"
-#include "render/image/image_header.h"
-#include "render/image/png_io.h"
+#include "image/image_header.h"
+#include "image/png_io.h"
 
 namespace fs = std::filesystem;
 
@@ -72,13 +72,13 @@ VideoReport encodeFrames(const VideoOptions& options) {
   for (int k = report.first_frame; k <= report.last_frame; ++k) {
     const fs::path png = FrameOutput::pngPath(out, name, k);
     std::string reason;
-    const auto header = fs::is_regular_file(png) ? render::readImageHeader(png, reason) : std::nullopt;
+    const auto header = fs::is_regular_file(png) ? image::readImageHeader(png, reason) : std::nullopt;
     if (!header) {
       missing.push_back(k);
       continue;
     }
     sizes[std::to_string(header->width) + " x " + std::to_string(header->height)].push_back(k);
-    const auto text = render::readPngText(png);
+    const auto text = image::readPngText(png);
     const auto key = text.find(PictureKey::kSettingsName);
     settings[key == text.end() ? "no settings recorded (an older wobble's frames)" : "settings " + key->second]
         .push_back(k);

@@ -61,11 +61,11 @@ std::string labelSeconds(double t) {
 
 float labelPixels(int tile_height) { return std::clamp(float(tile_height) / 18.0f, 9.0f, 40.0f); }
 
-void drawLabel(render::Image8& tile, const render::Font& font, const std::string& title, const TileView& view) {
+void drawLabel(image::Image8& tile, const image::Font& font, const std::string& title, const TileView& view) {
   const float px = labelPixels(tile.height);
   const int pad = std::max(2, int(px / 4)), line = font.lineHeight(px);
   const int width = std::max(font.width(title, px), font.width(view.status, px)) + 2 * pad;
-  render::blend(tile, {0, 0, width, 2 * line + 2 * pad}, {0, 0, 0}, 0.6f);
+  image::blend(tile, {0, 0, width, 2 * line + 2 * pad}, {0, 0, 0}, 0.6f);
   font.draw(tile, pad, pad, title, px, {255, 255, 255});
   font.draw(tile, pad, pad + line, view.status, px, view.color);
 }

@@ -9,9 +9,9 @@
 #include <optional>
 #include <string>
 
-#include "render/image/compose.h"
-#include "render/image/font.h"
-#include "render/image/image.h"
+#include "image/compose.h"
+#include "image/font.h"
+#include "image/image.h"
 
 namespace wobble {
 
@@ -28,11 +28,11 @@ struct TileView {
   int picture = 0;  // the frame whose picture the tile shows: this one, the last one reached (frozen), or 0 (none)
   bool frozen = false;
   std::string status;
-  render::Rgb8 color{255, 255, 255};
+  image::Rgb8 color{255, 255, 255};
 };
 
-inline constexpr render::Rgb8 kLostShapeColor{255, 170, 40};
-inline constexpr render::Rgb8 kBlewUpColor{255, 60, 60};
+inline constexpr image::Rgb8 kLostShapeColor{255, 170, 40};
+inline constexpr image::Rgb8 kBlewUpColor{255, 60, 60};
 
 // Frame `frame`, at simulated time `time`.
 TileView tileView(const VariantTrack& track, int frame, double time);
@@ -45,6 +45,6 @@ std::string labelSeconds(double t);
 // The label's pixel height for a tile this tall (9 at least, so that tiny test tiles still get readable text).
 float labelPixels(int tile_height);
 // Draws the label of `view` (title over its status) on the tile.
-void drawLabel(render::Image8& tile, const render::Font& font, const std::string& title, const TileView& view);
+void drawLabel(image::Image8& tile, const image::Font& font, const std::string& title, const TileView& view);
 
 }  // namespace wobble

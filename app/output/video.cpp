@@ -115,7 +115,7 @@ void VideoStream::abandon() {
   }
 }
 
-void VideoStream::write(const render::Image8& frame) {
+void VideoStream::write(const image::Image8& frame) {
   if (frame.width != width_ || frame.height != height_ || frame.channels != 3)
     throw std::logic_error("video: a frame of another size or channel count than the stream's");
   if (input_ < 0) return;  // ffmpeg stopped reading

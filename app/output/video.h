@@ -13,7 +13,7 @@
 #include <optional>
 #include <string>
 
-#include "render/image/image.h"
+#include "image/image.h"
 
 namespace wobble {
 
@@ -31,7 +31,7 @@ class VideoStream {
   VideoStream& operator=(const VideoStream&) = delete;
 
   // The next frame (RGB, the size given to open). If ffmpeg has stopped reading, nothing: finish() reports it.
-  void write(const render::Image8& frame);
+  void write(const image::Image8& frame);
   // Ends the input, waits for ffmpeg and renames the video into place; returns its path. Nothing when wobble was
   // interrupted (the partial file is removed). Throws std::runtime_error if ffmpeg failed.
   std::optional<std::filesystem::path> finish();

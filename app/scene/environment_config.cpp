@@ -7,7 +7,7 @@
 #include "app/scene/scene_file.h"
 #include "app/scene/scene_limits.h"
 #include "app/scene/table_reader.h"
-#include "render/image/image_header.h"
+#include "image/image_header.h"
 
 namespace fs = std::filesystem;
 
@@ -31,7 +31,7 @@ EnvironmentConfig readEnvironment(TableReader& r, SceneFile& scene) {
       " pixels), relative to the scene file";
   if (!fs::is_regular_file(path)) r.fail("environment", "file not found: " + path.string() + allowed);
   std::string reason;
-  const auto header = render::readImageHeader(path, reason);
+  const auto header = image::readImageHeader(path, reason);
   if (!header) r.fail("environment", path.string() + " is not an image wobble reads (" + reason + ")" + allowed);
   const std::string size = std::to_string(header->width) + " x " + std::to_string(header->height) + " pixels";
   if (!header->linear)

@@ -10,7 +10,7 @@
 namespace wobble {
 namespace {
 
-render::Color toColor(const Vec3& c) { return c.cast<float>(); }
+image::Color toColor(const Vec3& c) { return c.cast<float>(); }
 
 render::Material makeJelly(const std::string& name, const BodyLook& look,
                            std::shared_ptr<const render::Texture> texture) {

@@ -12,9 +12,9 @@
 #include "app/scene/scene_budget.h"
 #include "app/scene/table_reader.h"
 #include "app/scene/toml_depth.h"
+#include "image/image_header.h"
 #include "io/number_text.h"
 #include "io/text_file.h"
-#include "render/image/image_header.h"
 
 namespace fs = std::filesystem;
 
@@ -67,7 +67,7 @@ void readBody(TableReader r, const std::string& name, SceneFile& scene) {
     const fs::path path = scene.file.parent_path() / *texture;
     if (!fs::is_regular_file(path)) r.fail("texture", "file not found: " + path.string());
     std::string reason;
-    const auto header = render::readImageHeader(path, reason);
+    const auto header = image::readImageHeader(path, reason);
     if (!header || header->format == "EXR")
       r.fail("texture", "cannot read the image " + path.string() + " (" + (header ? "OpenEXR" : reason) +
                             "; a texture is a PNG, JPEG, BMP or TGA image)");

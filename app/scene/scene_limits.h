@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <string>
 
-#include "render/image/png_io.h"
+#include "image/png_io.h"
 #include "sim/body.h"
 
 namespace wobble {
@@ -14,9 +14,9 @@ inline constexpr std::int64_t kMaxFrames = 100'000;            // per run: 55 mi
 inline constexpr double kMaxStepsPerFrame = 1e6;               // 1 / (fps dt): a frame is at most a million steps
 inline constexpr int kMaxNestingDepth = 64;                    // TOML nesting ([ { and dotted keys), see toml_depth.h
 inline constexpr std::uintmax_t kMaxSceneFileBytes = 1 << 20;  // a scene is a hand-written file of a few KB
-inline constexpr int kMaxTextureSide = render::kMaxImageSide;  // pixels, width and height of a texture image
-inline constexpr int kMaxEnvironmentSide = render::kMaxImageSide / 2;  // pixels, height of an environment map (2:1)
-inline constexpr std::size_t kMaxNameLength = 64;                      // body, collider and scene names (identifier.h)
+inline constexpr int kMaxTextureSide = image::kMaxImageSide;   // pixels, width and height of a texture image
+inline constexpr int kMaxEnvironmentSide = image::kMaxImageSide / 2;  // pixels, height of an environment map (2:1)
+inline constexpr std::size_t kMaxNameLength = 64;                     // body, collider and scene names (identifier.h)
 
 // Half of physical memory: the estimate below is an upper bound of the simulation's own data, and the renderer,
 // the OS and other programs need the rest.

@@ -14,12 +14,12 @@
 #include "app/study/order_fit.h"
 #include "app/view/frame_view.h"
 #include "app/view/render_scene.h"
+#include "image/image_error.h"
+#include "image/pfm_io.h"
+#include "image/png_io.h"
 #include "io/content_hash.h"
 #include "io/text_table.h"
 #include "render/denoiser.h"
-#include "render/image/image_error.h"
-#include "render/image/pfm_io.h"
-#include "render/image/png_io.h"
 #include "render/renderer.h"
 #include "render/scene_export.h"
 
@@ -133,7 +133,7 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
   const FrameView view = simulateTo(scene, frame);
   const render::Camera camera(view.camera);
   render::exportScene(view.scene.scene(), camera, out / "frame");
-  render::ToneMap tone;
+  image::ToneMap tone;
   tone.exposure = static_cast<float>(scene.render.options.exposure);
   const int w = result.width, h = result.height;
 
@@ -159,9 +159,9 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
   const std::string hex = io::hashOf(key.str());  // stable across builds, unlike std::hash
   result.reference_file = out / ("reference-" + hex + ".pfm");
   const fs::path second_half = out / ("reference-" + hex + "-b.pfm");
-  std::vector<render::Color> reference, half_b;
+  std::vector<image::Color> reference, half_b;
   if (fs::exists(result.reference_file) && fs::exists(second_half)) {
-    render::FloatImage a = render::readPfm(result.reference_file), b = render::readPfm(second_half);
+    image::FloatImage a = image::readPfm(result.reference_file), b = image::readPfm(second_half);
     if (a.width == w && a.height == h && b.width == w && b.height == h) {
       reference = std::move(a.pixels);
       half_b = std::move(b.pixels);
@@ -172,25 +172,25 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
   if (!result.reference_cached) {
     const RenderVariant sobol{"reference", "", "sobol"};
     const auto start = Clock::now();
-    render::Film a =
+    image::Film a =
         render::render(view.scene.scene(), camera,
                        settingsFor(sobol, o.reference_spp / 2, 0, result.bounces, frame, view.motion_blur, scene_sky));
     tick();
-    render::Film b = render::render(view.scene.scene(), camera,
-                                    settingsFor(sobol, o.reference_spp / 2, 0, result.bounces, frame ^ kSecondHalfSeed,
-                                                view.motion_blur, scene_sky));
+    image::Film b = render::render(view.scene.scene(), camera,
+                                   settingsFor(sobol, o.reference_spp / 2, 0, result.bounces, frame ^ kSecondHalfSeed,
+                                               view.motion_blur, scene_sky));
     tick();
     result.reference_seconds = std::chrono::duration<double>(Clock::now() - start).count();
     reference = std::move(a.color);
     half_b = std::move(b.color);
     // Stored as its two halves: the first file holds half a, completed below to the mean before use.
-    render::writePfm(second_half, w, h, half_b);
-    render::writePfm(result.reference_file, w, h, reference);
+    image::writePfm(second_half, w, h, half_b);
+    image::writePfm(result.reference_file, w, h, reference);
   }
-  const render::ImageError halves = render::imageError(w, h, reference, half_b, tone);
+  const image::ImageError halves = image::imageError(w, h, reference, half_b, tone);
   for (std::size_t i = 0; i < reference.size(); ++i) reference[i] = 0.5f * (reference[i] + half_b[i]);
   result.reference_rmse = halves.rmse / 2;
-  render::writePng(out / "reference.png", render::develop(w, h, reference, tone));
+  image::writePng(out / "reference.png", image::develop(w, h, reference, tone));
 
   for (const RenderVariant& v : variants) {
     std::vector<std::pair<int, double>> sweep;  // (spp, threshold)
@@ -204,11 +204,11 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
       p.spp = spp;
       p.threshold = threshold;
       p.seconds = p.denoise_seconds = std::numeric_limits<double>::infinity();
-      std::vector<render::Color> image;
+      std::vector<image::Color> image;
       render::RenderStats stats;
       for (int r = 0; r < o.repeats; ++r) {
         const auto start = Clock::now();
-        render::Film film =
+        image::Film film =
             render::render(view.scene.scene(), camera,
                            settingsFor(v, spp, threshold, result.bounces, frame, view.motion_blur, scene_sky), &stats);
         const auto rendered = Clock::now();
@@ -220,14 +220,14 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
       if (!v.denoise) p.denoise_seconds = 0;
       p.mean_spp = double(stats.camera_rays) / double(std::size_t(w) * h);
       p.rays_per_sample = double(stats.rays) / double(stats.camera_rays);
-      const render::ImageError e = render::imageError(w, h, image, reference, tone);
+      const image::ImageError e = image::imageError(w, h, image, reference, tone);
       p.rmse = e.rmse, p.relmse = e.relmse, p.worst_tile_rmse = e.worst_tile_rmse,
       p.worst_tile_relmse = e.worst_tile_relmse;
       std::string file = v.name + "_" +
                          (v.adaptive ? std::string("t") + io::formatNumber(threshold, 3) : std::to_string(spp)) +
                          ".png";
       std::replace(file.begin(), file.end(), '+', '-');
-      render::writePng(out / "images" / file, render::develop(w, h, image, tone));
+      image::writePng(out / "images" / file, image::develop(w, h, image, tone));
       result.points.push_back(p);
       tick();
     }

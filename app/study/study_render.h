@@ -8,15 +8,15 @@
 // fixed-count variants at spp = 1, 2, 4, ... max_spp; adaptive ones over noise thresholds with max_spp as their
 // cap and their mean samples per pixel as spp. The scene's render.sky_sampling (on when it names an environment map)
 // holds in every variant and the reference; the reference's cache key holds the environment map's bytes. Gelatine
-// bodies render as in a run (the camera's first gelatine hit split into its branches). Each point's error (render/image_error.h: RMSE of display values and
-// relative MSE, over the frame and its worst 32 x 32 tile) and wall time (render plus denoising, the minimum of
-// `repeats` runs) are recorded.
-// Outputs: render.csv (every point), render.md (per variant: the fitted slope of log RMSE against log spp, where
-// -0.5 is plain Monte Carlo and steeper is better; the spp and time each needs to reach given errors; every point),
-// render.png (gnuplot: RMSE against time, and against spp), images/<variant>_<spp>.png of every point, and the frame
-// itself for other renderers in frame/ (render/scene_export.h: OBJ, JSON, baked textures; bench/cycles_compare.sh).
-// This file runs the study into a plain RenderStudyResult, writing as it goes only what the renders make (the
-// reference and its cache, images/, frame/); study_render_report.h writes the tables and the plot from the result.
+// bodies render as in a run (the camera's first gelatine hit split into its branches). Each point's error
+// (image/image_error.h: RMSE of display values and relative MSE, over the frame and its worst 32 x 32 tile) and wall
+// time (render plus denoising, the minimum of `repeats` runs) are recorded. Outputs: render.csv (every point),
+// render.md (per variant: the fitted slope of log RMSE against log spp, where -0.5 is plain Monte Carlo and steeper is
+// better; the spp and time each needs to reach given errors; every point), render.png (gnuplot: RMSE against time, and
+// against spp), images/<variant>_<spp>.png of every point, and the frame itself for other renderers in frame/
+// (render/scene_export.h: OBJ, JSON, baked textures; bench/cycles_compare.sh). This file runs the study into a plain
+// RenderStudyResult, writing as it goes only what the renders make (the reference and its cache, images/, frame/);
+// study_render_report.h writes the tables and the plot from the result.
 #pragma once
 #include <filesystem>
 #include <string>

@@ -7,8 +7,8 @@
 #include "app/output/pc2.h"
 #include "app/scene/input_error.h"
 #include "app/view/picture_key.h"
+#include "image/file_size_bound.h"
 #include "io/content_hash.h"
-#include "render/image/file_size_bound.h"
 
 namespace fs = std::filesystem;
 
@@ -39,11 +39,11 @@ void addPictures(DiskEstimate& e, const SceneFile& scene, int frames, const std:
   const std::uint64_t n = std::uint64_t(std::max(0, frames));
   if (o.png)
     e.parts.push_back({"PNG, " + plural(n, "frame") + " at " + size + " (at most their uncompressed size)",
-                       n * render::pngSizeBound(w, h, 3, pictureText()), changes});
+                       n * image::pngSizeBound(w, h, 3, pictureText()), changes});
   changes.push_back("no EXR (--render png)");
   if (o.exr)
     e.parts.push_back({"EXR, " + plural(n, "frame") + " at " + size + " (at most their uncompressed size)",
-                       n * render::exrSizeBound(w, h, o.denoise, pictureText()), changes});
+                       n * image::exrSizeBound(w, h, o.denoise, pictureText()), changes});
   if (o.png && o.video)
     e.parts.push_back({"video, " + plural(n, "frame") + " (roughly)",
                        std::uint64_t(double(n) * w * h * kVideoBytesPerPixel),

@@ -9,8 +9,8 @@
 #include "app/output/video.h"
 #include "app/view/frame_picture.h"
 #include "app/view/shutter.h"
-#include "render/image/exr_writer.h"
-#include "render/image/png_io.h"
+#include "image/exr_writer.h"
+#include "image/png_io.h"
 
 namespace fs = std::filesystem;
 
@@ -77,8 +77,8 @@ bool FrameOutput::existing(int frame, const std::string& key) const {
     const auto found = text.find(PictureKey::kFrameName);
     return found != text.end() && found->second == key;
   };
-  return (!o.png || has(render::readPngText(pngPath(out_, scene_.name, frame)))) &&
-         (!o.exr || has(render::readExrText(exrPath(out_, scene_.name, frame))));
+  return (!o.png || has(image::readPngText(pngPath(out_, scene_.name, frame)))) &&
+         (!o.exr || has(image::readExrText(exrPath(out_, scene_.name, frame))));
 }
 
 void FrameOutput::keep(int frame) {
@@ -86,10 +86,10 @@ void FrameOutput::keep(int frame) {
   if (!scene_.render.options.png || !scene_.render.options.video) return;
   if (writing_.valid()) writing_.get();  // the video takes the frames in order
   writing_ =
-      std::async(std::launch::async, [this, frame] { toVideo(render::readImage(pngPath(out_, scene_.name, frame))); });
+      std::async(std::launch::async, [this, frame] { toVideo(image::readImage(pngPath(out_, scene_.name, frame))); });
 }
 
-void FrameOutput::toVideo(const render::Image8& image) {
+void FrameOutput::toVideo(const image::Image8& image) {
   if (!video_opened_) video_ = VideoStream::open(out_ / (scene_.name + ".mp4"), image.width, image.height, scene_.fps);
   video_opened_ = true;
   if (video_) video_->write(image);
@@ -101,11 +101,11 @@ void FrameOutput::render(int frame, const render::CameraParams& camera, const st
   writing_ = std::async(std::launch::async, [this, frame, picture, text = key_.text(key)] {
     const RenderOptionsConfig& options = scene_.render.options;
     if (options.png) {
-      const render::Image8 image = developPicture(picture, options);
-      render::writePng(pngPath(out_, scene_.name, frame), image, text);
+      const image::Image8 image = developPicture(picture, options);
+      image::writePng(pngPath(out_, scene_.name, frame), image, text);
       if (options.video) toVideo(image);
     }
-    if (options.exr) render::writeExr(exrPath(out_, scene_.name, frame), *picture.film, *picture.denoised, text);
+    if (options.exr) image::writeExr(exrPath(out_, scene_.name, frame), *picture.film, *picture.denoised, text);
   });
   ++rendered_;
 }

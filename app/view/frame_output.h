@@ -56,7 +56,7 @@ class FrameOutput {
   void render(int frame, const render::CameraParams& camera, const std::string& key, bool motion_blur);
   bool existing(int frame, const std::string& key) const;  // every file the scene asks for, with this key
   void keep(int frame);                                    // an existing frame: only the video needs it
-  void toVideo(const render::Image8& image);               // on the writer thread, frames in order
+  void toVideo(const image::Image8& image);                // on the writer thread, frames in order
 
   const SceneFile& scene_;
   std::filesystem::path out_;

@@ -7,17 +7,17 @@
 #include <vector>
 
 #include "app/scene/render_config.h"
+#include "image/color.h"
+#include "image/film.h"
+#include "image/image.h"
 #include "render/camera.h"
-#include "render/color.h"
-#include "render/image/film.h"
-#include "render/image/image.h"
 #include "render/scene.h"
 
 namespace wobble {
 
 struct FramePicture {
-  std::shared_ptr<const render::Film> film;
-  std::shared_ptr<const std::vector<render::Color>> denoised;  // empty unless render.denoise
+  std::shared_ptr<const image::Film> film;
+  std::shared_ptr<const std::vector<image::Color>> denoised;  // empty unless render.denoise
 };
 
 // The frame number seeds the noise (render_config.h: renderSettings); motion_blur: trace each sample at its own
@@ -25,6 +25,6 @@ struct FramePicture {
 FramePicture renderPicture(const render::Scene& scene, const render::CameraParams& camera,
                            const RenderOptionsConfig& options, int frame, bool motion_blur = false);
 // The picture's colour (denoised when it was) as 8-bit sRGB.
-render::Image8 developPicture(const FramePicture& picture, const RenderOptionsConfig& options);
+image::Image8 developPicture(const FramePicture& picture, const RenderOptionsConfig& options);
 
 }  // namespace wobble

@@ -14,13 +14,13 @@
 namespace wobble {
 namespace {
 
-render::Color toColor(const Vec3& c) { return c.cast<float>(); }
+image::Color toColor(const Vec3& c) { return c.cast<float>(); }
 
 std::shared_ptr<const render::Texture> colliderTexture(const std::string& kind) {
   if (kind == "wood") return std::make_shared<render::WoodTexture>();
   // Two squares per tile, light and mid grey: enough contrast to read motion, not so much it flickers.
   if (kind == "checker")
-    return std::make_shared<render::CheckerTexture>(render::Color(0.75f, 0.75f, 0.72f), render::Color(0.3f, 0.3f, 0.3f),
+    return std::make_shared<render::CheckerTexture>(image::Color(0.75f, 0.75f, 0.72f), image::Color(0.3f, 0.3f, 0.3f),
                                                     2.0f);
   return nullptr;
 }

@@ -10,7 +10,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "render/image/image_file.h"
+#include "image/image_file.h"
 #include "tests/app/scratch_dir.h"
 
 namespace fs = std::filesystem;
@@ -261,7 +261,7 @@ TEST_F(BadFiles, EnvironmentMapThatIsMissingNotAnImageNot2To1OrTooLargeIsRefused
   expectRefused(write("bad.toml", kJelly + "[render]\nenvironment_rotation = 90\n"), "", dir() / "out",
                 {"bad.toml:5:", "render.environment_rotation = 90", "set render.environment"});
   // A cut OpenEXR file: refused when its header or its pixels fail to read, before any file is written.
-  render::writeExrImage(dir() / "whole.exr", render::ImageF(64, 32, 3), {"R", "G", "B"}, true);
+  image::writeExrImage(dir() / "whole.exr", image::ImageF(64, 32, 3), {"R", "G", "B"}, true);
   std::string exr = slurp(dir() / "whole.exr");
   std::ofstream(dir() / "cut.exr", std::ios::binary) << exr.substr(0, exr.size() / 2);
   expectRefused(scene("cut.exr"), "--frames 1 --resolution 8x8", dir() / "out", {"cut.exr", "render.environment"});

@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "app/output/external_program.h"
+#include "image/image_file.h"
 #include "render/environment.h"
-#include "render/image/image_file.h"
 #include "tests/app/output_check.h"
 #include "tests/app/scratch_dir.h"
 
@@ -166,20 +166,21 @@ TEST_F(Blender, BlendFileReopensAndPlays) {
 // Gelatine, the thin lens, the shutter and the environment map in Cycles (issue 29): tests/blender/gelatine_check.py
 // reads the .blend's nodes and camera against the scene's keys; tests/blender/environment_check.py finds the map in
 // the world at its strength and rotation, and renders Cycles' view along several directions: each is the radiance
-// wobble's renderer sees there (EnvironmentMap::eval of the same file), so the orientation, rotation and strength agree.
+// wobble's renderer sees there (EnvironmentMap::eval of the same file), so the orientation, rotation and strength
+// agree.
 TEST_F(Blender, GelatineLensShutterAndEnvironmentMapOntoCycles) {
   if (!blender_)
     GTEST_SKIP() << "blender is not on PATH (./setup.sh tests installs it; plain setup.sh leaves it out: it is large)";
   copyCatTexture();
   // 16 x 8 texels, each its own colour, as float RGB.
-  render::ImageF map(16, 8, 3);
+  image::ImageF map(16, 8, 3);
   for (int y = 0; y < map.height; ++y)
     for (int x = 0; x < map.width; ++x) {
       map.at(x, y, 0) = 0.1f + float(x);
       map.at(x, y, 1) = 0.2f + float(y);
       map.at(x, y, 2) = 0.5f;
     }
-  render::writeExrImage(dir() / "sky.exr", map, {"R", "G", "B"}, false);
+  image::writeExrImage(dir() / "sky.exr", map, {"R", "G", "B"}, false);
   const fs::path scene = write("gel.toml", R"([simulation]
 dt = 0.002
 duration = 0.3
@@ -246,7 +247,7 @@ environment_strength = 2
     const double phi = 2 * M_PI * (x + 0.5) / 16 - M_PI - 60 * M_PI / 180, theta = M_PI * (y + 0.5) / 8;
     const Eigen::Vector3f d(float(std::sin(theta) * std::cos(phi)), float(std::cos(theta)),
                             float(std::sin(theta) * std::sin(phi)));
-    const render::Color c = wobble.eval(d);
+    const image::Color c = wobble.eval(d);
     EXPECT_FLOAT_EQ(c.x(), 2 * map.at(x, y, 0));
     EXPECT_FLOAT_EQ(c.y(), 2 * map.at(x, y, 1));
     probes.push_back({{"direction", {d.x(), d.y(), d.z()}}, {"radiance", {c.x(), c.y(), c.z()}}});

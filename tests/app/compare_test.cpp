@@ -11,8 +11,8 @@
 #include <fstream>
 
 #include "app/output/external_program.h"
-#include "render/image/image_diff.h"
-#include "render/image/png_io.h"
+#include "image/image_diff.h"
+#include "image/png_io.h"
 #include "tests/app/output_check.h"
 #include "tests/app/scratch_dir.h"
 
@@ -31,8 +31,8 @@ nlohmann::json runJson(const fs::path& folder) {
 }
 
 // Pixels (x0..x1) x (y0..y1) of an RGB image.
-render::Image8 crop(const render::Image8& image, int x0, int y0, int x1, int y1) {
-  render::Image8 part(x1 - x0, y1 - y0, 3);
+image::Image8 crop(const image::Image8& image, int x0, int y0, int x1, int y1) {
+  image::Image8 part(x1 - x0, y1 - y0, 3);
   for (int y = y0; y < y1; ++y)
     for (int x = x0; x < x1; ++x)
       for (int c = 0; c < 3; ++c) part.at(x - x0, y - y0, c) = image.at(x, y, c);
@@ -40,7 +40,7 @@ render::Image8 crop(const render::Image8& image, int x0, int y0, int x1, int y1)
 }
 
 // Pixels in the rectangle that are the labels' red (kBlewUpColor over the label's dark box).
-int redPixels(const render::Image8& image, int x0, int y0, int x1, int y1) {
+int redPixels(const image::Image8& image, int x0, int y0, int x1, int y1) {
   int n = 0;
   for (int y = y0; y < y1; ++y)
     for (int x = x0; x < x1; ++x) n += image.at(x, y, 0) > 180 && image.at(x, y, 1) < 100 && image.at(x, y, 2) < 100;
@@ -157,15 +157,15 @@ TEST_F(Compare, BlownUpVariantIsFrozenAndLabelledFromTheRightFrame) {
 
   const int tile_w = 128, tile_h = 72;  // 1 x 2 tiles of 16:9 in 256 x 144
   const auto frame = [&](int k) {
-    return render::readImage(out() / ("frames/compare_000" + std::to_string(k) + ".png"));
+    return image::readImage(out() / ("frames/compare_000" + std::to_string(k) + ".png"));
   };
-  const render::Image8 good = frame(last);
+  const image::Image8 good = frame(last);
   ASSERT_EQ(good.width, 2 * tile_w);
   ASSERT_EQ(good.height, tile_h);
-  const render::Image8 frozen = crop(good, tile_w, tile_h / 2, 2 * tile_w, tile_h);  // below the label
+  const image::Image8 frozen = crop(good, tile_w, tile_h / 2, 2 * tile_w, tile_h);  // below the label
   EXPECT_NE(crop(frame(last - 1), tile_w, tile_h / 2, 2 * tile_w, tile_h).pixels, frozen.pixels) << "it moved before";
   for (int k = 1; k <= 6; ++k) {
-    const render::Image8 image = frame(k);
+    const image::Image8 image = frame(k);
     const int red = redPixels(image, tile_w, 0, 2 * tile_w, tile_h / 2);
     if (k <= last) {
       EXPECT_EQ(red, 0) << "frame " << k << ": not blown up yet";
@@ -200,17 +200,17 @@ TEST_F(Compare, TileIsThePlainRunsPicture) {
   ASSERT_EQ(wobble("run " + s.string() + " --out " + (dir() / "plain").string() + " --set jelly.kd=2" + common), 0)
       << log();
   EXPECT_FALSE(fs::exists(out() / "frames/compare_0002.png"));
-  render::DiffOptions tolerance;  // the tiles are drawn from the OBJ files' float text: only rounding may differ
+  image::DiffOptions tolerance;  // the tiles are drawn from the OBJ files' float text: only rounding may differ
   tolerance.fail = 2.5f / 255;
   tolerance.fail_percent = 0.5f;
   for (int k = 3; k <= 5; ++k) {
-    const render::Image8 tile = render::readImage(out() / ("frames/compare_000" + std::to_string(k) + ".png"));
-    const render::Image8 run = render::readImage(dir() / ("plain/frames/small_000" + std::to_string(k) + ".png"));
+    const image::Image8 tile = image::readImage(out() / ("frames/compare_000" + std::to_string(k) + ".png"));
+    const image::Image8 run = image::readImage(dir() / ("plain/frames/small_000" + std::to_string(k) + ".png"));
     ASSERT_EQ(tile.width, 128);
     ASSERT_EQ(tile.height, 72);
     ASSERT_TRUE(tile.sameShape(run));
-    const render::DiffResult r = render::diffImages(render::toFloat(crop(tile, 0, 36, 128, 72)),
-                                                    render::toFloat(crop(run, 0, 36, 128, 72)), tolerance);
+    const image::DiffResult r = image::diffImages(image::toFloat(crop(tile, 0, 36, 128, 72)),
+                                                  image::toFloat(crop(run, 0, 36, 128, 72)), tolerance);
     EXPECT_LE(r.exitCode(), 1) << "frame " << k << ": " << r.message;
     EXPECT_NE(crop(tile, 0, 0, 128, 30).pixels, crop(run, 0, 0, 128, 30).pixels) << "frame " << k << ": the label";
   }
@@ -238,18 +238,18 @@ TEST_F(Compare, TilesHonourTheShutter) {
                    " --set jelly.kd=2 --set camera.shutter=0.5 --resolution 128x72 --frames 1:4"),
             0)
       << log();
-  render::DiffOptions tolerance;
+  image::DiffOptions tolerance;
   tolerance.fail = 2.5f / 255;
   tolerance.fail_percent = 0.5f;
   for (int k = 1; k <= 4; ++k) {
     const std::string n = "000" + std::to_string(k) + ".png";
-    const render::Image8 tile = render::readImage(out() / ("frames/compare_" + n));
-    const render::Image8 rendered = render::readImage(dir() / ("again/frames/small_" + n));
-    const render::Image8 unblurred = render::readImage(still / ("frames/compare_" + n));
+    const image::Image8 tile = image::readImage(out() / ("frames/compare_" + n));
+    const image::Image8 rendered = image::readImage(dir() / ("again/frames/small_" + n));
+    const image::Image8 unblurred = image::readImage(still / ("frames/compare_" + n));
     ASSERT_EQ(tile.width, 128);
     ASSERT_TRUE(tile.sameShape(rendered));
-    const render::DiffResult r = render::diffImages(render::toFloat(crop(tile, 0, 36, 128, 72)),
-                                                    render::toFloat(crop(rendered, 0, 36, 128, 72)), tolerance);
+    const image::DiffResult r = image::diffImages(image::toFloat(crop(tile, 0, 36, 128, 72)),
+                                                  image::toFloat(crop(rendered, 0, 36, 128, 72)), tolerance);
     EXPECT_LE(r.exitCode(), 1) << "frame " << k << ": " << r.message;
     if (k == 1) EXPECT_EQ(tile.pixels, unblurred.pixels) << "frame 1 is still";
     else EXPECT_NE(crop(tile, 0, 36, 128, 72).pixels, crop(unblurred, 0, 36, 128, 72).pixels) << "frame " << k;

@@ -6,8 +6,8 @@
 
 #include <fstream>
 
-#include "render/image/image_file.h"
-#include "render/image/png_io.h"
+#include "image/image_file.h"
+#include "image/png_io.h"
 #include "tests/app/output_check.h"
 #include "tests/app/scratch_dir.h"
 
@@ -16,8 +16,8 @@ namespace fs = std::filesystem;
 namespace wobble {
 namespace {
 
-using render::Image8;
-using render::ImageF;
+using image::Image8;
+using image::ImageF;
 
 Image8 picture(int shift) {
   Image8 img(24, 16, 3);
@@ -39,14 +39,14 @@ class DiffFolders : public testing::ScratchDir {
     testing::ScratchDir::SetUp();
     fs::create_directories(golden() / "sub");
     fs::create_directories(fresh() / "sub");
-    render::writePng(golden() / "same.png", picture(0));
-    render::writePng(fresh() / "same.png", picture(0));
-    render::writePng(golden() / "sub/edge.png", picture(0));
-    render::writePng(fresh() / "sub/edge.png", picture(2));  // an edge moved by two pixels: fails
-    render::writeExrImage(golden() / "frame.exr", linear(1), {"R", "G", "B"}, true);
-    render::writeExrImage(fresh() / "frame.exr", linear(1), {"R", "G", "B"}, true);
-    render::writePng(golden() / "gone.png", picture(0));  // missing from the new renders
-    render::writePng(fresh() / "stray.png", picture(0));  // extra
+    image::writePng(golden() / "same.png", picture(0));
+    image::writePng(fresh() / "same.png", picture(0));
+    image::writePng(golden() / "sub/edge.png", picture(0));
+    image::writePng(fresh() / "sub/edge.png", picture(2));  // an edge moved by two pixels: fails
+    image::writeExrImage(golden() / "frame.exr", linear(1), {"R", "G", "B"}, true);
+    image::writeExrImage(fresh() / "frame.exr", linear(1), {"R", "G", "B"}, true);
+    image::writePng(golden() / "gone.png", picture(0));  // missing from the new renders
+    image::writePng(fresh() / "stray.png", picture(0));  // extra
     std::ofstream(golden() / ".hidden") << "skipped";
   }
   fs::path golden() const { return dir() / "golden"; }
@@ -70,7 +70,7 @@ TEST_F(DiffFolders, PairsByNameWorstStatusHeatmapsAndJunit) {
   EXPECT_TRUE(fs::exists(heat / "sub/edge.png.heatmap.png"));
   EXPECT_FALSE(fs::exists(heat / "same.png.heatmap.png"));
   EXPECT_FALSE(fs::exists(heat / "frame.exr.heatmap.png"));
-  const Image8 map = render::readImage(heat / "sub/edge.png.heatmap.png");
+  const Image8 map = image::readImage(heat / "sub/edge.png.heatmap.png");
   EXPECT_EQ(map.at(2, 2, 0), 0);     // magma's first entry: no error
   EXPECT_GT(map.at(12, 5, 0), 200);  // the moved edge
   // The JUnit report, read by python3's XML parser: one test case per image, the failing ones with <failure>.
@@ -129,7 +129,7 @@ TEST_F(DiffFolders, FlipThresholdsAndHeatmap) {
   const std::string out = testing::slurpFile(log());
   for (const char* line : {"LDR-FLIP", "Mean: ", "Weighted median: ", "p95: ", "mean ", "FAILURE"})
     EXPECT_NE(out.find(line), std::string::npos) << line << " in\n" << out;
-  EXPECT_EQ(render::readImage(heat).width, 24);
+  EXPECT_EQ(image::readImage(heat).width, 24);
   EXPECT_EQ(testing::runWobble("diff --metric flip" + files + " --fail mean=0.9,p99=1", log()), 0);
   EXPECT_EQ(testing::runWobble("diff --metric flip" + files + " --fail 0.9 --warn max=0.01", log()), 1);
   const std::string same = " " + (golden() / "frame.exr").string() + " " + (fresh() / "frame.exr").string();

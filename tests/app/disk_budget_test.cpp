@@ -12,10 +12,10 @@
 #include "app/commands/run_command.h"
 #include "app/view/disk_budget.h"
 #include "app/view/picture_key.h"
+#include "image/exr_writer.h"
+#include "image/file_size_bound.h"
+#include "image/png_io.h"
 #include "io/content_hash.h"
-#include "render/image/exr_writer.h"
-#include "render/image/file_size_bound.h"
-#include "render/image/png_io.h"
 #include "tests/app/output_check.h"
 #include "tests/app/scratch_dir.h"
 
@@ -37,15 +37,15 @@ TEST_F(DiskBudget, PictureBoundsHoldForNoise) {
   std::uniform_int_distribution<int> byte(0, 255);
   std::uniform_real_distribution<float> value(0.0f, 4.0f);
   for (const auto& [w, h] : {std::pair{64, 48}, std::pair{333, 17}}) {
-    render::Image8 image(w, h, 3);
+    image::Image8 image(w, h, 3);
     for (auto& p : image.pixels) p = static_cast<unsigned char>(byte(random));
     writePng(dir() / "noise.png", image, kText);
-    const auto png = fs::file_size(dir() / "noise.png"), png_bound = render::pngSizeBound(w, h, 3, kText);
+    const auto png = fs::file_size(dir() / "noise.png"), png_bound = image::pngSizeBound(w, h, 3, kText);
     EXPECT_LE(png, png_bound) << w << "x" << h;
     EXPECT_GE(double(png), 0.95 * double(png_bound)) << "noise does not compress: the bound is tight";
 
-    render::Film film(w, h);
-    std::vector<render::Color> denoised(film.color.size());
+    image::Film film(w, h);
+    std::vector<image::Color> denoised(film.color.size());
     for (std::size_t i = 0; i < film.color.size(); ++i) {
       film.color[i] = {value(random), value(random), value(random)};
       film.albedo[i] = {value(random), value(random), value(random)};
@@ -54,9 +54,9 @@ TEST_F(DiskBudget, PictureBoundsHoldForNoise) {
       denoised[i] = {value(random), value(random), value(random)};
     }
     for (bool with_denoised : {false, true}) {
-      render::writeExr(dir() / "noise.exr", film, with_denoised ? std::span(denoised) : std::span<render::Color>(),
-                       kText);
-      EXPECT_LE(fs::file_size(dir() / "noise.exr"), render::exrSizeBound(w, h, with_denoised, kText))
+      image::writeExr(dir() / "noise.exr", film, with_denoised ? std::span(denoised) : std::span<image::Color>(),
+                      kText);
+      EXPECT_LE(fs::file_size(dir() / "noise.exr"), image::exrSizeBound(w, h, with_denoised, kText))
           << w << "x" << h << " denoised " << with_denoised;
     }
   }

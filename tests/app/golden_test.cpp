@@ -4,7 +4,7 @@
 // jelly_slope_still_0025.png is it with the shutter at 0 (a shutter of 0 draws exactly what a renderer without motion
 // blur drew).
 // Tolerance (goldenVerdict below): fail when more than 1% of the pixels differ by more than 0.02 (of full scale) or any
-// pixel by more than 0.25 (idiff semantics, render/image_diff.h), when the mean error over all values exceeds 0.004,
+// pixel by more than 0.25 (idiff semantics, image/image_diff.h), when the mean error over all values exceeds 0.004,
 // or when the mean pixel error (largest over the channels) over any 8 x 8 window exceeds 0.05. idiff's rule alone
 // lets a 12 x 12 patch darkened by 60 of 255 through (exactly 1% of 160 x 90, and 0.235 < 0.25) and a uniform shift
 // of 0.019 (under 0.02 everywhere): the mean catches a shift, the window a local defect (GoldenTolerance checks both).
@@ -25,8 +25,8 @@
 
 #include "app/commands/diff_command.h"
 #include "app/commands/run_command.h"
-#include "render/image/image_diff.h"
-#include "render/image/png_io.h"
+#include "image/image_diff.h"
+#include "image/png_io.h"
 #include "tests/app/scratch_dir.h"
 
 namespace fs = std::filesystem;
@@ -38,8 +38,8 @@ constexpr double kMeanBound = 0.004;   // mean absolute error over all values
 constexpr int kWindow = 8;             // pixels a side of the local windows
 constexpr double kWindowBound = 0.05;  // mean pixel error over any window
 
-render::DiffOptions idiffTolerance() {
-  render::DiffOptions tolerance;
+image::DiffOptions idiffTolerance() {
+  image::DiffOptions tolerance;
   tolerance.fail = 0.02f;
   tolerance.fail_percent = 1;
   tolerance.hard_fail = 0.25f;
@@ -50,7 +50,7 @@ render::DiffOptions idiffTolerance() {
 
 // The largest mean, over every kWindow x kWindow window, of the pixels' errors (largest absolute difference over the
 // channels), and the window's top-left corner. Same-shaped images (the idiff rule has failed them otherwise).
-double worstWindow(const render::ImageF& a, const render::ImageF& b, int& wx, int& wy) {
+double worstWindow(const image::ImageF& a, const image::ImageF& b, int& wx, int& wy) {
   const int w = a.width, h = a.height;
   // Summed-area table of the pixel errors, (w + 1) x (h + 1) with a zero first row and column.
   std::vector<double> sum(std::size_t(w + 1) * (h + 1), 0.0);
@@ -78,11 +78,11 @@ struct Verdict {
 };
 
 // Whether image matches golden: idiff's rule (result: its report), the mean bound and the window bound.
-Verdict goldenVerdict(const render::ImageF& golden, const render::ImageF& image, const render::DiffResult& idiff) {
+Verdict goldenVerdict(const image::ImageF& golden, const image::ImageF& image, const image::DiffResult& idiff) {
   Verdict v;
   std::ostringstream m;
   m << idiff.message;
-  if (idiff.code >= render::DiffCode::Fail) v.pass = false;
+  if (idiff.code >= image::DiffCode::Fail) v.pass = false;
   if (idiff.mean_error > kMeanBound) {
     v.pass = false;
     m << "\n  mean error " << idiff.mean_error << " is over " << kMeanBound;
@@ -101,13 +101,13 @@ Verdict goldenVerdict(const render::ImageF& golden, const render::ImageF& image,
   return v;
 }
 
-Verdict goldenVerdict(const render::ImageF& golden, const render::ImageF& image) {
-  return goldenVerdict(golden, image, render::diffImages(golden, image, idiffTolerance()));
+Verdict goldenVerdict(const image::ImageF& golden, const image::ImageF& image) {
+  return goldenVerdict(golden, image, image::diffImages(golden, image, idiffTolerance()));
 }
 
 // 8-bit codes as the comparison reads them (image_diff.h: times 1/255).
-render::ImageF unitFloat(const render::Image8& image) {
-  render::ImageF out(image.width, image.height, image.channels);
+image::ImageF unitFloat(const image::Image8& image) {
+  image::ImageF out(image.width, image.height, image.channels);
   for (std::size_t i = 0; i < image.pixels.size(); ++i) out.pixels[i] = float(image.pixels[i]) * (1.0f / 255.0f);
   return out;
 }
@@ -152,9 +152,9 @@ TEST_P(Golden, SmallRenderMatches) {
   const fs::path failures = fs::path(WOBBLE_BINARY).parent_path() / "golden_failures";
   fs::create_directories(failures);
   const fs::path kept = failures / (name + ".new.png"), difference = failures / (name + ".heatmap.png");
-  const render::DiffResult r = render::diffFiles(golden, image, idiffTolerance());
-  ASSERT_NE(r.code, render::DiffCode::FileError) << r.message;
-  const Verdict v = goldenVerdict(unitFloat(render::readImage(golden)), unitFloat(render::readImage(image)), r);
+  const image::DiffResult r = image::diffFiles(golden, image, idiffTolerance());
+  ASSERT_NE(r.code, image::DiffCode::FileError) << r.message;
+  const Verdict v = goldenVerdict(unitFloat(image::readImage(golden)), unitFloat(image::readImage(image)), r);
   if (!v.pass) {
     fs::copy_file(image, kept, fs::copy_options::overwrite_existing);
     std::ostringstream log;
@@ -173,8 +173,8 @@ TEST_P(Golden, SmallRenderMatches) {
 TEST(GoldenTolerance, RejectsADarkenedPatchAndAUniformShift) {
   for (const char* name :
        {"jelly_slope_0025", "jelly_slope_still_0025", "jelly_elevator_0046", "cloth_sphere_0010", "cat_jelly_0031"}) {
-    const render::ImageF golden =
-        unitFloat(render::readImage(testing::sourceDir() / "tests/golden" / (std::string(name) + ".png")));
+    const image::ImageF golden =
+        unitFloat(image::readImage(testing::sourceDir() / "tests/golden" / (std::string(name) + ".png")));
     EXPECT_TRUE(goldenVerdict(golden, golden).pass) << name;
 
     constexpr int kPatch = 12;
@@ -191,21 +191,21 @@ TEST(GoldenTolerance, RejectsADarkenedPatchAndAUniformShift) {
         if (lowest >= dark && d < best) best = d, px = x, py = y;
       }
     ASSERT_GE(px, 0) << name << ": no 12 x 12 patch of values >= 60";
-    render::ImageF patched = golden;
+    image::ImageF patched = golden;
     for (int j = 0; j < kPatch; ++j)
       for (int i = 0; i < kPatch; ++i)
         for (int c = 0; c < golden.channels; ++c) patched.at(px + i, py + j, c) -= dark;
-    const render::DiffResult patch_idiff = render::diffImages(golden, patched, idiffTolerance());
-    EXPECT_LT(patch_idiff.code, render::DiffCode::Fail) << name << ": idiff's rule alone passes it\n"
-                                                        << patch_idiff.message;
+    const image::DiffResult patch_idiff = image::diffImages(golden, patched, idiffTolerance());
+    EXPECT_LT(patch_idiff.code, image::DiffCode::Fail) << name << ": idiff's rule alone passes it\n"
+                                                       << patch_idiff.message;
     EXPECT_FALSE(goldenVerdict(golden, patched, patch_idiff).pass)
         << name << ": darkened patch at " << px << ", " << py;
 
-    render::ImageF shifted = golden;
+    image::ImageF shifted = golden;
     for (float& value : shifted.pixels) value += 0.019f;
-    const render::DiffResult shift_idiff = render::diffImages(golden, shifted, idiffTolerance());
-    EXPECT_LT(shift_idiff.code, render::DiffCode::Fail) << name << ": idiff's rule alone passes it\n"
-                                                        << shift_idiff.message;
+    const image::DiffResult shift_idiff = image::diffImages(golden, shifted, idiffTolerance());
+    EXPECT_LT(shift_idiff.code, image::DiffCode::Fail) << name << ": idiff's rule alone passes it\n"
+                                                       << shift_idiff.message;
     EXPECT_FALSE(goldenVerdict(golden, shifted, shift_idiff).pass) << name << ": shifted by 0.019";
   }
 }

@@ -16,9 +16,9 @@
 #include <png.h>
 
 #include "app/output/external_program.h"
-#include "render/image/image_file.h"
-#include "render/image/pfm_io.h"
-#include "render/image/png_io.h"
+#include "image/image_file.h"
+#include "image/pfm_io.h"
+#include "image/png_io.h"
 #include "tests/app/output_check.h"
 #include "tests/app/scratch_dir.h"
 
@@ -27,8 +27,8 @@ namespace fs = std::filesystem;
 namespace wobble {
 namespace {
 
-using render::Image8;
-using render::ImageF;
+using image::Image8;
+using image::ImageF;
 
 Image8 gradient(int w, int h, int channels) {
   Image8 img(w, h, channels);
@@ -115,10 +115,10 @@ void writeHdr(const fs::path& file, const ImageF& img) {
 }
 
 void writePfmImage(const fs::path& file, const ImageF& img) {
-  std::vector<render::Color> pixels;
+  std::vector<image::Color> pixels;
   for (std::size_t i = 0; i < img.pixels.size(); i += 3)
     pixels.emplace_back(img.pixels[i], img.pixels[i + 1], img.pixels[i + 2]);
-  render::writePfm(file, img.width, img.height, pixels);
+  image::writePfm(file, img.width, img.height, pixels);
 }
 
 // 16-bit RGB PNG through libpng's simplified API (codes = value * 65535, as stored).
@@ -202,14 +202,14 @@ class IdiffConformance : public testing::ScratchDir {
 
   FilePair png(const std::string& name, const Image8& a, const Image8& b) {
     const FilePair p{name, dir() / (name + "_a.png"), dir() / (name + "_b.png")};
-    render::writePng(p.a, a);
-    render::writePng(p.b, b);
+    image::writePng(p.a, a);
+    image::writePng(p.b, b);
     return p;
   }
   FilePair exr(const std::string& name, const ImageF& a, const ImageF& b, bool half = false) {
     const FilePair p{name, dir() / (name + "_a.exr"), dir() / (name + "_b.exr")};
-    render::writeExrImage(p.a, a, names(a.channels), half);
-    render::writeExrImage(p.b, b, names(b.channels), half);
+    image::writeExrImage(p.a, a, names(a.channels), half);
+    image::writeExrImage(p.b, b, names(b.channels), half);
     return p;
   }
 
@@ -282,8 +282,8 @@ TEST_F(IdiffConformance, ExrPairs) {
           kHdrOptions);
   // Half against float: the same values, rounded to half in one file.
   const FilePair mixed{"exr_half_float", dir() / "h.exr", dir() / "f.exr"};
-  render::writeExrImage(mixed.a, base, names(3), true);
-  render::writeExrImage(mixed.b, base, names(3), false);
+  image::writeExrImage(mixed.a, base, names(3), true);
+  image::writeExrImage(mixed.b, base, names(3), false);
   compare({mixed}, kHdrOptions);
 }
 

@@ -11,7 +11,7 @@
 #include <regex>
 
 #include "app/output/external_program.h"
-#include "render/image/png_io.h"
+#include "image/png_io.h"
 #include "tests/app/output_check.h"
 #include "tests/app/scratch_dir.h"
 
@@ -71,7 +71,7 @@ void expectInterruptedRun(const fs::path& out, const fs::path& clean_of_same_sce
     char name[32];
     std::snprintf(name, sizeof name, "%04d", k);
     EXPECT_TRUE(fs::exists(out / "mesh" / ("jelly_" + std::string(name) + ".obj"))) << k;
-    EXPECT_NO_THROW(render::readImage(out / "frames" / ("long_" + std::string(name) + ".png"))) << k;
+    EXPECT_NO_THROW(image::readImage(out / "frames" / ("long_" + std::string(name) + ".png"))) << k;
   }
   char next[32];
   std::snprintf(next, sizeof next, "mesh/jelly_%04d.obj", written + 1);

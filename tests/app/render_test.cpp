@@ -10,8 +10,8 @@
 
 #include "app/output/external_program.h"
 #include "app/output/video.h"
-#include "render/image/image_diff.h"
-#include "render/image/png_io.h"
+#include "image/image_diff.h"
+#include "image/png_io.h"
 #include "tests/app/scratch_dir.h"
 
 namespace fs = std::filesystem;
@@ -75,14 +75,14 @@ samples = 2
 };
 
 TEST_F(Render, DiffExitCodesAreIdiffs) {
-  render::Image8 a(8, 4, 3);
+  image::Image8 a(8, 4, 3);
   for (auto& p : a.pixels) p = 100;
-  render::Image8 b = a, c = a;
+  image::Image8 b = a, c = a;
   b.at(2, 1, 0) = 110;  // one pixel off by 10/255 = 0.039
-  render::writePng(dir() / "a.png", a);
-  render::writePng(dir() / "a2.png", a);
-  render::writePng(dir() / "b.png", b);
-  render::writePng(dir() / "small.png", render::Image8(4, 4, 3));
+  image::writePng(dir() / "a.png", a);
+  image::writePng(dir() / "a2.png", a);
+  image::writePng(dir() / "b.png", b);
+  image::writePng(dir() / "small.png", image::Image8(4, 4, 3));
   const std::string A = (dir() / "a.png").string(), B = (dir() / "b.png").string();
   EXPECT_EQ(wobble("diff " + A + " " + (dir() / "a2.png").string()), 0) << log();
   EXPECT_EQ(wobble("diff " + A + " " + B), 2) << log();                   // idiff default: any difference fails
@@ -105,8 +105,8 @@ TEST_F(Render, FrameRangeOfARunGivesTheFullRunsImages) {
   ASSERT_EQ(wobble("run " + s.string() + " --frames 3:4 --out " + (dir() / "part").string() + " --resolution 48x27"), 0)
       << log();
   EXPECT_FALSE(fs::exists(dir() / "part/frames/small_0002.png"));
-  const render::Image8 whole = render::readImage(out() / "frames/small_0003.png");
-  const render::Image8 part = render::readImage(dir() / "part/frames/small_0003.png");
+  const image::Image8 whole = image::readImage(out() / "frames/small_0003.png");
+  const image::Image8 part = image::readImage(dir() / "part/frames/small_0003.png");
   EXPECT_EQ(whole.pixels, part.pixels);
 }
 
@@ -119,9 +119,9 @@ TEST_F(Render, BlurredFrameRangeOfARunGivesTheFullRunsImages) {
   ASSERT_EQ(wobble("run " + s.string() + " --frames 3:3 --out " + (dir() / "still").string() + " --resolution 48x27"),
             0)
       << log();
-  const render::Image8 whole = render::readImage(out() / "frames/small_0003.png");
-  EXPECT_EQ(whole.pixels, render::readImage(dir() / "part/frames/small_0003.png").pixels);
-  EXPECT_NE(whole.pixels, render::readImage(dir() / "still/frames/small_0003.png").pixels);
+  const image::Image8 whole = image::readImage(out() / "frames/small_0003.png");
+  EXPECT_EQ(whole.pixels, image::readImage(dir() / "part/frames/small_0003.png").pixels);
+  EXPECT_NE(whole.pixels, image::readImage(dir() / "still/frames/small_0003.png").pixels);
 }
 
 TEST_F(Render, RenderingTheObjSequenceGivesTheRunsImages) {
@@ -139,16 +139,16 @@ TEST_F(Render, RenderingTheObjSequenceGivesTheRunsImages) {
   // relative, and a few pixels a frame change by one level of 255 (measured when written: none in these three
   // frames; 3 pixels in 60 frames of this scene at 192 x 108; up to 14 pixels of 14400 in a frame of the shipped
   // scenes at 160 x 90, never more than one level). Bound: no pixel by more than one level, at most 0.5% of pixels.
-  render::DiffOptions tolerance;  // the OBJ text holds float positions: only rounding may differ
+  image::DiffOptions tolerance;  // the OBJ text holds float positions: only rounding may differ
   tolerance.fail = 2.5f / 255;
   tolerance.fail_percent = 0.5f;
-  render::DiffOptions rounding;
+  image::DiffOptions rounding;
   rounding.fail = rounding.warn = 0.5f / 255;  // any difference (codes / 255: at least 1 / 255)
   for (int k = 2; k <= 4; ++k) {
     const std::string name = "frames/small_000" + std::to_string(k) + ".png";
-    const render::DiffResult r = render::diffFiles(out() / name, dir() / "again" / name, tolerance);
+    const image::DiffResult r = image::diffFiles(out() / name, dir() / "again" / name, tolerance);
     EXPECT_LE(r.exitCode(), 1) << name << ": " << r.message;
-    const render::DiffResult d = render::diffFiles(out() / name, dir() / "again" / name, rounding);
+    const image::DiffResult d = image::diffFiles(out() / name, dir() / "again" / name, rounding);
     EXPECT_LE(d.max_error, 1.0 / 255 + 1e-6) << name << ": " << d.message;
     EXPECT_LE(double(d.warn_pixels), 0.005 * double(d.pixels)) << name << ": " << d.message;
   }
@@ -193,9 +193,9 @@ TEST_F(Render, QualityAndDenoiseFlags) {
   ASSERT_EQ(wobble(run + (dir() / "final").string()), 0) << log();
   ASSERT_EQ(wobble(run + (dir() / "preview").string() + " --quality preview"), 0) << log();
   ASSERT_EQ(wobble(run + (dir() / "noisy").string() + " --denoise off"), 0) << log();
-  const render::Image8 final_frame = render::readImage(dir() / "final/frames/small_0003.png");
-  const render::Image8 preview = render::readImage(dir() / "preview/frames/small_0003.png");
-  const render::Image8 noisy = render::readImage(dir() / "noisy/frames/small_0003.png");
+  const image::Image8 final_frame = image::readImage(dir() / "final/frames/small_0003.png");
+  const image::Image8 preview = image::readImage(dir() / "preview/frames/small_0003.png");
+  const image::Image8 noisy = image::readImage(dir() / "noisy/frames/small_0003.png");
   EXPECT_EQ(final_frame.width, 64);
   EXPECT_EQ(final_frame.height, 36);
   EXPECT_EQ(preview.width, 32);

@@ -16,8 +16,8 @@
 
 #include "app/commands/frames_command.h"
 #include "app/output/external_program.h"
-#include "render/image/image_diff.h"
-#include "render/image/png_io.h"
+#include "image/image_diff.h"
+#include "image/png_io.h"
 #include "tests/app/output_check.h"
 #include "tests/app/scratch_dir.h"
 
@@ -111,15 +111,15 @@ samples = 1
                mp4.string()));
   }
   // Frame n (0-based) of a video, decoded.
-  render::Image8 decoded(const fs::path& mp4, int n) {
+  image::Image8 decoded(const fs::path& mp4, int n) {
     const fs::path png = dir() / (mp4.stem().string() + "_decoded" + std::to_string(n) + ".png");
     output("ffmpeg -nostdin -loglevel error -y -i " + mp4.string() + " -vf 'select=eq(n\\," + std::to_string(n) +
            ")' -frames:v 1 " + png.string());
-    return render::readImage(png);
+    return image::readImage(png);
   }
 };
 
-double meanDifference(const render::Image8& a, const render::Image8& b) {
+double meanDifference(const image::Image8& a, const image::Image8& b) {
   EXPECT_TRUE(a.sameShape(b));
   double sum = 0;
   for (std::size_t i = 0; i < a.pixels.size(); ++i) sum += std::abs(int(a.pixels[i]) - int(b.pixels[i]));
@@ -229,11 +229,11 @@ TEST_F(SplitRender, ParallelPiecesAreOneRenderAndItsVideo) {
   EXPECT_EQ(videoFrames(joined), 8);
   EXPECT_EQ(videoFrames(one), 8);
   for (int n : {0, 7}) {
-    const render::Image8 a = decoded(joined, n), b = decoded(one, n);
+    const image::Image8 a = decoded(joined, n), b = decoded(one, n);
     EXPECT_EQ(a.pixels, b.pixels) << "decoded frame " << n;
     // And it is that frame: closer to its own PNG than to the other end's (the jelly has fallen in between; at
     // 32 x 18, H.264's 4:2:0 colour leaves about 5 levels of mean difference to its own, twice that to the other).
-    const render::Image8 own = render::readImage(frame(out(), n + 1)), other = render::readImage(frame(out(), 8 - n));
+    const image::Image8 own = image::readImage(frame(out(), n + 1)), other = image::readImage(frame(out(), 8 - n));
     EXPECT_LT(meanDifference(a, own), meanDifference(a, other)) << "decoded frame " << n;
   }
 }
@@ -336,7 +336,7 @@ TEST_F(SplitRender, SkipExistingRendersExactlyTheFramesWithOtherSettings) {
   // Frame 2 gone, frame 3 without a key (another program's PNG), frame 6's mesh moved: 2, 3, 6 and, through the
   // follow camera, 7 and 8 render again; the others stay the same files.
   fs::remove(frame(out(), 2));
-  render::writePng(frame(out(), 3), render::readImage(frame(out(), 3)));
+  image::writePng(frame(out(), 3), image::readImage(frame(out(), 3)));
   const fs::path obj = out() / "mesh" / "jelly_0006.obj";
   std::string mesh = slurpFile(obj);
   const std::size_t v = mesh.find("\nv ") + 1;

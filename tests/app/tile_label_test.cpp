@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "app/compare/tile_label.h"
-#include "render/image/font_file.h"
+#include "image/font_file.h"
 
 namespace wobble {
 namespace {
@@ -20,7 +20,7 @@ TEST(TileLabel, BlownUpVariantIsFrozenFromTheFirstFrameItDidNotReach) {
     const TileView v = tileView(t, k, (k - 1) / 30.0);
     EXPECT_EQ(v.picture, k);
     EXPECT_FALSE(v.frozen);
-    EXPECT_EQ(v.color, (render::Rgb8{255, 255, 255}));
+    EXPECT_EQ(v.color, (image::Rgb8{255, 255, 255}));
   }
   EXPECT_EQ(tileView(t, 25, 0.8).status, "t = 0.80 s");
   for (int k : {26, 27, 300}) {
@@ -42,7 +42,7 @@ TEST(TileLabel, LostShapeIsMarkedFromItsFrame) {
   t.lost_shape_time = 1.3;
   t.lost_shape_strain = 1.98;
   t.strain_bound = 0.5;
-  EXPECT_EQ(tileView(t, 39, 1.27).color, (render::Rgb8{255, 255, 255}));
+  EXPECT_EQ(tileView(t, 39, 1.27).color, (image::Rgb8{255, 255, 255}));
   const TileView v = tileView(t, 40, 1.3);
   EXPECT_EQ(v.picture, 40);
   EXPECT_FALSE(v.frozen);
@@ -68,12 +68,12 @@ TEST(TileLabel, NumbersAsInReports) {
 }
 
 TEST(TileLabel, LabelIsDrawnInItsBoxInItsColours) {
-  const auto file = render::findFontFile();
+  const auto file = image::findFontFile();
   ASSERT_TRUE(file) << "install fonts-dejavu-core (setup.sh does)";
-  const render::Font font = render::Font::load(*file);
-  render::Image8 tile(320, 180, 3);
+  const image::Font font = image::Font::load(*file);
+  image::Image8 tile(320, 180, 3);
   for (auto& v : tile.pixels) v = 128;  // a grey picture
-  const render::Image8 before = tile;
+  const image::Image8 before = tile;
   VariantTrack t;
   t.last_frame = 5;
   t.blow_up_time = 0.2;

@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
-#include "render/image/image_error.h"
+#include "image/image_error.h"
 #include "render/renderer.h"
 #include "render/scene.h"
 
@@ -77,7 +77,7 @@ bool onShadowedSphere(const Camera& cam, int x, int y) {
 TEST(Adaptive, NoisyPixelsGetMoreSamplesThanTheSky) {
   const Scene scene = backlitSphere();
   const Camera cam = camera();
-  const Film film = render(scene, cam, adaptive());
+  const image::Film film = render(scene, cam, adaptive());
   double sky_sum = 0, sphere_sum = 0;
   int sky = 0, sphere = 0, smooth = 0;
   for (int y = 0; y < film.height; ++y)
@@ -115,13 +115,13 @@ TEST(Adaptive, ZeroThresholdGivesEveryPixelTheFullCount) {
   RenderSettings s = adaptive(8);
   s.noise_threshold = 0;
   RenderStats stats;
-  const Film film = render(scene, camera(), s, &stats);
+  const image::Film film = render(scene, camera(), s, &stats);
   for (const std::uint32_t n : film.samples) ASSERT_EQ(n, 8u);
   EXPECT_EQ(stats.camera_rays, 8u * 64 * 48);
   EXPECT_EQ(stats.passes, 1);
   // And the adaptive render's statistics count the samples it took.
   RenderStats adaptive_stats;
-  const Film a = render(scene, camera(), adaptive(16), &adaptive_stats);
+  const image::Film a = render(scene, camera(), adaptive(16), &adaptive_stats);
   std::uint64_t taken = 0;
   for (const std::uint32_t n : a.samples) taken += n;
   EXPECT_EQ(adaptive_stats.camera_rays, taken);
@@ -137,7 +137,7 @@ TEST(Adaptive, SameBytesWithOneAndTwoThreads) {
     s.tile_size = 8;
     return render(scene, camera(), s);
   };
-  const Film one = renderWith(1), two = renderWith(2);
+  const image::Film one = renderWith(1), two = renderWith(2);
   EXPECT_EQ(one.samples, two.samples);
   ASSERT_EQ(one.color.size(), two.color.size());
   EXPECT_EQ(std::memcmp(one.color.data(), two.color.data(), one.color.size() * sizeof(Color)), 0);
@@ -153,19 +153,20 @@ TEST(Adaptive, BeatsAFixedCountWithTheSameBudget) {
   RenderSettings reference_settings;
   reference_settings.samples_per_pixel = 512;
   reference_settings.frame = 1000;
-  const Film reference = render(scene, cam, reference_settings);
+  const image::Film reference = render(scene, cam, reference_settings);
 
-  const Film adaptive_film = render(scene, cam, adaptive());
+  const image::Film adaptive_film = render(scene, cam, adaptive());
   std::uint64_t taken = 0;
   for (const std::uint32_t n : adaptive_film.samples) taken += n;
   RenderSettings fixed_settings;
   fixed_settings.samples_per_pixel = int((taken + adaptive_film.samples.size() - 1) / adaptive_film.samples.size());
-  const Film fixed = render(scene, cam, fixed_settings);
+  const image::Film fixed = render(scene, cam, fixed_settings);
   ASSERT_GE(std::uint64_t(fixed_settings.samples_per_pixel) * fixed.samples.size(), taken);
   ASSERT_LT(fixed_settings.samples_per_pixel, 64);  // adaptive sampling did save samples
 
-  const ImageError adaptive_error = imageError(cam.width(), cam.height(), adaptive_film.color, reference.color);
-  const ImageError fixed_error = imageError(cam.width(), cam.height(), fixed.color, reference.color);
+  const image::ImageError adaptive_error =
+      image::imageError(cam.width(), cam.height(), adaptive_film.color, reference.color);
+  const image::ImageError fixed_error = image::imageError(cam.width(), cam.height(), fixed.color, reference.color);
   EXPECT_LT(adaptive_error.rmse, fixed_error.rmse) << "fixed at " << fixed_settings.samples_per_pixel << " spp";
   EXPECT_LT(adaptive_error.relmse, fixed_error.relmse) << "fixed at " << fixed_settings.samples_per_pixel << " spp";
 }

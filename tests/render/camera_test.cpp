@@ -111,7 +111,7 @@ double horizontalVariance(float aperture, float focus) {
   RenderSettings settings;
   settings.samples_per_pixel = 1024;
   settings.max_bounces = 0;
-  const Film film = render(scene, Camera(p), settings);
+  const image::Film film = render(scene, Camera(p), settings);
   double sum = 0, sx = 0, sxx = 0;
   for (int y = 0; y < p.height; ++y)
     for (int x = 0; x < p.width; ++x) {

@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
-#include "render/image/film.h"
+#include "image/film.h"
 
 namespace wobble::render {
 namespace {
@@ -35,7 +35,7 @@ class Noise {
 
 // A surface pixel lit by grey `lighting` (the diffuse part is albedo * lighting, nothing else reflected), with the
 // variance of its demodulated luminance.
-void setSurface(Film& film, int x, int y, const Color& albedo, const Eigen::Vector3f& normal, float depth,
+void setSurface(image::Film& film, int x, int y, const Color& albedo, const Eigen::Vector3f& normal, float depth,
                 float lighting, float variance) {
   const std::size_t i = film.index(x, y);
   film.albedo[i] = albedo;
@@ -49,7 +49,7 @@ void setSurface(Film& film, int x, int y, const Color& albedo, const Eigen::Vect
 }
 
 // Sky seen directly: no albedo, normal or depth; all of its colour is "other".
-void setSky(Film& film, int x, int y, const Color& sky) {
+void setSky(image::Film& film, int x, int y, const Color& sky) {
   const std::size_t i = film.index(x, y);
   film.albedo[i] = Color::Zero();
   film.normal[i] = Eigen::Vector3f::Zero();
@@ -63,7 +63,7 @@ void setSky(Film& film, int x, int y, const Color& sky) {
 
 // Root mean square over all channels of the pixels selected by `use` of (a - b).
 template <typename Select>
-double rmsDifference(const Film& film, const std::vector<Color>& a, const std::vector<Color>& b, Select use) {
+double rmsDifference(const image::Film& film, const std::vector<Color>& a, const std::vector<Color>& b, Select use) {
   double sq = 0;
   long n = 0;
   for (int y = 0; y < film.height; ++y)
@@ -80,7 +80,7 @@ TEST(Denoiser, NormalEdgeStaysSharpWhileNoiseIsRemoved) {
   // Noise large enough (for the 0.6 step) that the luminance weight alone would let the sides mix: the normals must
   // keep them apart (with sigma_normal = 0 the column means below are off by about 0.014).
   const float sigma = 0.1f, albedo = 0.5f;
-  Film film(w, h);
+  image::Film film(w, h);
   std::vector<Color> truth(std::size_t(w) * h);
   Noise noise(1);
   for (int y = 0; y < h; ++y)
@@ -116,7 +116,7 @@ TEST(Denoiser, NormalEdgeStaysSharpWhileNoiseIsRemoved) {
 TEST(Denoiser, AlbedoCheckerSurvivesDemodulation) {
   const int w = 40, h = 32;
   const float sigma = 0.05f, lighting = 0.6f;
-  Film film(w, h);
+  image::Film film(w, h);
   std::vector<Color> truth(std::size_t(w) * h);
   Noise noise(2);
   for (int y = 0; y < h; ++y)
@@ -147,7 +147,7 @@ TEST(Denoiser, FlatLitPlaneKeepsItsMeanAndLosesItsNoise) {
   const int w = 48, h = 40;
   const float sigma = 0.08f, lighting = 0.5f;
   const Color albedo(0.7f, 0.6f, 0.5f);
-  Film film(w, h);
+  image::Film film(w, h);
   std::vector<Color> truth(std::size_t(w) * h, albedo * lighting);
   Noise noise(3);
   for (int y = 0; y < h; ++y)
@@ -174,7 +174,7 @@ TEST(Denoiser, SkyAndSurfacesDoNotMix) {
   const auto inDisc = [](int x, int y) {
     return (x - 19.5f) * (x - 19.5f) + (y - 19.5f) * (y - 19.5f) < 14.0f * 14.0f;
   };
-  Film film(w, h);
+  image::Film film(w, h);
   Noise noise(4);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -220,7 +220,7 @@ TEST(Denoiser, SkySeenDirectlyIsLeftAsRendered) {
   const auto inDisc = [](int x, int y) {
     return (x - 19.5f) * (x - 19.5f) + (y - 19.5f) * (y - 19.5f) < 14.0f * 14.0f;
   };
-  Film film(w, h);
+  image::Film film(w, h);
   Noise noise(6);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -243,8 +243,8 @@ TEST(Denoiser, SkySeenDirectlyIsLeftAsRendered) {
 
 // The film of SameBytesWithOneAndTwoThreads: surfaces with noisy light and a coat, a corner of sky, and a few
 // single-sample pixels.
-Film mixedFilm(int w, int h, std::uint32_t seed, int sky_x) {
-  Film film(w, h);
+image::Film mixedFilm(int w, int h, std::uint32_t seed, int sky_x) {
+  image::Film film(w, h);
   Noise noise(seed);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -262,7 +262,7 @@ Film mixedFilm(int w, int h, std::uint32_t seed, int sky_x) {
 }
 
 TEST(Denoiser, SameBytesWithOneAndTwoThreads) {
-  const Film film = mixedFilm(64, 48, 5, 20);
+  const image::Film film = mixedFilm(64, 48, 5, 20);
   DenoiseSettings settings;
   settings.radius = 2;
   std::vector<Color> one, two;
@@ -283,11 +283,11 @@ TEST(Denoiser, SameBytesWithOneAndTwoThreads) {
 // denoise() keeps its planes from one call to the next on each thread: a film denoised after others of other sizes
 // and contents (sky where it had surface, surface where it had sky) gives the bytes a fresh thread gives.
 TEST(Denoiser, EarlierFilmsLeaveNoTrace) {
-  const Film film = mixedFilm(64, 48, 5, 20);
+  const image::Film film = mixedFilm(64, 48, 5, 20);
   std::vector<Color> fresh;
   std::thread([&] { fresh = denoise(film); }).join();  // a new thread: nothing kept yet
   denoise(mixedFilm(40, 30, 6, 5));
-  Film all_sky(64, 48);
+  image::Film all_sky(64, 48);
   for (int y = 0; y < 48; ++y)
     for (int x = 0; x < 64; ++x) setSky(all_sky, x, y, Color(5.0f, 0.1f, 0.1f));
   denoise(all_sky);
@@ -298,21 +298,21 @@ TEST(Denoiser, EarlierFilmsLeaveNoTrace) {
 }
 
 TEST(Denoiser, RejectsBadInput) {
-  Film film(8, 6);
+  image::Film film(8, 6);
   for (int y = 0; y < 6; ++y)
     for (int x = 0; x < 8; ++x) setSurface(film, x, y, Color::Constant(0.5f), Eigen::Vector3f::UnitZ(), 1, 0.5f, 0.01f);
   EXPECT_NO_THROW(denoise(film));
 
-  Film short_albedo = film;
+  image::Film short_albedo = film;
   short_albedo.albedo.pop_back();
   EXPECT_THROW(denoise(short_albedo), std::invalid_argument);
-  Film short_variance = film;
+  image::Film short_variance = film;
   short_variance.variance_other.resize(3);
   EXPECT_THROW(denoise(short_variance), std::invalid_argument);
-  Film wrong_size = film;
+  image::Film wrong_size = film;
   wrong_size.width = 9;
   EXPECT_THROW(denoise(wrong_size), std::invalid_argument);
-  EXPECT_THROW(denoise(Film{}), std::invalid_argument);
+  EXPECT_THROW(denoise(image::Film{}), std::invalid_argument);
 
   DenoiseSettings negative;
   negative.iterations = -1;

@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
-#include "render/image/film.h"
+#include "image/film.h"
 #include "render/image_texture.h"
 #include "render/renderer.h"
 #include "render/scene.h"
@@ -73,7 +73,7 @@ Scene demoScene(bool blur = false, bool lit = false) {
   scene.lights.suns = {SunLight{}};
   scene.lights.rects = {RectLight{}};
   if (lit) {
-    ImageF map(32, 16, 3);
+    image::ImageF map(32, 16, 3);
     for (int y = 0; y < map.height; ++y)
       for (int x = 0; x < map.width; ++x)
         for (int k = 0; k < 3; ++k) map.at(x, y, k) = (x == 9 && y == 4) ? 500.0f : 0.2f + 0.05f * float((x + k) % 4);
@@ -84,8 +84,8 @@ Scene demoScene(bool blur = false, bool lit = false) {
 }
 
 struct Frame {
-  Film film;
-  Image8 image;
+  image::Film film;
+  image::Image8 image;
   int other_threads = 0;  // threads besides the caller's that joined TBB's parallel work
 };
 
@@ -106,10 +106,10 @@ Frame renderWithThreads(int threads, int tile_size = 16, std::uint32_t frame = 0
   if (blur) cp.shutter_motion = {0.3f, 0, -0.2f};
   settings.sample_sky = lit;
   auto seen = std::make_unique<wobble::testing::ThreadsSeen>();  // render()'s threads only (not the BVH build's)
-  Film film = render(scene, Camera(cp), settings);
+  image::Film film = render(scene, Camera(cp), settings);
   const int other_threads = seen->others();
   seen.reset();
-  Image8 image = develop(film);
+  image::Image8 image = image::develop(film);
   return {std::move(film), std::move(image), other_threads};
 }
 

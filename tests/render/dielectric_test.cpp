@@ -111,7 +111,7 @@ FrameMean renderMean(const Scene& scene, const CameraParams& params, int spp, in
   RenderSettings settings;
   settings.samples_per_pixel = spp;
   settings.max_bounces = bounces;
-  const Film film = render(scene, Camera(params), settings);
+  const image::Film film = render(scene, Camera(params), settings);
   FrameMean m;
   for (const Color& c : film.color) {
     m.mean += c.mean();

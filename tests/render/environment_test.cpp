@@ -21,9 +21,9 @@ using Eigen::Vector3f;
 constexpr double kPi = std::numbers::pi;
 
 // A dim sky with a gradient, darker ground and a small bright "sun" of 2 x 2 texels above the horizon.
-ImageF sunnyMap(int width) {
+image::ImageF sunnyMap(int width) {
   const int height = width / 2;
-  ImageF map(width, height, 3);
+  image::ImageF map(width, height, 3);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
       const bool sky = y < height / 2;
@@ -37,15 +37,15 @@ ImageF sunnyMap(int width) {
   return map;
 }
 
-ImageF constantMap(int width, const Color& c) {
-  ImageF map(width, width / 2, 3);
+image::ImageF constantMap(int width, const Color& c) {
+  image::ImageF map(width, width / 2, 3);
   for (int y = 0; y < map.height; ++y)
     for (int x = 0; x < map.width; ++x)
       for (int k = 0; k < 3; ++k) map.at(x, y, k) = c[k];
   return map;
 }
 
-float lum(const ImageF& map, int x, int y) {
+float lum(const image::ImageF& map, int x, int y) {
   return luminance(Color(map.at(x, y, 0), map.at(x, y, 1), map.at(x, y, 2)));
 }
 
@@ -78,7 +78,7 @@ TEST(Environment, DensityIntegratesToOneAndIsWhatSampleReturns) {
 // Irradiance on an upward surface, E = integral of L cos theta over the upper hemisphere. Exactly: a texel of rows
 // [z1, z0] in cos theta and width 2 pi / W contributes L (2 pi / W)(z0^2 - z1^2) / 2.
 TEST(Environment, ImportanceSamplingKeepsTheMeanOfUniformSamplingWithLessVariance) {
-  const ImageF map = sunnyMap(64);
+  const image::ImageF map = sunnyMap(64);
   const EnvironmentMap env(map, 37, 1);
   double exact = 0;
   for (int y = 0; y < map.height / 2; ++y) {
@@ -131,7 +131,7 @@ TEST(Environment, ImportanceSamplingKeepsTheMeanOfUniformSamplingWithLessVarianc
 // One bright texel, the one the unrotated map shows looking along +Z (column 3/4 of the width, beside the horizon).
 TEST(Environment, RotationTurnsABrightTexelAboutTheUpAxis) {
   const int width = 64, height = 32;
-  ImageF map(width, height, 3);
+  image::ImageF map(width, height, 3);
   const int column = 3 * width / 4, row = height / 2 - 1;  // just above the horizon
   for (int k = 0; k < 3; ++k) map.at(column, row, k) = 100;
   // The texel's centre direction in the unrotated map: azimuth atan2(z, x) = 2 pi u - pi, polar angle pi v from +Y.
@@ -157,8 +157,8 @@ TEST(Environment, RotationTurnsABrightTexelAboutTheUpAxis) {
 }
 
 TEST(Environment, RefusesAMapThatIsNotTwiceAsWideAsHighOrHasNonFiniteValues) {
-  EXPECT_THROW(EnvironmentMap(ImageF(30, 16, 3), 0, 1), std::invalid_argument);
-  ImageF map = constantMap(8, Color::Ones());
+  EXPECT_THROW(EnvironmentMap(image::ImageF(30, 16, 3), 0, 1), std::invalid_argument);
+  image::ImageF map = constantMap(8, Color::Ones());
   map.at(3, 2, 1) = std::numeric_limits<float>::infinity();
   EXPECT_THROW(EnvironmentMap(map, 0, 1), std::invalid_argument);
   EXPECT_THROW(EnvironmentMap(constantMap(8, Color::Ones()), 0, -1), std::invalid_argument);
@@ -166,7 +166,7 @@ TEST(Environment, RefusesAMapThatIsNotTwiceAsWideAsHighOrHasNonFiniteValues) {
 }
 
 // A sphere filling most of a small frame under a map of one radiance L everywhere (strength s).
-Film furnace(const Material& material, const Color& radiance, float strength, int spp) {
+image::Film furnace(const Material& material, const Color& radiance, float strength, int spp) {
   Scene scene;
   scene.addSphere("ball", Sphere{Vector3f::Zero(), 1}, scene.addMaterial(material));
   scene.lights.environment = std::make_shared<EnvironmentMap>(constantMap(16, radiance), 25, strength);
@@ -188,7 +188,7 @@ Film furnace(const Material& material, const Color& radiance, float strength, in
 TEST(Environment, WhiteFurnaceDiffuseSphereShowsAlbedoTimesRadiance) {
   const Color radiance(0.5f, 1.0f, 2.0f);
   const float strength = 1.5f, albedo = 0.6f;
-  const Film film = furnace(Material::diffuse("matte", Color::Constant(albedo)), radiance, strength, 16);
+  const image::Film film = furnace(Material::diffuse("matte", Color::Constant(albedo)), radiance, strength, 16);
   Color on_sphere = Color::Zero();
   int hits = 0, misses = 0;
   for (std::size_t i = 0; i < film.color.size(); ++i) {
@@ -209,7 +209,7 @@ TEST(Environment, WhiteFurnaceDiffuseSphereShowsAlbedoTimesRadiance) {
 // the map, so every pixel on the sphere is L as well (to the paths cut after 64 interfaces).
 TEST(Environment, WhiteFurnaceClearGelatineShowsTheMapThroughItAndInItsReflections) {
   const Color radiance(0.5f, 1.0f, 2.0f);
-  const Film film = furnace(Material::gelatine("clear", 1.4f, 0, Color::Zero()), radiance, 1, 4);
+  const image::Film film = furnace(Material::gelatine("clear", 1.4f, 0, Color::Zero()), radiance, 1, 4);
   for (std::size_t i = 0; i < film.color.size(); ++i)
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(film.color[i][k], radiance[k], 1e-3 * radiance[k]) << i;
 }

@@ -109,7 +109,7 @@ TEST(Lighting, LitSphereHasLambertianBrightAndDarkSides) {
   const Camera camera(cp);
   RenderSettings settings;
   settings.samples_per_pixel = 8;
-  const Film film = render(scene, camera, settings);
+  const image::Film film = render(scene, camera, settings);
 
   // Where a camera ray through film point (x, y) meets the unit sphere, if it does.
   const auto normalAt = [&](float x, float y) -> std::optional<Vector3f> {

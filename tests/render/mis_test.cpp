@@ -44,7 +44,7 @@ Color meanColor(const Scene& scene, int bounces, int spp, bool sample_sky = fals
   s.max_bounces = bounces;
   s.sample_sky = sample_sky;
   s.roulette = roulette;
-  const Film film = render(scene, downwards(), s, stats);
+  const image::Film film = render(scene, downwards(), s, stats);
   Color sum = Color::Zero();
   for (const Color& c : film.color) sum += c;
   return sum / float(film.color.size());
@@ -170,7 +170,7 @@ Spread spread(const Scene& scene, bool mis, bool light_samples, int spp = 4, int
     s.mis = mis;
     s.light_samples = light_samples;
     s.frame = std::uint32_t(frame);
-    const Film film = render(scene, camera, s);
+    const image::Film film = render(scene, camera, s);
     sum.resize(film.color.size(), 0.0);
     sq.resize(film.color.size(), 0.0);
     for (std::size_t i = 0; i < film.color.size(); ++i) {

@@ -36,7 +36,7 @@ float halfWidth() {
 // A black quad facing the camera whose right edge is at x = edge (at the quad's depth); no light, so it is black.
 Quad quadWithEdgeAt(float edge) { return Quad{{edge - kSize / 2, 0, -kDepth}, {0, 0, 1}, kSize, 1}; }
 
-Film renderScene(Scene& scene, const CameraParams& cp, bool blur) {
+image::Film renderScene(Scene& scene, const CameraParams& cp, bool blur) {
   scene.lights.sky = Sky{};
   scene.commit();
   RenderSettings s;
@@ -46,7 +46,7 @@ Film renderScene(Scene& scene, const CameraParams& cp, bool blur) {
   return render(scene, Camera(cp), s);
 }
 
-Film skyOnly() {
+image::Film skyOnly() {
   Scene scene;
   const auto black = scene.addMaterial(Material::diffuse("black", Color::Zero()));
   scene.addQuad("behind", Quad{{0, 0, 10}, {0, 0, -1}, 1, 1}, black);  // behind the camera: never seen
@@ -54,7 +54,7 @@ Film skyOnly() {
 }
 
 // The fraction of the sky each pixel of row 1 lost, against the sky-only picture.
-std::vector<float> coverage(const Film& film, const Film& sky) {
+std::vector<float> coverage(const image::Film& film, const image::Film& sky) {
   std::vector<float> c;
   for (int x = 0; x < kWidth; ++x) {
     const std::size_t i = film.index(x, 1);
@@ -80,7 +80,7 @@ void expectSweepCoverage(const std::vector<float>& c) {
 }
 
 TEST(MotionBlur, SweepingEdgeCoversEachPixelForTheFractionOfTheShutterItIsOver) {
-  const Film sky = skyOnly();
+  const image::Film sky = skyOnly();
   for (const int poses : {2, 3, 5}) {
     Scene scene;
     const auto black = scene.addMaterial(Material::diffuse("black", Color::Zero()));
@@ -95,7 +95,7 @@ TEST(MotionBlur, SweepingEdgeCoversEachPixelForTheFractionOfTheShutterItIsOver) 
 }
 
 TEST(MotionBlur, CameraMovingTheOtherWayBlursAlike) {
-  const Film sky = skyOnly();
+  const image::Film sky = skyOnly();
   Scene scene;
   const auto black = scene.addMaterial(Material::diffuse("black", Color::Zero()));
   scene.addQuad("edge", quadWithEdgeAt(0), black);
@@ -108,7 +108,7 @@ TEST(MotionBlur, CameraMovingTheOtherWayBlursAlike) {
 }
 
 TEST(MotionBlur, WithoutMotionBlurRaysSeeTheOpeningPose) {
-  const Film sky = skyOnly();
+  const image::Film sky = skyOnly();
   Scene scene;
   const auto black = scene.addMaterial(Material::diffuse("black", Color::Zero()));
   const auto id = scene.addQuad("edge", quadWithEdgeAt(0), black);
@@ -149,9 +149,9 @@ TEST(MotionBlur, OneSampleSeesTheTextureBlurredAlongTheMotion) {
   s.motion_blur = true;
   s.max_bounces = 0;
   s.samples_per_pixel = 256;
-  const Film converged = render(scene, Camera(cp), s);
+  const image::Film converged = render(scene, Camera(cp), s);
   s.samples_per_pixel = 1;
-  const Film one = render(scene, Camera(cp), s);
+  const image::Film one = render(scene, Camera(cp), s);
   double error = 0, spread = 0;
   for (std::size_t i = 0; i < one.albedo.size(); ++i) {
     error += std::abs(one.albedo[i].x() - converged.albedo[i].x());

@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "render/image/png_io.h"
+#include "image/png_io.h"
 #include "tests/render/test_util.h"
 
 namespace wobble::render {
@@ -95,7 +95,7 @@ TEST(Srgb, DecodesKnownValues) {
   EXPECT_EQ(linearToSrgb8(0.2158605f), 128);
   for (int c = 0; c < 256; ++c) EXPECT_EQ(linearToSrgb8(srgb8ToLinear(std::uint8_t(c))), c);
 
-  Image8 pixel(1, 1, 3);
+  image::Image8 pixel(1, 1, 3);
   pixel.pixels = {128, 0, 255};
   const Color texel = ImageTexture::fromSrgb8(pixel).eval({0.5f, 0.5f});
   EXPECT_NEAR(texel.x(), 0.2158605f, 1e-6);
@@ -105,10 +105,10 @@ TEST(Srgb, DecodesKnownValues) {
 
 TEST(ImageTexture, LoadsPngFileAndReportsMissingOnes) {
   test::TempDir dir;
-  Image8 image(2, 2, 4);
+  image::Image8 image(2, 2, 4);
   image.pixels = {255, 0, 0,   255, 0,   255, 0,   128,  // top row: red, green (alpha ignored)
                   0,   0, 255, 255, 128, 128, 128, 255};
-  writePng(dir / "t.png", image);
+  image::writePng(dir / "t.png", image);
   const ImageTexture t = ImageTexture::load(dir / "t.png", Wrap::Clamp);
   ASSERT_EQ(t.width(), 2);
   ASSERT_EQ(t.height(), 2);
