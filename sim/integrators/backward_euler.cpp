@@ -45,11 +45,15 @@ void BackwardEuler::step(const Dynamics& dynamics, double t, double h, VecX& x, 
     const int n = static_cast<int>(jacobian->mass().size());
     error_.sums.reserve((n + particleChunk(n) - 1) / particleChunk(n));  // a sum per chunk (parallel.h)
     error_.lightest = std::numeric_limits<double>::infinity();           // the lightest free particle's mass
+    momentum_.pinned = false;
     for (Eigen::Index p = 0; p < jacobian->mass().size(); ++p)
       if (jacobian->inverseMass()[p] > 0) error_.lightest = std::min(error_.lightest, jacobian->mass()[p]);
+      else momentum_.pinned = true;
     ++stats_.pattern_setups;
   }
   const VecX& mass = jacobian->mass();
+  momentum_.x = &x;
+  momentum_.mass = &mass;
   filter_.reset(jacobian->inverseMass());
   jacobian->contactConstraints(t, x, v, contacts_, &released_);
   constrainFilter(contacts_, filter_);
@@ -158,7 +162,18 @@ void BackwardEuler::solve(const VecX& b, VecX& y, double absolute) {
                              : options_.cg_preconditioner == CgPreconditioner::TwoLevel;
   const PcgResult r = pcg_.solve(matrix_, filter_, b, y, options_.cg_tolerance, options_.cg_max_iterations, parallel_,
                                  two_level, absolute);
-  if (r.by_absolute && r.relative_residual > options_.cg_tolerance) ++stats_.error_rule_stops;
+  // Why it stopped (run.json's linear_solver.stops): the error rule's bound looser than cg_tolerance, the
+  // iteration cap, or cg_tolerance itself.
+  if (r.relative_residual <= options_.cg_tolerance) {
+    ++stats_.tolerance_stops;
+  } else if (r.by_absolute && r.iterations < options_.cg_max_iterations) {
+    ++stats_.error_rule_stops;
+    stats_.max_cg_residual_error_rule = std::max(stats_.max_cg_residual_error_rule, r.relative_residual);
+  } else {
+    ++stats_.iteration_cap_stops;
+    stats_.max_cg_residual_cap = std::max(stats_.max_cg_residual_cap, r.relative_residual);
+  }
+  keepMomentum(y);
   // Auto: the coarse level pays when block-Jacobi needs many iterations, and is overhead when few are needed.
   if (options_.cg_preconditioner == CgPreconditioner::Auto &&
       (two_level ? r.iterations < kTwoLevelIterations / 4
@@ -170,6 +185,45 @@ void BackwardEuler::solve(const VecX& b, VecX& y, double absolute) {
   stats_.cg_iterations += r.iterations;
   stats_.last_cg_residual = std::max(stats_.last_cg_residual, r.relative_residual);
   stats_.max_cg_residual = std::max(stats_.max_cg_residual, r.relative_residual);
+}
+
+void BackwardEuler::keepMomentum(VecX& y) {
+  if (!momentum_.x || pairs_.empty() || momentum_.pinned || filter_.anyConstrained() || pairs_.pressesCollider())
+    return;
+  const VecX& r = pcg_.residual();
+  const VecX& x = *momentum_.x;
+  const VecX& mass = *momentum_.mass;
+  using Sums = MomentumCorrection::Sums;  // M, sum m x, sum r, sum x x r, sum m x x^T (xx yy zz xy xz yz)
+  const Sums s = sumOverChunks(n_, parallel_, momentum_.sums, [&](int begin, int end) {
+    Sums sum = Sums::Zero();
+    for (int p = begin; p < end; ++p) {
+      if (filter_.kind(p) != ParticleFilter::Free) continue;
+      const double m = mass[p];
+      const Vec3 xp = particle(x, p), rp = particle(r, p);
+      sum[0] += m;
+      sum.segment<3>(1) += m * xp;
+      sum.segment<3>(4) += rp;
+      sum.segment<3>(7) += xp.cross(rp);
+      sum.segment<3>(10) += m * xp.cwiseProduct(xp);
+      sum[13] += m * xp.x() * xp.y();
+      sum[14] += m * xp.x() * xp.z();
+      sum[15] += m * xp.y() * xp.z();
+    }
+    return sum;
+  });
+  if (!(s[0] > 0)) return;
+  const Vec3 c = s.segment<3>(1) / s[0];
+  const Vec3 delta = s.segment<3>(4) / s[0];
+  const Vec3 torque = s.segment<3>(7) - c.cross(s.segment<3>(4));
+  Eigen::Matrix3d second;  // sum m (x - c)(x - c)^T
+  second << s[10], s[13], s[14], s[13], s[11], s[15], s[14], s[15], s[12];
+  second -= s[0] * c * c.transpose();
+  const Eigen::Matrix3d inertia = second.trace() * Eigen::Matrix3d::Identity() - second;
+  const Vec3 omega = inertia.completeOrthogonalDecomposition().solve(torque);  // 0 about a line of particles
+  forEachChunk(n_, parallel_, [&](int begin, int end) {
+    for (int p = begin; p < end; ++p)
+      if (filter_.kind(p) == ParticleFilter::Free) particle(y, p) += delta + omega.cross(particle(x, p) - c);
+  });
 }
 
 double BackwardEuler::residual(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v,

@@ -80,6 +80,18 @@ class BackwardEuler final : public Integrator {
   bool sameStep(double h) const { return std::abs(h - error_.history_h) <= 1e-9 * h; }
   // Solves S (A y - b) = 0 from y (its filtered-out part kept); absolute: the error rule's bound on |S r| (0: none).
   void solve(const VecX& b, VecX& y, double absolute = 0);
+  // A solve stopped at a tolerance leaves a residual r = S (b - A y) whose net force and torque are momentum made
+  // from nothing: the exact solve's internal forces (springs, dampers, the pairs' penalty and friction between bodies)
+  // are translation-invariant (A 1 = M 1) and, up to the h^2 geometric stiffness, rotation-invariant, and move none.
+  // Removed by the correction on the rigid modes: y_p += delta + omega x (x_p - c), M delta = sum r_p,
+  // I omega = sum (x_p - c) x r_p (M, c, I: the system's mass, centre of mass and inertia at the step's start), with
+  // P^T A P taken as M and I (Galerkin on the rigid modes: exact for the linear momentum, to the geometric stiffness's
+  // share for the angular). Where bodies touch in the solve (a step with contact pairs: its impulses are what a
+  // residual's net force turns into momentum; a body in flight leaves a net force of 1e-9 of its momentum) and no
+  // collider or pin acts (no particle held or constrained, no embedded point pressed on a collider): there momentum is
+  // the bodies' own to keep, and a shift of the free particles alone would stretch their springs to the held ones,
+  // which P^T A P = M does not see. docs/body-contact.md, "Momentum".
+  void keepMomentum(VecX& y);
   // r = S (M dv - h (Fs(x0 + h (v0 + dv), v0 + dv) + Fc)); returns max |M^-1 r|. Leaves the trial state in the
   // Newton scratch's x1, v1.
   double residual(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v, const VecX& dv,
@@ -134,6 +146,14 @@ class BackwardEuler final : public Integrator {
   struct NewtonScratch {
     VecX fs, fc, r, x1, v1, delta, trial, trial_r;
   };
+  // The rigid-mode correction's inputs (keepMomentum).
+  struct MomentumCorrection {
+    using Sums = Eigen::Matrix<double, 16, 1>;
+    const VecX* x = nullptr;  // the step's start positions
+    const VecX* mass = nullptr;
+    bool pinned = false;     // some particle has inverse mass 0
+    std::vector<Sums> sums;  // per chunk
+  };
 
   IntegratorOptions options_;
   PairBlockMatrix matrix_;
@@ -150,6 +170,7 @@ class BackwardEuler final : public Integrator {
   VecX end_x_, end_v_;  // the candidate step's end state, for impacts
   ErrorRule error_;
   NewtonScratch newton_;
+  MomentumCorrection momentum_;
 };
 
 }  // namespace wobble

@@ -44,6 +44,12 @@ class PenaltyPairs {
   // This step's pairs, in the order found: the searches append to it.
   std::vector<ContactPair>& list() { return pairs_; }
   bool empty() const { return pairs_.empty(); }
+  // Whether an active pair holds an embedded point against a collider (ContactPair::collider).
+  bool pressesCollider() const {
+    for (std::size_t k = 0; k < pairs_.size() && k < terms_.size(); ++k)
+      if (pairs_[k].collider && terms_[k].active) return true;
+    return false;
+  }
   std::size_t size() const { return pairs_.size(); }
 
   // Sets the terms of the pairs found since the last call and each pair's activity at the solved end x1 (first: the

@@ -53,12 +53,16 @@ struct IntegratorStats {
   double last_cg_residual = 0;      // backward-euler: achieved relative CG residual, the last step's worst solve
   double max_cg_residual = 0;       // backward-euler: the same, worst over all steps
   long error_rule_stops = 0;        // backward-euler: solves that stopped by cg_error_fraction before cg_tolerance
-  long pattern_setups = 0;          // backward-euler: matrices sized for a new Jacobian pattern (once per topology)
-  long impact_solves = 0;           // backward-euler: extra solves with impact constraints (contact_constraints.h)
-  long body_contact_solves = 0;     // backward-euler: extra solves with contact between bodies (ContactPair)
-  long body_contact_pairs = 0;      // backward-euler: pairs of surface elements in those solves, all steps
-  long exact_steps = 0;             // backward-euler without newton: steps whose linearized solve made up energy,
-                                    // solved exactly instead (ForceJacobian::energyMadeUp)
+  long tolerance_stops = 0;         // backward-euler: solves that reached cg_tolerance (or had nothing to solve)
+  long iteration_cap_stops = 0;     // backward-euler: solves stopped by cg_max_iterations above both bounds
+  double max_cg_residual_error_rule = 0;  // backward-euler: the worst relative residual of the error rule's stops
+  double max_cg_residual_cap = 0;         // backward-euler: ... of the iteration cap's
+  long pattern_setups = 0;       // backward-euler: matrices sized for a new Jacobian pattern (once per topology)
+  long impact_solves = 0;        // backward-euler: extra solves with impact constraints (contact_constraints.h)
+  long body_contact_solves = 0;  // backward-euler: extra solves with contact between bodies (ContactPair)
+  long body_contact_pairs = 0;   // backward-euler: pairs of surface elements in those solves, all steps
+  long exact_steps = 0;          // backward-euler without newton: steps whose linearized solve made up energy,
+                                 // solved exactly instead (ForceJacobian::energyMadeUp)
   // backward-euler, contact between bodies in the solve (run.json's body_contact, docs/body-contact.md):
   long linear_solves = 0;                   // linear solves, all steps and causes
   long body_contact_steps = 0;              // steps whose solve carried at least one pair

@@ -170,6 +170,7 @@ PcgResult FilteredPcg::solve(const PairBlockMatrix& a, const ParticleFilter& s, 
         if (set_up_coarse) coarse_.setUp(a, s, parallel);
       });
   if (b_norm2 == 0) {  // the free part's solution is 0
+    r_.setZero(b.size());
     forEachChunk(n, parallel, [&](int begin, int end) {
       for (int p = begin; p < end; ++p) particle(x, p) = s.removed(p, particle(x, p));
     });

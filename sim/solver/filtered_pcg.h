@@ -62,6 +62,9 @@ class FilteredPcg {
   PcgResult solve(const PairBlockMatrix& a, const ParticleFilter& s, const VecX& b, VecX& x, double tolerance,
                   int max_iterations, bool parallel, bool two_level, double absolute_tolerance = 0);
   const CoarseCorrection& coarse() const { return coarse_; }
+  // The last solve's residual S (b - A x) at its end (recomputed in double after float rounds; the recurrence's in
+  // double iterations), 0 where its filtered right-hand side was.
+  const VecX& residual() const { return r_; }
 
  private:
   // One precision's buffers: the direction c, the product q, the block-Jacobi inverse (6 values a particle: Sym3's
