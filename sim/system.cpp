@@ -1,6 +1,9 @@
 #include "sim/system.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
 #include <stdexcept>
 #include <tuple>
 
@@ -172,17 +175,28 @@ double MassSpringSystem::colliderWork(double t, double h, const VecX& x0, const 
                                       const VecX& v1) const {
   // Static colliders do no work: nothing to look up (the points' blends below cost as much as a force evaluation).
   if (std::all_of(colliders_.begin(), colliders_.end(), [](const auto& c) { return c->isStatic(); })) return 0;
-  // The surfaces' velocity, weighted by mass, at every particle that may have touched a collider during the step: at
-  // either end within epsilon plus the distance it moves relative to the surface in a step (an implicit step's impact
-  // leaves it bouncing above the surface at both ends). A static collider counts with velocity 0.
+  // Every particle that may have touched a collider during the step (at either end within epsilon plus the distance
+  // it moves relative to the surface in a step: an implicit step's impact leaves it bouncing above the surface at
+  // both ends) is given the velocity of the nearest surface it touched (a static one's is 0); an embedded point's
+  // particles, the velocity of the surface their point touched.
+  const int n = particleCount();
   thread_local std::vector<int> near;  // kept between calls: no allocation per step
-  double reach = 0;                    // the farthest a particle moves in the step
-  for (int i = 0; i < particleCount(); ++i)
-    reach = std::max(reach, h * std::max(particle(v0, i).norm(), particle(v1, i).norm()));
-  Vec3 weighted = Vec3::Zero();
-  double touching = 0;
+  thread_local std::vector<double> nearest;
+  thread_local std::vector<const Collider*> surface;
+  thread_local std::vector<int> touched;
+  nearest.assign(std::size_t(n), std::numeric_limits<double>::infinity());
+  surface.resize(std::size_t(n));
+  touched.clear();
+  double reach = 0;  // the farthest a particle moves in the step
+  for (int i = 0; i < n; ++i) reach = std::max(reach, h * std::max(particle(v0, i).norm(), particle(v1, i).norm()));
+  const auto claim = [&](int i, double distance, const Collider* c) {
+    if (inv_mass_[i] == 0 || !(distance < nearest[i])) return;
+    if (std::isinf(nearest[i])) touched.push_back(i);
+    nearest[i] = distance;
+    surface[i] = c;
+  };
   // The particles colliders meet, then the embedded points (those of the cells near the collider, contact.h's
-  // nearPoints), each with its mass.
+  // nearPoints), each claiming its particles.
   thread_local VecX point_x, point_v;  // the near points' positions and velocities
   thread_local CellBoxes cells0, cells1;
   cells0.clear();
@@ -191,33 +205,52 @@ double MassSpringSystem::colliderWork(double t, double h, const VecX& x0, const 
   for (const auto& collider : colliders_)
     for (const auto& [time, x, v, cells] : {End{t, &x0, &v0, &cells0}, End{t + h, &x1, &v1, &cells1}}) {
       const double epsilon = collider->contact().epsilon, margin = epsilon + 2 * reach;  // the surface moves too
-      const auto touch = [&](const Vec3& xi, const Vec3& vi, double m) {
-        const auto s = collider->query(time, xi);
-        if (!s || std::abs(s->distance) >= epsilon + h * (vi - s->velocity).norm()) return;
-        weighted += m * s->velocity;
-        touching += m;
+      const auto touch = [&](const Vec3& xi, const Vec3& vi) -> std::optional<SurfacePoint> {
+        auto s = collider->query(time, xi);
+        if (!s || std::abs(s->distance) >= epsilon + h * (vi - s->velocity).norm()) return std::nullopt;
+        return s;
       };
       collider->near(time, *x, margin, near);
       for (const int i : near)
-        if (collider_inv_mass_[i] != 0) touch(particle(*x, i), particle(*v, i), mass_[i]);
+        if (collider_inv_mass_[i] != 0)
+          if (const auto s = touch(particle(*x, i), particle(*v, i))) claim(i, std::abs(s->distance), collider.get());
       if (points_.empty()) continue;
       nearPoints(*collider, time, points_, *x, *cells, margin, near, point_x);
       points_.blendSome(*v, near, point_v);
       for (std::size_t j = 0; j < near.size(); ++j)
-        if (const double inverse = points_[near[j]].inverse_mass; inverse > 0)
-          touch(particle(point_x, Eigen::Index(j)), particle(point_v, Eigen::Index(j)), 1 / inverse);
+        if (points_[near[j]].inverse_mass > 0)
+          if (const auto s = touch(particle(point_x, Eigen::Index(j)), particle(point_v, Eigen::Index(j)))) {
+            const WeightedPoint& point = points_[near[j]];
+            for (int k = 0; k < 8; ++k)
+              if (point.weight[k] > 0) claim(point.particle[k], std::abs(s->distance), collider.get());
+          }
     }
-  if (touching == 0 || weighted == Vec3::Zero()) return 0;
-  // The contact impulse on all bodies: their momentum change less gravity's and drag's impulse (the springs between
-  // free particles cancel).
-  Vec3 impulse = Vec3::Zero();
-  for (int i = 0; i < particleCount(); ++i) {
-    if (inv_mass_[i] == 0) continue;
-    const Vec3 dv = particle(v1, i) - particle(v0, i);
-    const Vec3 mean_v = 0.5 * (particle(v0, i) + particle(v1, i));
-    impulse += mass_[i] * dv - h * (mass_[i] * gravity_ - drag_[i] * mean_v);
+  if (touched.empty()) return 0;
+  // Each touched particle's contact impulse: its momentum change less the step's impulse of the other forces (gravity,
+  // drag, its springs and dampers) at the step's midpoint, a second-order estimate for every integrator; its work,
+  // that impulse times the velocity of the surface it touched. Per particle, so that a body pressed between a moving
+  // and a static surface counts the moving one's push alone (the two impulses cancel in the bodies' sum).
+  thread_local std::vector<char> marked;
+  thread_local VecX mid_x, mid_v, spring_force;
+  marked.assign(std::size_t(n), 0);
+  for (const int i : touched) marked[std::size_t(i)] = 1;
+  mid_x = 0.5 * (x0 + x1);
+  mid_v = 0.5 * (v0 + v1);
+  spring_force.setZero(3 * n);
+  for (int k = 0; k < int(springs_.size()); ++k)
+    if (marked[std::size_t(springs_.a[k])] || marked[std::size_t(springs_.b[k])])
+      addSpringForces(springs_, k, k + 1, mid_x, mid_v, spring_force);
+  double work = 0;
+  for (const int i : touched) {
+    if (surface[i]->isStatic()) continue;
+    const Vec3 other = mass_[i] * gravity_ - drag_[i] * particle(mid_v, i) + particle(spring_force, i);
+    const Vec3 impulse = mass_[i] * (particle(v1, i) - particle(v0, i)) - h * other;
+    // The surface's velocity at the step's midpoint (an accelerating platform's changes within the step).
+    auto s = surface[i]->query(t + h / 2, particle(mid_x, i));
+    if (!s) s = surface[i]->query(t, particle(x0, i));
+    if (s) work += impulse.dot(s->velocity);
   }
-  return impulse.dot(weighted / touching);
+  return work;
 }
 
 double MassSpringSystem::energyMadeUp(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,

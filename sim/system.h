@@ -78,11 +78,10 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   void resolveCollisions(double t, VecX& x, VecX& v) const;
 
   // Work done on the bodies by moving colliders over a step from (x0, v0) at t to (x1, v1) at t + h (after contact
-  // resolution): the step's contact impulse on all bodies (their momentum change less gravity's and drag's impulse)
-  // times the surfaces' velocity, averaged over the particles within epsilon of a collider at either end (a static
-  // one counts as 0). Exact for one translating collider (the elevator, a moving sphere); an estimate when a moving
-  // and a static collider touch in the same step, or when pinned particles' springs pull. 0 when no moving surface
-  // is touched.
+  // resolution): over the particles within epsilon of a collider at either end (an embedded point's: its cell's
+  // particles), each one's contact impulse (its momentum change less the impulse of gravity, drag and its springs at
+  // the step's midpoint) times the velocity of the nearest surface it touched (a static one's is 0). A body pressed
+  // between a moving and a static surface counts the moving one's push. 0 when no moving surface is touched.
   double colliderWork(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1, const VecX& v1) const;
 
   // Kinetic + gravitational + elastic energy.
