@@ -16,27 +16,10 @@ the known mismatches:
   - Axes: wobble is Y up; everything is converted to Blender's Z up with the OBJ importer's own default mapping
     (forward -Z, up Y): (x, y, z) -> (x, -z, y), a rotation. The script checks that the imported vertices land there.
   - Camera: position / look_at / up, vertical field of view (sensor fit vertical), the exported resolution.
-  - Materials: coat 0 -> Diffuse BSDF (Lambert, roughness 0) of colour x texture. coat > 0 -> Diffuse weighted by
-    (1 - coat F) plus Glossy BSDF (GGX, not multiscatter) weighted by coat F, with F Schlick's Fresnel from the ior,
-    evaluated at n.wo (Layer Weight "Facing" = 1 - |n.wo|), and Glossy roughness sqrt(alpha) (Cycles squares it).
-    wobble's coat takes F at n.wo too (render/bsdf.h), so the two coats are the same model.
-    Gelatine (dielectric) -> Glass BSDF at the ior, mixed with the Diffuse print by its coverage, over Volume
-    Absorption and Scatter with wobble's coefficients (app/blender/cycles_nodes.py, which `wobble blend` uses too).
-    wobble's interfaces and scattering events do not count against its bounces (docs/materials.md); Cycles' get
-    their own budget here (64 transmission, 128 volume bounces, setup_render), as wobble's caps.
-  - Sun: a Sun light, strength = irradiance (max channel) times colour, angle = 2 x angular radius, invisible to
-    camera rays (wobble's camera rays see only the sky).
-  - Sky: world shader from the ray direction D: e = D.up; horizon + sqrt(max(e, 0)) (zenith - horizon)
-    + sqrt(clamp(-4 e, 0, 1)) (ground - horizon). An environment map (scene.json "environment") instead: the
-    Environment Texture of its file, Closest interpolation, turned by its rotation (cycles_nodes.environment), at
-    its strength; Cycles importance-samples it as wobble does (its "Sampling Method" Automatic map).
-  - Light paths: wobble's bounces count BSDF continuations; its last vertex takes sun light but no sky. Cycles'
-    max bounces B gives next-event estimation at vertices 0..B for every light including the world (and a last
-    BSDF ray from vertex B that only collects light). With --sky-bounces wobble (the default) the world shader is
-    zeroed where it would light vertex B (Light Path "Ray Depth" minus "Transmission Depth" >= B + 2, see
-    make_world), so both renderers compute the same light transport: sun light at vertices 0..B, sky light at
-    vertices 0..B-1, refractions through gelatine not counted as vertices. Reflections off gelatine still count in
-    Cycles' depth (they are glossy bounces there, inseparable from a coat's), not in wobble's.
+  - Materials, the sun, the sky (or the environment map), wobble's light paths (with --sky-bounces wobble, the
+    default, the world lights no path's last vertex, as wobble's sky) and the integrator's settings:
+    app/blender/cycles_nodes.py, which `wobble blend` uses too, so the comparison measures the .blend's model.
+    Cycles' "Sampling Method" Automatic importance-samples the world as wobble does.
 """
 import argparse
 import json
@@ -46,9 +29,9 @@ import sys
 import time
 
 import bpy
-from mathutils import Matrix, Vector
+from mathutils import Matrix
 
-# The gelatine and environment node setups, shared with `wobble blend` (app/blender/cycles_nodes.py).
+# The materials, sky, sun and light paths, shared with `wobble blend` (app/blender/cycles_nodes.py).
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "app", "blender"))
 import cycles_nodes  # noqa: E402
 
@@ -83,9 +66,7 @@ def parse_args():
     return a
 
 
-def to_blender(v):
-    """wobble (Y up) -> Blender (Z up), the OBJ importer's default axis conversion (forward -Z, up Y)."""
-    return Vector((v[0], -v[2], v[1]))
+to_blender = cycles_nodes.to_blender  # wobble (Y up) -> Blender (Z up), as the OBJ importer
 
 
 def reset_scene():
@@ -109,175 +90,14 @@ def load_json(frame_dir):
 
 
 def make_material(m, frame_dir):
-    mat = bpy.data.materials.new(m["name"])
-    mat.use_nodes = True
-    nt = mat.node_tree
-    nodes, links = nt.nodes, nt.links
-    nodes.clear()
-    out = nodes.new("ShaderNodeOutputMaterial")
-    out.target = "CYCLES"
-    color = tuple(m["color"]) + (1.0,)
-
-    # Base colour: colour x texture (the texture is baked sRGB over UV [0, 1]^2, repeated like wobble's UVs).
-    base_socket = None
-    if m.get("texture"):
-        path = os.path.join(frame_dir, m["texture"])
+    def load_image(texture):  # baked sRGB over UV [0, 1]^2, repeated like wobble's UVs
+        path = os.path.join(frame_dir, texture)
         try:
-            image = bpy.data.images.load(path, check_existing=True)
+            return bpy.data.images.load(path, check_existing=True)
         except RuntimeError:
             fail("%s: cannot load the texture image" % path)
-        image.colorspace_settings.name = "sRGB"
-        tex = nodes.new("ShaderNodeTexImage")
-        tex.image = image
-        tex.interpolation = "Linear"
-        tex.extension = "REPEAT"
-        uv = nodes.new("ShaderNodeTexCoord")
-        links.new(uv.outputs["UV"], tex.inputs["Vector"])
-        mul = nodes.new("ShaderNodeMixRGB")
-        mul.blend_type = "MULTIPLY"
-        mul.inputs["Fac"].default_value = 1.0
-        mul.inputs["Color1"].default_value = color
-        links.new(tex.outputs["Color"], mul.inputs["Color2"])
-        base_socket = mul.outputs["Color"]
 
-    if m.get("dielectric"):  # sigma_a and sigma_s per metre in scene.json
-        g = {k: m[k] for k in ("ior", "roughness", "scatter_albedo", "print")}
-        g.update(sigma_a=m["absorption"], sigma_s=float(m["scatter"]))
-        cycles_nodes.gelatine(nodes, links, out, g, base_socket or color)
-        return mat
-    diffuse = nodes.new("ShaderNodeBsdfDiffuse")
-    diffuse.inputs["Roughness"].default_value = 0.0  # Lambert
-    coat = float(m.get("coat", 0.0))
-    if coat <= 0:
-        if base_socket:
-            links.new(base_socket, diffuse.inputs["Color"])
-        else:
-            diffuse.inputs["Color"].default_value = color
-        links.new(diffuse.outputs["BSDF"], out.inputs["Surface"])
-        return mat
-
-    # Schlick's Fresnel at n.wo: F = f0 + (1 - f0) (1 - |n.wo|)^5; Layer Weight's Facing (blend 0.5) is 1 - |n.wo|.
-    ior = float(m["ior"])
-    f0 = ((ior - 1.0) / (ior + 1.0)) ** 2
-    lw = nodes.new("ShaderNodeLayerWeight")
-    lw.inputs["Blend"].default_value = 0.5
-    pw = nodes.new("ShaderNodeMath")
-    pw.operation = "POWER"
-    links.new(lw.outputs["Facing"], pw.inputs[0])
-    pw.inputs[1].default_value = 5.0
-    fres = nodes.new("ShaderNodeMath")  # coat F = coat f0 + coat (1 - f0) m^5
-    fres.operation = "MULTIPLY_ADD"
-    links.new(pw.outputs[0], fres.inputs[0])
-    fres.inputs[1].default_value = coat * (1.0 - f0)
-    fres.inputs[2].default_value = coat * f0
-    one_minus = nodes.new("ShaderNodeMath")
-    one_minus.operation = "SUBTRACT"
-    one_minus.inputs[0].default_value = 1.0
-    links.new(fres.outputs[0], one_minus.inputs[1])
-
-    # Diffuse colour = base x (1 - coat F).
-    dcol = nodes.new("ShaderNodeMixRGB")
-    dcol.blend_type = "MULTIPLY"
-    dcol.inputs["Fac"].default_value = 1.0
-    if base_socket:
-        links.new(base_socket, dcol.inputs["Color1"])
-    else:
-        dcol.inputs["Color1"].default_value = color
-    links.new(one_minus.outputs[0], dcol.inputs["Color2"])
-    links.new(dcol.outputs["Color"], diffuse.inputs["Color"])
-
-    glossy = nodes.new("ShaderNodeBsdfGlossy")
-    glossy.distribution = "GGX"
-    # Cycles' GGX alpha is roughness^2; wobble's roughness is alpha itself.
-    glossy.inputs["Roughness"].default_value = math.sqrt(max(float(m["roughness"]), 1e-3))
-    links.new(fres.outputs[0], glossy.inputs["Color"])
-
-    add = nodes.new("ShaderNodeAddShader")
-    links.new(diffuse.outputs["BSDF"], add.inputs[0])
-    links.new(glossy.outputs["BSDF"], add.inputs[1])
-    links.new(add.outputs["Shader"], out.inputs["Surface"])
-    return mat
-
-
-# ---------------------------------------------------------------------------------------------- sky
-
-
-def make_world(scene, sky, environment, bounces, sky_bounces):
-    world = bpy.data.worlds.new("wobble_sky")
-    scene.world = world
-    world.use_nodes = True
-    nodes, links = world.node_tree.nodes, world.node_tree.links
-    nodes.clear()
-    out = nodes.new("ShaderNodeOutputWorld")
-    out.target = "CYCLES"
-    bg = nodes.new("ShaderNodeBackground")
-    bg.inputs["Strength"].default_value = 1.0
-    links.new(bg.outputs["Background"], out.inputs["Surface"])
-
-    def vec_node(v):
-        n = nodes.new("ShaderNodeCombineXYZ")
-        for k in range(3):
-            n.inputs[k].default_value = float(v[k])
-        return n.outputs[0]
-
-    def connect(n, inputs):  # each input a socket to link from, a value to set, or None to leave
-        for k, s in enumerate(inputs):
-            if s is None:
-                continue
-            if isinstance(s, bpy.types.NodeSocket):
-                links.new(s, n.inputs[k])
-            else:
-                n.inputs[k].default_value = s
-
-    def vmath(op, a, b=None, scale=None):
-        n = nodes.new("ShaderNodeVectorMath")
-        n.operation = op
-        connect(n, (a, b))
-        if scale is not None:
-            if isinstance(scale, bpy.types.NodeSocket):
-                links.new(scale, n.inputs["Scale"])
-            else:
-                n.inputs["Scale"].default_value = scale
-        return n.outputs["Value"] if op == "DOT_PRODUCT" else n.outputs["Vector"]
-
-    def math_node(op, a, b=None, clamp=False):
-        n = nodes.new("ShaderNodeMath")
-        n.operation = op
-        n.use_clamp = clamp
-        connect(n, (a, b))
-        return n.outputs[0]
-
-    if environment:
-        bg.inputs["Strength"].default_value = float(environment["strength"])
-        colour = cycles_nodes.environment(nodes, links, environment)
-    else:
-        colour = sky_colour(nodes, links, sky, vmath, math_node)
-
-    if sky_bounces == "wobble":
-        # wobble's last vertex (bounce == max bounces) takes no sky light. Cycles' Light Path "Ray Depth" reads
-        # k + 2 when the world lights vertex k, whether by light sampling or by a BSDF ray escaping from it (and 1
-        # for camera rays): measured, rendering B = 2 with the world cut at depth >= 4 gives B = 1's image exactly.
-        # So the world is cut from depth B + 2 on. Refractions through gelatine do not count against wobble's
-        # bounces: Cycles' Transmission Depth (its refractions) comes off the Ray Depth.
-        lp = nodes.new("ShaderNodeLightPath")
-        depth = math_node("SUBTRACT", lp.outputs["Ray Depth"], lp.outputs["Transmission Depth"])
-        keep = math_node("LESS_THAN", depth, bounces + 1.5)
-        colour = vmath("SCALE", colour, scale=keep)
-    links.new(colour, bg.inputs["Color"])
-    return world
-
-
-def sky_colour(nodes, links, sky, vmath, math_node):
-    """wobble's elevation gradient (render/lights.h) as world nodes: the colour socket."""
-    coord = nodes.new("ShaderNodeTexCoord")  # in the world, Generated is the ray direction (unit)
-    up = to_blender(sky["up"]).normalized()
-    e = vmath("DOT_PRODUCT", coord.outputs["Generated"], tuple(up))
-    pos = math_node("SQRT", math_node("MAXIMUM", e, 0.0))
-    neg = math_node("SQRT", math_node("MULTIPLY", e, -4.0, clamp=True))  # clamp: min(1, max(0, -4 e))
-    zenith, horizon, ground = (Vector(sky[k]) for k in ("zenith", "horizon", "ground"))
-    up_part = vmath("SCALE", tuple(zenith - horizon), scale=pos)
-    down_part = vmath("SCALE", tuple(ground - horizon), scale=neg)
-    return vmath("ADD", vmath("ADD", up_part, down_part), tuple(horizon))
+    return cycles_nodes.material(m, load_image)
 
 
 # ---------------------------------------------------------------------------------------------- scene
@@ -337,23 +157,6 @@ def setup_camera(scene, cam):
     scene.render.pixel_aspect_x = scene.render.pixel_aspect_y = 1.0
 
 
-def add_sun(scene, i, sun):
-    data = bpy.data.lights.new("sun_%d" % i, type="SUN")
-    irr = [float(c) for c in sun["irradiance"]]
-    peak = max(irr)
-    data.energy = peak  # Blender's sun strength is irradiance in W/m^2
-    data.color = [c / peak for c in irr] if peak > 0 else (1.0, 1.0, 1.0)
-    data.angle = math.radians(2.0 * float(sun["angular_radius_deg"]))
-    data.cycles.cast_shadow = True
-    data.cycles.use_multiple_importance_sampling = True
-    obj = bpy.data.objects.new("sun_%d" % i, data)
-    scene.collection.objects.link(obj)
-    # The light shines along its local -Z: local +Z points towards the sun.
-    obj.rotation_mode = "QUATERNION"
-    obj.rotation_quaternion = to_blender(sun["direction"]).normalized().to_track_quat("Z", "Y")
-    obj.visible_camera = False  # wobble's camera rays do not see suns
-
-
 def add_area_light(scene, i, light):
     """A one-sided emitting rectangle, invisible to camera and shadow rays (wobble's RectLight is no geometry)."""
     corner, eu, ev = (to_blender(light[k]) for k in ("corner", "edge_u", "edge_v"))
@@ -392,26 +195,8 @@ def setup_render(scene, a):
     c.use_preview_denoising = False
     c.seed = a.seed
     c.use_animated_seed = False
-    c.max_bounces = a.bounces
-    c.diffuse_bounces = a.bounces
-    c.glossy_bounces = a.bounces
-    c.transmission_bounces = 0
-    c.volume_bounces = 0
-    c.transparent_max_bounces = 0
-    if a.dielectric:  # gelatine: wobble's 64 interfaces and 128 scattering events on top of its bounces
-        c.max_bounces = a.bounces + 64
-        c.transmission_bounces = 64
-        c.volume_bounces = 128
-    c.caustics_reflective = True  # wobble has no caustics filter: diffuse-then-glossy paths are kept
-    c.caustics_refractive = bool(a.dielectric)  # through gelatine, both renderers follow the refracted paths
-    c.blur_glossy = 0.0
-    c.sample_clamp_direct = 0.0
-    c.sample_clamp_indirect = 0.0  # Cycles' default clamps indirect light at 10: biased; wobble does not clamp
-    c.light_sampling_threshold = 0.0
-    c.filter_type = "BOX"  # wobble's pixel filter is a 1-pixel box
-    c.filter_width = 1.0
+    cycles_nodes.light_paths(scene, a.bounces, a.dielectric)
     c.use_auto_tile = False
-    c.film_exposure = 1.0
     scene.render.film_transparent = False
     scene.render.threads_mode = "FIXED" if a.threads > 0 else "AUTO"
     if a.threads > 0:
@@ -506,10 +291,10 @@ def main():
             for poly in obj.data.polygons:
                 poly.material_index = 0
         for i, sun in enumerate(j["suns"]):
-            add_sun(scene, i, sun)
+            cycles_nodes.sun(scene, "sun_%d" % i, sun)
         for i, light in enumerate(j.get("area_lights", [])):
             add_area_light(scene, i, light)
-        make_world(scene, j["sky"], j.get("environment"), a.bounces, a.sky_bounces)
+        cycles_nodes.world(scene, j["sky"], j.get("environment"), a.bounces if a.sky_bounces == "wobble" else None)
     except (KeyError, IndexError, TypeError, ValueError) as e:
         fail("%s/scene.json: unexpected content (%s: %s)" % (frame_dir, type(e).__name__, e))
     if a.blend:

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include <tbb/parallel_for.h>
 #include <nlohmann/json.hpp>
 
 #include "image/png_io.h"
@@ -14,19 +15,27 @@ namespace {
 
 nlohmann::json vec(const Eigen::Vector3f& v) { return {v.x(), v.y(), v.z()}; }
 
-void bakeTexture(const Texture& texture, const std::filesystem::path& file) {
-  constexpr int kSize = 1024;
-  image::Image8 image(kSize, kSize, 3);
-  for (int y = 0; y < kSize; ++y)
-    for (int x = 0; x < kSize; ++x) {
-      // Row 0 is the top of the image, v = 1 (OBJ convention, as ImageTexture reads it).
-      const Color c = texture.eval({(x + 0.5f) / kSize, 1.0f - (y + 0.5f) / kSize});
-      for (int k = 0; k < 3; ++k) image.at(x, y, k) = linearToSrgb8(c[k]);
-    }
-  image::writePng(file, image);
-}
-
 }  // namespace
+
+image::Image8 bakeTexture(const Texture& texture, int size) { return bakeTexture(texture, {0, 0}, {1, 1}, size, size); }
+
+image::Image8 bakeTexture(const Texture& texture, const Eigen::Vector2f& lo, const Eigen::Vector2f& hi, int width,
+                          int height) {
+  image::Image8 baked(width, height, 3);
+  const Eigen::Vector2f texel((hi.x() - lo.x()) / float(width), (hi.y() - lo.y()) / float(height));
+  TextureFootprint footprint;  // each texel the texture's mean over it (texture.h: closed form, or a grid of lookups)
+  footprint.duvdx = {texel.x(), 0};
+  footprint.duvdy = {0, texel.y()};
+  tbb::parallel_for(0, height, [&](int y) {
+    for (int x = 0; x < width; ++x) {
+      // Row 0 is the top of the image, v = hi (OBJ convention, as ImageTexture reads it).
+      const Eigen::Vector2f uv(lo.x() + (float(x) + 0.5f) * texel.x(), hi.y() - (float(y) + 0.5f) * texel.y());
+      const Color c = texture.evalFootprint(uv, footprint);
+      for (int k = 0; k < 3; ++k) baked.at(x, y, k) = linearToSrgb8(c[k]);
+    }
+  });
+  return baked;
+}
 
 void exportScene(const Scene& scene, const Camera& camera, const std::filesystem::path& dir) {
   std::filesystem::create_directories(dir);
@@ -70,7 +79,7 @@ void exportScene(const Scene& scene, const Camera& camera, const std::filesystem
                     {"print", mat.print}});
     if (mat.texture) {
       const std::string file = "texture_" + std::to_string(m) + ".png";
-      bakeTexture(*mat.texture, dir / file);
+      image::writePng(dir / file, bakeTexture(*mat.texture));
       entry["texture"] = file;
     }
     j["materials"].push_back(entry);

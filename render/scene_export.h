@@ -12,11 +12,21 @@
 #pragma once
 #include <filesystem>
 
+#include "image/image.h"
 #include "render/camera.h"
 #include "render/scene.h"
 
 namespace wobble::render {
 
 void exportScene(const Scene& scene, const Camera& camera, const std::filesystem::path& dir);
+
+// A texture over one tile of UV, [0, 1]^2, as an sRGB image of size x size (row 0 at v = 1): what Blender's image
+// texture reads where wobble evaluates a procedural one (the Cycles comparison).
+image::Image8 bakeTexture(const Texture& texture, int size = 1024);
+// The texture over the UV rectangle [lo, hi] as an sRGB image of width x height (row 0 at v = hi), each texel the
+// texture's mean over its patch (evalFootprint): `wobble blend` bakes a collider's whole UV range, as wood is not
+// periodic (each board its own tone and grain).
+image::Image8 bakeTexture(const Texture& texture, const Eigen::Vector2f& lo, const Eigen::Vector2f& hi, int width,
+                          int height);
 
 }  // namespace wobble::render

@@ -2,16 +2,18 @@
 
     blender -b --factory-startup --python-exit-code 1 --python make_blend.py -- MANIFEST.json OUT.blend
 
-MANIFEST.json (written by app/blend_command.cpp; wobble's Y-up coordinates, metres; paths relative to the run's
-folder, where the .blend is saved) lists the frame range and rate, the bodies (base OBJ, PC2 point cache, colour,
-texture, material), the colliders (plane, sphere, box, mesh; moving ones with a centre per frame), the camera (one view, or
-one per frame for a follow camera; the shutter) and the sun, or the environment map that replaces the sun and the sky
-(its file an absolute path). Each body becomes one object: its base OBJ, imported with Blender's
+MANIFEST.json (written by app/commands/blend_command.cpp; wobble's Y-up coordinates, metres; file paths relative to
+the run's folder, where the .blend is saved) lists the frame range and rate, wobble's render materials (colour,
+coat, texture, gelatine), the bodies (base OBJ, PC2 point cache, material), the colliders as wobble draws them (a
+sphere, or triangles with UVs around the drawn centre; a centre per frame for a moving one), the camera (one view,
+or one per frame for a follow camera; the lens and shutter), the suns and the sky, or the environment map that
+replaces them, the bounces and the exposure. Each body becomes one object: its base OBJ, imported with Blender's
 default OBJ axes (forward -Z, up Y, which map wobble's (x, y, z) to Blender's (x, -z, y) by the object's rotation),
-with a Mesh Cache modifier playing its PC2 (whose points are the OBJ's vertices in order) and one material. Moving
-colliders and the follow camera are baked as keyframes, one per frame, linear. Paths in the .blend are relative to
-it, so the run's folder can be moved as a whole. Gelatine and the environment map come from cycles_nodes.py (written
-beside this script by `wobble blend`; bench/cycles_scene.py uses it too).
+smooth shaded from its moving vertices, with a Mesh Cache modifier playing its PC2 (whose points are the OBJ's
+vertices in order). Moving colliders and the follow camera are baked as keyframes, one per frame, linear. The
+materials, world, sun, light paths and tone curve come from cycles_nodes.py (written beside this script by `wobble
+blend`; bench/cycles_scene.py uses it too), so Cycles renders the picture wobble renders. Paths in the .blend are
+relative to it, so the run's folder can be moved as a whole; with "pack", the images are packed into it.
 """
 import json
 import math
@@ -20,7 +22,7 @@ import struct
 import sys
 
 import bpy
-from mathutils import Matrix, Vector
+from mathutils import Matrix
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import cycles_nodes  # noqa: E402  (found beside this script)
@@ -33,9 +35,7 @@ def fail(message):
     os._exit(1)
 
 
-def to_blender(v):
-    """wobble (Y up) -> Blender (Z up): the OBJ importer's default mapping, (x, y, z) -> (x, -z, y)."""
-    return Vector((v[0], -v[2], v[1]))
+to_blender = cycles_nodes.to_blender  # wobble (Y up) -> Blender (Z up), as the OBJ importer maps it
 
 
 def pc2_points(path):
@@ -46,72 +46,7 @@ def pc2_points(path):
     return struct.unpack("<i", header[16:20])[0]
 
 
-def principled(name, color, roughness, glossy=False):
-    """A Principled BSDF material of the given colour; a jelly gets a clear coat."""
-    mat = bpy.data.materials.new(name)
-    mat.use_nodes = True
-    bsdf = mat.node_tree.nodes["Principled BSDF"]
-    bsdf.inputs["Roughness"].default_value = roughness
-    bsdf.inputs["Base Color"].default_value = tuple(color) + (1.0,)
-    if glossy:
-        bsdf.inputs["Clearcoat"].default_value = 1.0
-        bsdf.inputs["Clearcoat Roughness"].default_value = 0.05
-    return mat, bsdf
-
-
-def tinted(mat, color, texture):
-    """Colour x texture, as wobble's renderer (and the MTL's Kd with map_Kd): the socket of the product."""
-    mul = mat.node_tree.nodes.new("ShaderNodeMixRGB")
-    mul.blend_type = "MULTIPLY"
-    mul.inputs["Fac"].default_value = 1.0
-    mul.inputs["Color1"].default_value = tuple(color) + (1.0,)
-    mat.node_tree.links.new(texture, mul.inputs["Color2"])
-    return mul.outputs["Color"]
-
-
-def tint(mat, bsdf, color, texture):
-    """Base colour = colour x texture."""
-    mat.node_tree.links.new(tinted(mat, color, texture), bsdf.inputs["Base Color"])
-
-
-def gelatine_material(b):
-    """wobble's gelatine (docs/materials.md) in Cycles (cycles_nodes.gelatine): glass at the body's IOR and
-    roughness, the print (colour x texture) mixed in by its coverage, and a volume with wobble's coefficients: sigma_a
-    from the colour seen through absorption_depth, sigma_s = 1 / scatter (the mean free path)."""
-    g = b["gelatine"]
-    mat = bpy.data.materials.new(b["name"])
-    mat.use_nodes = True
-    nodes = mat.node_tree.nodes
-    nodes.remove(nodes["Principled BSDF"])
-    print_color = tuple(b["color"]) + (1.0,)
-    if b["texture"]:
-        tex = nodes.new("ShaderNodeTexImage")
-        tex.image = bpy.data.images.load("//" + b["texture"], check_existing=True)
-        print_color = tinted(mat, b["color"], tex.outputs["Color"])
-    cycles_nodes.gelatine(nodes, mat.node_tree.links, nodes["Material Output"], {
-        "ior": g["ior"],
-        "roughness": g["roughness"],
-        "sigma_a": [-math.log(max(c, 1e-6)) / g["absorption_depth"] for c in g["absorption_color"]],
-        "sigma_s": 1.0 / g["scatter"] if g["scatter"] > 0 else 0.0,
-        "scatter_albedo": g["scatter_albedo"],
-        "print": g["print"],
-    }, print_color)
-    return mat
-
-
-def body_material(b):
-    if b["material"] == "gelatine":
-        return gelatine_material(b)
-    jelly = b["material"] == "jelly"
-    mat, bsdf = principled(b["name"], b["color"], 0.4 if jelly else 0.9, glossy=jelly)
-    if b["texture"]:
-        tex = mat.node_tree.nodes.new("ShaderNodeTexImage")
-        tex.image = bpy.data.images.load("//" + b["texture"], check_existing=True)
-        tint(mat, bsdf, b["color"], tex.outputs["Color"])
-    return mat
-
-
-def add_body(b, out_dir, first_frame):
+def add_body(b, material, out_dir, first_frame):
     before = set(bpy.data.objects)
     bpy.ops.wm.obj_import(filepath=os.path.join(out_dir, b["obj"]), forward_axis="NEGATIVE_Z", up_axis="Y")
     new = [o for o in bpy.data.objects if o not in before]
@@ -126,7 +61,11 @@ def add_body(b, out_dir, first_frame):
     obj.data.materials.clear()
     for m in imported:
         bpy.data.materials.remove(m)
-    obj.data.materials.append(body_material(b))
+    obj.data.materials.append(material)
+    # Normals from the moving vertices (as wobble's surface), not the base OBJ's custom normals frozen at rest.
+    obj.data.use_auto_smooth = False
+    for poly in obj.data.polygons:
+        poly.use_smooth = True
     cache = obj.modifiers.new("wobble point cache", "MESH_CACHE")
     cache.cache_format = "PC2"
     cache.filepath = "//" + b["pc2"]
@@ -142,72 +81,48 @@ def link(name, data):
     return obj
 
 
-def collider_material(c):
-    """Colour x the procedural texture over the UVs (a tile per unit): grey checks, or wooden planks."""
-    mat, bsdf = principled(c["name"], c["color"], 0.8)
-    kind = c.get("texture", "none")
-    if kind == "none":
-        return mat
-    nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    uv = nodes.new("ShaderNodeTexCoord").outputs["UV"]
-    if kind == "checker":  # two squares per tile, as wobble's renderer
-        tex = nodes.new("ShaderNodeTexChecker")
-        tex.inputs["Scale"].default_value = 2.0
-        tex.inputs["Color1"].default_value = (0.75, 0.75, 0.72, 1.0)
-        tex.inputs["Color2"].default_value = (0.3, 0.3, 0.3, 1.0)
-        links.new(uv, tex.inputs["Vector"])
-        color = tex.outputs["Color"]
-    else:  # wood: four planks per tile, with a grain
-        wave = nodes.new("ShaderNodeTexWave")
-        wave.wave_type = "BANDS"
-        wave.bands_direction = "X"
-        wave.inputs["Scale"].default_value = 4.0
-        wave.inputs["Distortion"].default_value = 2.0
-        links.new(uv, wave.inputs["Vector"])
-        ramp = nodes.new("ShaderNodeValToRGB")
-        ramp.color_ramp.elements[0].color = (0.33, 0.17, 0.07, 1.0)
-        ramp.color_ramp.elements[1].color = (0.6, 0.36, 0.17, 1.0)
-        links.new(wave.outputs["Fac"], ramp.inputs["Fac"])
-        color = ramp.outputs["Color"]
-    tint(mat, bsdf, c["color"], color)
-    return mat
+def sphere_uvs(mesh):
+    """wobble's sphere UVs (render/scene.cpp): for the direction d from the centre, in wobble's axes, u = 1/2 +
+    atan2(d.x, d.z) / 2 pi, v = 1/2 + asin(d.y) / pi. Per face corner; a face across the seam takes its corners' u
+    past 1 (the texture repeats), and a pole takes the u of its face's centre."""
+    uv = mesh.uv_layers.active or mesh.uv_layers.new()
+    for poly in mesh.polygons:
+        corners = []
+        for li in poly.loop_indices:
+            b = mesh.vertices[mesh.loops[li].vertex_index].co.normalized()
+            x, y, z = b.x, b.z, -b.y  # Blender (x, y, z) is wobble's (x, -z, y)
+            pole = math.hypot(x, z) < 1e-6
+            corners.append((li, None if pole else 0.5 + math.atan2(x, z) / (2 * math.pi),
+                            0.5 + math.asin(max(-1.0, min(1.0, y))) / math.pi))
+        us = [u for _, u, _ in corners if u is not None]
+        if max(us) - min(us) > 0.5:
+            us = [u + 1.0 if u < 0.5 else u for u in us]
+            corners = [(li, None if u is None else (u + 1.0 if u < 0.5 else u), v) for li, u, v in corners]
+        middle = sum(us) / len(us)
+        for li, u, v in corners:
+            uv.data[li].uv = (middle if u is None else u, v)
 
 
-def add_plane(c):
-    n = to_blender(c["normal"]).normalized()
-    u = n.orthogonal().normalized()
-    v = n.cross(u)
-    p, h = to_blender(c["point"]), c["size"] / 2.0
-    corners = [p + (su * u + sv * v) * h for su, sv in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
-    mesh = bpy.data.meshes.new(c["name"])
-    mesh.from_pydata(corners, [], [(0, 1, 2, 3)])
-    tiles = c["size"] / c["texture_scale"]
-    uv = mesh.uv_layers.new()
-    for loop, (a, b) in zip(uv.data, ((0, 0), (tiles, 0), (tiles, tiles), (0, tiles))):
-        loop.uv = (a, b)
-    return link(c["name"], mesh)
-
-
-def add_moving(c):
+def add_collider(c):
+    """A sphere, or wobble's own triangles with their UVs (flat shaded, as wobble draws colliders) taken to [0, 1]
+    over uv_rect, the rectangle its texture is baked over; around the drawn centre, the object at its first centre."""
     if c["type"] == "sphere":
-        bpy.ops.mesh.primitive_uv_sphere_add(segments=64, ring_count=32, radius=c["radius"])
+        bpy.ops.mesh.primitive_uv_sphere_add(segments=128, ring_count=64, radius=c["radius"])
         obj = bpy.context.active_object
         bpy.ops.object.shade_smooth()
-    elif c["type"] == "mesh":  # points where they start; `centers` are the offsets from there
+        obj.name = obj.data.name = c["name"]
+        sphere_uvs(obj.data)
+    else:
         mesh = bpy.data.meshes.new(c["name"])
         mesh.from_pydata([to_blender(p) for p in c["points"]], [], [tuple(t) for t in c["triangles"]])
-        uv = mesh.uv_layers.new()  # the x-z floor plan in metres, as wobble's renderer
-        for poly in mesh.polygons:
-            for li in poly.loop_indices:
-                co = mesh.vertices[mesh.loops[li].vertex_index].co
-                uv.data[li].uv = (co.x, -co.y)
+        if c["uv"]:  # over the rectangle its texture is baked on
+            u0, v0, u1, v1 = c["uv_rect"]
+            su, sv = 1.0 / max(u1 - u0, 1e-12), 1.0 / max(v1 - v0, 1e-12)
+            uv = mesh.uv_layers.new()
+            for loop in mesh.loops:
+                u, v = c["uv"][loop.vertex_index]
+                uv.data[loop.index].uv = ((u - u0) * su, (v - v0) * sv)
         obj = link(c["name"], mesh)
-    else:
-        bpy.ops.mesh.primitive_cube_add(size=1.0)
-        obj = bpy.context.active_object
-        sx, sy, sz = c["size"]
-        obj.scale = (sx, sz, sy)  # wobble's y (thickness) is Blender's z
-    obj.name = obj.data.name = c["name"]
     centers = [to_blender(p) for p in c["centers"]]
     obj.location = centers[0]
     return obj, centers
@@ -268,29 +183,6 @@ def add_camera(cam, first_frame):
     return obj
 
 
-def add_sun(sun):
-    data = bpy.data.lights.new("sun", type="SUN")
-    data.energy = 4.0
-    data.angle = math.radians(sun["angle_deg"])
-    obj = link("sun", data)
-    obj.rotation_mode = "QUATERNION"
-    obj.rotation_quaternion = to_blender(sun["direction"]).normalized().to_track_quat("Z", "Y")  # shines along -Z
-
-
-def add_sky(env):
-    """A sky colour, or the environment map (cycles_nodes.environment) at its strength."""
-    world = bpy.data.worlds.new("environment" if env else "sky")
-    world.use_nodes = True
-    background = world.node_tree.nodes["Background"]
-    background.inputs["Color"].default_value = (0.45, 0.6, 0.9, 1.0)
-    background.inputs["Strength"].default_value = 1.0
-    if env:
-        color = cycles_nodes.environment(world.node_tree.nodes, world.node_tree.links, env)
-        world.node_tree.links.new(color, background.inputs["Color"])
-        background.inputs["Strength"].default_value = env["strength"]
-    bpy.context.scene.world = world
-
-
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:]
     if len(argv) != 2:
@@ -312,7 +204,9 @@ def main():
     scene.render.resolution_x, scene.render.resolution_y = m["resolution"]
     scene.render.resolution_percentage = 100
     scene.render.engine = "CYCLES"
-    scene.cycles.samples = 64
+    scene.render.film_transparent = False
+    scene.cycles.samples = 128  # adaptive (Cycles' default threshold): raise for a converged still
+    scene.cycles.use_animated_seed = True  # a video's noise changes frame to frame instead of sticking to the picture
     # Debian's Blender is built without Open Image Denoise: Cycles' default denoising would make every render fail.
     scene.cycles.use_denoising = False
     # Motion blur (camera.shutter): open for that fraction of a frame, closing at the frame (wobble's shutter ends at
@@ -323,21 +217,25 @@ def main():
         scene.render.motion_blur_shutter = shutter
         scene.cycles.motion_blur_position = "END"
 
+    def load_image(path):  # relative to OUT, where the .blend already lies
+        return bpy.data.images.load("//" + path, check_existing=True)
+
+    materials = [cycles_nodes.material(mat, load_image) for mat in m["materials"]]
     for b in m["bodies"]:
-        add_body(b, out_dir, m["frame_start"])
+        add_body(b, materials[b["material"]], out_dir, m["frame_start"])
     for c in m["colliders"]:
-        if c["type"] == "plane":
-            obj = add_plane(c)
-        else:
-            obj, centers = add_moving(c)
-            if any((p - centers[0]).length > 0 for p in centers):
-                bake(obj, {"location": centers}, m["frame_start"])
-        obj.data.materials.append(collider_material(c))
+        obj, centers = add_collider(c)
+        if any((p - centers[0]).length > 0 for p in centers):
+            bake(obj, {"location": centers}, m["frame_start"])
+        obj.data.materials.append(materials[c["material"]])
     add_camera(m["camera"], m["frame_start"])
-    env = m.get("environment")
-    if not env:  # an environment map holds its own sun
-        add_sun(m["sun"])
-    add_sky(env)
+    for i, sun in enumerate(m["suns"]):  # none with an environment map: it holds its own sun
+        cycles_nodes.sun(scene, "sun" if i == 0 else "sun.%d" % i, sun)
+    cycles_nodes.world(scene, m["sky"], m.get("environment"), m["bounces"])
+    cycles_nodes.light_paths(scene, m["bounces"], any(mat.get("dielectric") for mat in m["materials"]))
+    cycles_nodes.tone_map(scene, m["exposure"])
+    if m["pack"]:
+        bpy.ops.file.pack_all()
     scene.frame_set(m["frame_start"])
     bpy.ops.wm.save_as_mainfile(filepath=argv[1], relative_remap=True)
     print("make_blend.py: wrote %s: %d objects, frames %d..%d" %

@@ -13,13 +13,17 @@ void addBlendCommand(CLI::App& app, int& status) {
   CLI::App* cmd = app.add_subcommand(
       "blend",
       "Build OUT/<scene>.blend from a run's point caches with Blender (bodies with a Mesh Cache modifier, "
-      "colliders, camera, sun)");
+      "colliders, camera, wobble's materials, sun, sky and tone curve for Cycles)");
   cmd->add_option("out", options->out, "A run's output folder (wobble run --pc2)")->required();
   cmd->add_option("--scene", options->scene, "Scene file (default: the one in OUT/run.json)");
+  cmd->add_flag("--pack", options->pack,
+                "Pack the images (baked textures, body textures, environment map) into the .blend; the point caches "
+                "stay files beside it (a Mesh Cache modifier reads its file)");
   cmd->footer(
       "Example:\n  wobble run scenes/jelly_slope.toml --render none && wobble blend out/jelly_slope && "
       "blender out/jelly_slope/jelly_slope.blend\n"
-      "Exit status: 0 done, 1 Blender missing or failed, 2 bad input (no run or no point cache in OUT), "
+      "Exit status: 0 done, 1 Blender missing or failed or a file for the .blend not writable, 2 bad input (no run or "
+      "no point cache in OUT), "
       "130/143 interrupted.");
   cmd->callback([options, &status] {
     installInterruptHandlers();

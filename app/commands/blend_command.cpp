@@ -1,6 +1,10 @@
 #include "app/commands/blend_command.h"
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
+#include <functional>
+#include <map>
 #include <type_traits>
 #include <variant>
 
@@ -19,8 +23,12 @@
 #include "app/scene/input_error.h"
 #include "app/scene/scene_file.h"
 #include "app/view/camera_rig.h"
+#include "app/view/render_scene.h"
+#include "image/png_io.h"
 #include "io/atomic_file.h"
 #include "io/text_file.h"
+#include "render/image_texture.h"
+#include "render/scene_export.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -64,41 +72,123 @@ json cameraViews(const SceneFile& scene, const RunRecord& run, const std::vector
   return views;
 }
 
-json colliders(const SceneFile& scene, const RunRecord& run) {
+// The files written for the .blend (baked textures, the environment map's copy), in OUT/blender/; each written
+// atomically, and the new ones removed again unless commit() is called (a failed Blender leaves none behind).
+class BlendFiles {
+ public:
+  explicit BlendFiles(const fs::path& out) : out_(out), dir_(out / "blender") {}
+  ~BlendFiles() {
+    if (committed_) return;
+    std::error_code ignored;
+    for (const fs::path& p : written_) fs::remove(p, ignored);
+    if (created_dir_) fs::remove(dir_, ignored);  // only if empty
+  }
+  // A file for `name`, through write(temporary path); returns its path relative to OUT. An I/O error names the file
+  // and the reason (exit 1).
+  std::string add(const std::string& name, const std::function<void(const fs::path&)>& write) {
+    const fs::path target = dir_ / name;
+    const bool existed = fs::exists(target);
+    try {
+      if (!fs::is_directory(dir_)) created_dir_ = fs::create_directories(dir_);
+      io::writeAtomically(target, write);
+    } catch (const std::exception& e) {
+      throw std::runtime_error(target.string() + ": cannot write this file for the .blend: " + e.what());
+    }
+    if (!existed) written_.push_back(target);
+    return fs::relative(target, out_).generic_string();
+  }
+  void commit() { committed_ = true; }
+
+ private:
+  fs::path out_, dir_;
+  std::vector<fs::path> written_;
+  bool created_dir_ = false, committed_ = false;
+};
+
+// wobble's render::Material as cycles_nodes.material reads it; texture: a path relative to OUT, or none.
+json materialJson(const render::Material& m, const std::string& texture) {
+  json j = {{"name", m.name}, {"color", vec(m.color)}, {"coat", m.coat}, {"ior", m.ior}, {"roughness", m.roughness}};
+  j["texture"] = texture.empty() ? json(nullptr) : json(texture);
+  if (m.dielectric)
+    j.update({{"dielectric", true},
+              {"absorption", vec(m.absorption)},
+              {"scatter", m.scatter},
+              {"scatter_albedo", vec(m.scatter_albedo)},
+              {"print", m.print}});
+  return j;
+}
+
+// The UV rectangle a collider's shape covers, over which its procedural texture is baked (wood is not periodic: each
+// board its own tone and grain), at kTexelsPerTile texels per tile of UV, at most kMaxTexels a side.
+struct UvRect {
+  Eigen::Vector2f lo{0, 0}, hi{1, 1};
+};
+constexpr int kTexelsPerTile = 256, kMaxTexels = 4096;
+
+// Each collider as wobble draws it (collider_kinds.h, app/view/render_scene.cpp): a sphere, or the renderer's own
+// triangles with their UVs (a plane's square, a box, a mesh), placed relative to the drawn centre; the centre at
+// every frame for a moving one, else once. rects: each collider material's UV rectangle.
+json colliders(const SceneFile& scene, const RunRecord& run, const render::Scene& drawn, std::map<int, UvRect>& rects) {
   json list = json::array();
+  std::size_t shape = scene.system->bodies().size();  // RenderScene adds the bodies first, then the colliders
   for (const auto& c : scene.system->colliders()) {
     const ColliderLook& look = scene.render.colliders.at(c->name());
-    json entry = {{"name", c->name()}, {"color", vec(look.color)}, {"texture", look.texture}};
-    // The shape the renderer draws (collider_kinds.h), in the scene's doubles; a moving one's centre at every frame.
     const ColliderKind& kind = colliderKind(look.type);
-    std::visit(
-        [&](const auto& drawn) {
-          using Drawn = std::decay_t<decltype(drawn)>;
-          if constexpr (std::is_same_v<Drawn, DrawnQuad>)
-            entry.update({{"type", "plane"},
-                          {"point", vec(drawn.center)},
-                          {"normal", vec(drawn.normal)},
-                          {"size", drawn.size},
-                          {"texture_scale", drawn.tile}});
-          if constexpr (std::is_same_v<Drawn, DrawnSphere>)
-            entry.update({{"type", "sphere"}, {"radius", drawn.radius}});
-          if constexpr (std::is_same_v<Drawn, DrawnBox>)
-            entry.update({{"type", "box"}, {"size", {drawn.size.x(), drawn.size.y(), drawn.size.z()}}});
-          if constexpr (std::is_same_v<Drawn, DrawnMesh>) {  // points at t = 0; `centers` are the offsets
-            json points = json::array();
-            for (const Vec3& p : *drawn.points) points.push_back(vec(p));
-            entry.update({{"type", "mesh"}, {"points", points}, {"triangles", *drawn.triangles}});
-          }
-        },
-        kind.drawn(*c, look, 0));
-    if (kind.moves) {
-      json centers = json::array();
-      for (int k = run.first_frame; k <= run.last_frame; ++k)
-        centers.push_back(
-            vec(std::visit([](const auto& d) { return d.center; }, kind.drawn(*c, look, scene.frameTime(k)))));
-      if (!centers.empty()) entry["centers"] = centers;
+    const auto centerAt = [&](double t) {
+      return std::visit([](const auto& d) { return d.center; }, kind.drawn(*c, look, t));
+    };
+    const Vec3 center = centerAt(0);
+    const render::Scene::ShapeView view = drawn.shapeView(render::ShapeId(int(shape++)));
+    json entry = {{"name", c->name()}, {"material", view.material}};
+    UvRect rect;  // a sphere's UVs span [0, 1]^2 (render/scene.cpp)
+    if (view.sphere) {
+      entry.update({{"type", "sphere"}, {"radius", view.sphere->radius}});
+    } else {
+      json points = json::array(), uv = json::array();
+      for (const auto& p : view.mesh->positions) points.push_back(vec(Vec3(p.cast<double>() - center)));
+      if (!view.mesh->uv.empty()) {
+        rect.lo = rect.hi = view.mesh->uv.front();
+        for (const auto& t : view.mesh->uv) {
+          rect.lo = rect.lo.cwiseMin(t);
+          rect.hi = rect.hi.cwiseMax(t);
+          uv.push_back({t.x(), t.y()});
+        }
+      }
+      entry.update({{"type", "mesh"}, {"points", points}, {"uv", uv}, {"triangles", view.mesh->triangles}});
     }
+    entry["uv_rect"] = {rect.lo.x(), rect.lo.y(), rect.hi.x(), rect.hi.y()};
+    rects[view.material] = rect;
+    json centers = json::array();
+    if (kind.moves)
+      for (int k = run.first_frame; k <= run.last_frame; ++k) centers.push_back(vec(centerAt(scene.frameTime(k))));
+    if (centers.empty()) centers.push_back(vec(center));
+    entry["centers"] = centers;
     list.push_back(entry);
+  }
+  return list;
+}
+
+// Every material of the scene wobble draws: a body's image texture is the run's copy in OUT/mesh; a procedural one
+// (wood, checker) is baked into OUT/blender/<material>.png over its collider's UV rectangle.
+json materials(const SceneFile& scene, const render::Scene& drawn, const std::map<int, UvRect>& rects,
+               const fs::path& out, BlendFiles& files) {
+  json list = json::array();
+  for (int i = 0; i < int(drawn.materialCount()); ++i) {
+    const render::Material& m = drawn.material(render::MaterialId(i));
+    std::string texture;
+    if (dynamic_cast<const render::ImageTexture*>(m.texture.get())) {
+      texture = fs::relative(out / "mesh" / scene.textures.at(m.name).filename(), out).generic_string();
+    } else if (m.texture) {
+      const auto found = rects.find(i);
+      const UvRect rect = found == rects.end() ? UvRect{} : found->second;
+      const auto texels = [](float extent) {
+        return std::clamp(int(std::ceil(double(extent) * kTexelsPerTile)), 16, kMaxTexels);
+      };
+      const image::Image8 baked = render::bakeTexture(*m.texture, rect.lo, rect.hi, texels(rect.hi.x() - rect.lo.x()),
+                                                      texels(rect.hi.y() - rect.lo.y()));
+      texture = files.add(m.name + ".png", [&](const fs::path& temp) { image::writePng(temp, baked); });
+    }
+    list.push_back(materialJson(m, texture));
   }
   return list;
 }
@@ -129,6 +219,8 @@ BlendReport makeBlend(const BlendOptions& options) {
   }();
   const SceneFile scene = loadScene(run.scene, run.overrides);
   const fs::path mesh = out / "mesh";
+  // What wobble's renderer draws (app/view/render_scene.h): its materials, shapes, sun and sky, or environment map.
+  const RenderScene drawn(scene);
 
   // The inputs, checked before Blender starts: every body's base mesh and a point cache of the run's frames.
   std::vector<ObjVertexOrder> orders;
@@ -155,24 +247,10 @@ BlendReport makeBlend(const BlendOptions& options) {
                        (out / "run.json").string() + ") wrote frames " + std::to_string(run.first_frame) + ".." +
                        std::to_string(run.last_frame) + " of a body with " + std::to_string(orders.back().size()) +
                        " surface particles (has " + run.scene.string() + " changed since?)");
-    const BodyLook& look = scene.render.bodies.at(name);
-    const auto texture = scene.textures.find(name);
-    bodies.push_back(
-        {{"name", name},
-         {"obj", fs::relative(obj, out).string()},
-         {"pc2", fs::relative(pc2, out).string()},
-         {"color", vec(look.color)},
-         {"material", look.material},
-         {"gelatine",
-          {{"ior", look.gelatine.ior},
-           {"roughness", look.gelatine.roughness},
-           {"absorption_color", vec(look.gelatine.absorption_color)},
-           {"absorption_depth", look.gelatine.absorption_depth},
-           {"scatter", look.gelatine.scatter},
-           {"scatter_albedo", vec(look.gelatine.scatter_albedo)},
-           {"print", look.gelatine.print}}},
-         {"texture",
-          texture == scene.textures.end() ? "" : fs::relative(mesh / texture->second.filename(), out).string()}});
+    bodies.push_back({{"name", name},
+                      {"obj", fs::relative(obj, out).generic_string()},
+                      {"pc2", fs::relative(pc2, out).generic_string()},
+                      {"material", drawn.scene().shapeView(render::ShapeId(int(bodies.size()))).material}});
   }
 
   const auto blender = findProgram("blender");
@@ -186,6 +264,14 @@ BlendReport makeBlend(const BlendOptions& options) {
                        {"shutter", scene.render.camera.shutter},
                        {"views", cameraViews(scene, run, caches, orders)}};
   const RenderOptionsConfig& o = scene.render.options;
+  const render::Lights& lights = drawn.scene().lights;
+  BlendFiles files(out);
+  json suns = json::array();
+  for (const render::SunLight& sun : lights.suns)
+    suns.push_back({{"direction", vec(sun.direction.normalized())},
+                    {"irradiance", vec(sun.irradiance)},
+                    {"angular_radius_deg", sun.angular_radius_deg}});
+  std::map<int, UvRect> rects;
   json manifest = {{"scene", scene.name},
                    {"out_dir", fs::absolute(out).lexically_normal().string()},
                    {"fps", scene.fps},
@@ -193,13 +279,28 @@ BlendReport makeBlend(const BlendOptions& options) {
                    {"frame_end", run.last_frame},
                    {"resolution", {scene.render.camera.resolution[0], scene.render.camera.resolution[1]}},
                    {"bodies", bodies},
-                   {"colliders", colliders(scene, run)},
+                   {"colliders", colliders(scene, run, drawn.scene(), rects)},
                    {"camera", camera},
-                   {"sun", {{"direction", vec(o.sun_direction)}, {"angle_deg", 2 * o.sun_radius_deg}}}};
-  if (o.environment.named())  // render/environment.h: replaces the sun and the sky
-    manifest["environment"] = {{"file", fs::absolute(o.environment.file).lexically_normal().string()},
+                   {"suns", suns},
+                   {"sky",
+                    {{"zenith", vec(lights.sky.zenith)},
+                     {"horizon", vec(lights.sky.horizon)},
+                     {"ground", vec(lights.sky.ground)},
+                     {"up", vec(lights.sky.up)}}},
+                   {"bounces", o.bounces},
+                   {"exposure", o.exposure},
+                   {"pack", options.pack}};
+  manifest["materials"] = materials(scene, drawn.scene(), rects, out, files);
+  if (lights.environment) {  // render/environment.h: replaces the sun and the sky; a copy beside the .blend
+    const fs::path& file = o.environment.file;
+    manifest["environment"] = {{"file", "//" + files.add(file.filename().string(),
+                                                         [&](const fs::path& temp) {
+                                                           fs::copy_file(file, temp,
+                                                                         fs::copy_options::overwrite_existing);
+                                                         })},
                                {"rotation_deg", o.environment.rotation_deg},
                                {"strength", o.environment.strength}};
+  }
 
   BlendReport report;
   report.blend = out / (scene.name + ".blend");
@@ -227,6 +328,7 @@ BlendReport makeBlend(const BlendOptions& options) {
     throw std::runtime_error("blender failed building " + report.blend.string() + " (exit status " +
                              std::to_string(status) + "):\n" + tail(log, 2000));
   fs::rename(partial, report.blend);
+  files.commit();
   report.first_frame = run.first_frame;
   report.last_frame = run.last_frame;
   report.bodies = int(bodies.size());

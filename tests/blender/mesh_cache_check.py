@@ -67,8 +67,8 @@ else:
         assert len(obj.data.materials) == 1, f"{body['name']}: materials {list(obj.data.materials)}"
         nodes = obj.data.materials[0].node_tree.nodes
         colours = [tuple(n.inputs["Color1"].default_value)[:3] for n in nodes if n.type == "MIX_RGB"]
-        if not colours:
-            colours = [tuple(nodes["Principled BSDF"].inputs["Base Color"].default_value)[:3]]
+        if not colours:  # no texture, no coat: the colour is the Diffuse BSDF's own
+            colours = [tuple(n.inputs["Color"].default_value)[:3] for n in nodes if n.type == "BSDF_DIFFUSE"]
         assert max(abs(a - b) for a, b in zip(colours[0], body["color"])) < 1e-6, (colours, body["color"])
         images = [n.image for n in nodes if n.type == "TEX_IMAGE"]
         assert bool(images) == body["textured"], f"{body['name']}: images {images}"
