@@ -15,6 +15,7 @@
 #include "render/environment.h"
 #include "tests/app/output_check.h"
 #include "tests/app/scratch_dir.h"
+#include "tests/app/small_scene.h"
 
 namespace fs = std::filesystem;
 
@@ -29,19 +30,11 @@ class Blender : public testing::ScratchDir {
   // A textured jelly followed by the camera, a cloth, a floor, a moving sphere and an elevator: 12 frames.
   fs::path scene() {
     copyCatTexture();
-    return write("blendable.toml", R"([simulation]
-dt = 0.002
-duration = 0.6
-fps = 20
-
-[bodies.jelly]
-type = "jelly"
-n = 3
-size = 1.0
-center = [0, 2.6, 0]
-texture = "textures/cat.png"
-color = [1.0, 0.9, 0.8]
-
+    return write("blendable.toml", testing::smallSceneText({.duration = "0.6",
+                                                            .center = "[0, 2.6, 0]",
+                                                            .jelly = "color = [1.0, 0.9, 0.8]\n",
+                                                            .floor = "texture = \"wood\"\n",
+                                                            .rest = R"(
 [bodies.sheet]
 type = "cloth"
 nx = 5
@@ -49,10 +42,6 @@ ny = 5
 size = [1.5, 1.5]
 center = [3, 1.2, 0]
 color = [0.2, 0.5, 0.9]
-
-[colliders.floor]
-type = "plane"
-texture = "wood"
 
 [colliders.ball]
 type = "sphere"
@@ -69,7 +58,7 @@ size = 2
 follow = "jelly"
 position = [2, 4, 8]
 look_at = [0, 2, 0]
-)");
+)"}));
   }
   int blender(const std::string& arguments, const fs::path& log) {
     const std::string command = blender_->string() + " -b " + arguments + " > " + log.string() + " 2>&1";
@@ -232,6 +221,10 @@ environment_strength = 2
                                    {"scatter_albedo", {0.9, 0.8, 0.7}},
                                    {"print", 0.4},
                                    {"aperture", 0.1},
+                                   // The followed jelly's distance along the view at frame 1, which the follow
+                                   // camera keeps: (c - p) . (l - p) / |l - p| = 42.1 / 6.5 for its centre c, the eye
+                                   // p and the look_at point l above.
+                                   {"focus", 42.1 / 6.5},
                                    {"shutter", 0.4},
                                    {"frames", 6}};
   std::ofstream(dir() / "expected.json") << expected.dump();

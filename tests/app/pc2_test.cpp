@@ -22,6 +22,7 @@
 #include "app/output/obj_vertex_order.h"
 #include "tests/app/output_check.h"
 #include "tests/app/scratch_dir.h"
+#include "tests/app/small_scene.h"
 
 namespace fs = std::filesystem;
 
@@ -91,19 +92,8 @@ class PointCache : public testing::ScratchDir {
   // A textured jelly (n = 3: 26 surface particles) and a coloured 4 x 5 cloth (20), falling onto a floor.
   fs::path scene(const std::string& extra = "") {
     copyCatTexture();
-    return write("small.toml", R"([simulation]
-dt = 0.002
-duration = 0.3
-fps = 20
-
-[bodies.jelly]
-type = "jelly"
-n = 3
-size = 1.0
-center = [0, 0.6, 0]
-texture = "textures/cat.png"
-color = [0.9, 0.8, 0.7]
-
+    return write("small.toml",
+                 testing::smallSceneText({.duration = "0.3", .jelly = "color = [0.9, 0.8, 0.7]\n", .rest = R"(
 [bodies.sheet]
 type = "cloth"
 nx = 4
@@ -112,10 +102,7 @@ size = [1.0, 1.0]
 center = [2, 1, 0]
 color = [0.2, 0.5, 0.9]
 material = "jelly"
-
-[colliders.floor]
-type = "plane"
-)" + extra);
+)" + extra}));
   }
   RunOptions options(const fs::path& file) {
     RunOptions o;

@@ -13,6 +13,7 @@
 #include "image/image_diff.h"
 #include "image/png_io.h"
 #include "tests/app/scratch_dir.h"
+#include "tests/app/small_scene.h"
 
 namespace fs = std::filesystem;
 
@@ -40,23 +41,8 @@ class Render : public testing::ScratchDir {
   // A small textured jelly on a tilted checker plane, followed by the camera: every part of the render path.
   fs::path scene() {
     copyCatTexture();
-    return write("small.toml", R"([simulation]
-dt = 0.002
-duration = 0.2
-fps = 20
-
-[bodies.jelly]
-type = "jelly"
-n = 3
-size = 1.0
-center = [0, 0.8, 0]
-texture = "textures/cat.png"
-
-[colliders.floor]
-type = "plane"
-normal = [0.2, 1, 0]
-size = 10
-
+    return write("small.toml", testing::smallSceneText(
+                                   {.center = "[0, 0.8, 0]", .floor = "normal = [0.2, 1, 0]\nsize = 10\n", .rest = R"(
 [colliders.ball]
 type = "sphere"
 center = [-1.5, 0.5, 0]
@@ -69,7 +55,7 @@ follow = "jelly"
 
 [render]
 samples = 2
-)");
+)"}));
   }
   fs::path out() const { return dir() / "out"; }
 };

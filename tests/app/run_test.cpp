@@ -16,6 +16,7 @@
 #include "sim/bodies/jelly.h"
 #include "tests/app/output_check.h"
 #include "tests/app/scratch_dir.h"
+#include "tests/app/small_scene.h"
 
 namespace fs = std::filesystem;
 
@@ -49,21 +50,7 @@ class Run : public testing::ScratchDir {
  protected:
   fs::path scene(const std::string& extra = "") {
     copyCatTexture();
-    return write("small.toml", R"([simulation]
-dt = 0.002
-duration = 0.2
-fps = 20
-
-[bodies.jelly]
-type = "jelly"
-n = 3
-size = 1.0
-center = [0, 0.6, 0]
-texture = "textures/cat.png"
-
-[colliders.floor]
-type = "plane"
-)" + extra);
+    return write("small.toml", testing::smallSceneText({.rest = extra}));
   }
   // These tests are about simulation and OBJ output: no frames rendered (render_test.cpp covers those).
   RunOptions options(const fs::path& file) {

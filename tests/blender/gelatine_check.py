@@ -3,11 +3,12 @@
     blender OUT/scene.blend --python-exit-code 1 --python gelatine_check.py -- EXPECTED.json
 
 EXPECTED.json: the body's name and its gelatine keys (ior, roughness, absorption_color, absorption_depth, scatter,
-scatter_albedo, print), the lens's aperture (m), the camera's shutter and the number of frames. Checked, independently of
+scatter_albedo, print), the lens's aperture (m), the focus distance (m), the camera's shutter and the number of
+frames. Checked, independently of
 make_blend.py's arithmetic: a Glass BSDF at the IOR and roughness (GGX), the print mixed in by its coverage over a textured diffuse
 BSDF, a volume whose absorption and scattering coefficients (Cycles: sigma_a = (1 - colour) density, sigma_s =
 colour density) are wobble's, and the camera's f-stop giving the lens radius (radius = lens / (2 f-stop)) with the
-focus distance keyed at every frame; and the shutter (a fraction of the frame interval, closing at the frame) as
+focus distance keyed at every frame to the followed body's distance along the view; and the shutter (a fraction of the frame interval, closing at the frame) as
 Cycles' motion blur.
 """
 import json
@@ -55,6 +56,9 @@ assert close(camera.lens * 1e-3 / (2 * camera.dof.aperture_fstop), e["aperture"]
 keys = {int(k.co.x) for fc in camera.animation_data.action.fcurves if fc.data_path == "dof.focus_distance"
         for k in fc.keyframe_points}
 assert len(keys) == e["frames"], f"focus keyframes {sorted(keys)}"
+values = [k.co.y for fc in camera.animation_data.action.fcurves if fc.data_path == "dof.focus_distance"
+          for k in fc.keyframe_points]
+assert all(close(v, e["focus"]) for v in values), f"focus keyframes' values {values} against {e['focus']}"
 render = bpy.context.scene.render
 assert render.use_motion_blur == (e["shutter"] > 0), "motion blur"
 assert close(render.motion_blur_shutter, e["shutter"]), render.motion_blur_shutter

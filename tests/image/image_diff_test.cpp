@@ -102,6 +102,28 @@ TEST(ImageDiff, OnePixelOverTheHardLimitFails) {
   EXPECT_EQ(r.max_y, 0);
 }
 
+// idiff -p: pixels failing Yee's perceptual test count against --failpercent as the numeric failures do (idiff 2.4's
+// rule), so the allowance decides; without -p they count for nothing. Here 3 pixels fail the numeric test (0.5 off
+// against 0.3) and a further block of 30 is 0.2 off: under the numeric limit, but plainly visible.
+TEST(ImageDiff, PerceptualFailuresCountAgainstTheFailPercent) {
+  ImageF b = gradient();
+  for (int i = 0; i < 33; ++i) b.pixels[std::size_t(i) * 3 + 1] += i < 3 ? 0.5f : 0.2f;
+  DiffOptions o = thresholds(0.3f, 10, 0.3f);
+  o.warn_percent = 100;
+  const DiffResult numeric = diffImages(gradient(), b, o);
+  EXPECT_EQ(numeric.fail_pixels, 3);
+  EXPECT_EQ(numeric.perceptual_failures, 0);  // not counted without -p
+  EXPECT_EQ(numeric.code, DiffCode::Pass);    // 3 of 100 failing, 10 allowed
+  o.perceptual = true;
+  const DiffResult perceptual = diffImages(gradient(), b, o);
+  EXPECT_GT(perceptual.perceptual_failures, 10);
+  EXPECT_LE(perceptual.perceptual_failures, 60);
+  EXPECT_EQ(perceptual.code, DiffCode::Fail);  // more perceptual failures than the 10 allowed
+  EXPECT_NE(perceptual.message.find("failed the perceptual test"), std::string::npos);
+  o.fail_percent = 60;  // the same failures within the allowance: no failure
+  EXPECT_EQ(diffImages(gradient(), b, o).code, DiffCode::Pass);
+}
+
 TEST(ImageDiff, DifferentSizesAreComparedOverBothWithBlackWhereMissing) {
   EXPECT_EQ(diffImages(gradient(10, 10), gradient(10, 9)).exitCode(), 2);
   EXPECT_EQ(diffImages(gradient(10, 10, 3), gradient(10, 10, 4)).exitCode(), 2);  // the alpha against 0

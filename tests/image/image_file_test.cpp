@@ -2,6 +2,7 @@
 // each refused with a message naming the file and the reason, before anything large is allocated.
 #include "image/image_file.h"
 
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -100,6 +101,35 @@ TEST(ImageFile, PfmBothByteOrdersAndGrey) {
   const ImageFile grey = readImageFile(dir / "grey.pfm");
   EXPECT_EQ(grey.channels, std::vector<std::string>{"Y"});
   EXPECT_EQ(grey.image.pixels, (std::vector<float>{8, 7}));
+}
+
+// Radiance RGBE (Ward 1991): a pixel's channels are its mantissas times 2^(exponent - 136), linear radiance, with no
+// colour decoding; rows top to bottom ("-Y H +X W"). Written byte by byte here, flat (no run-length encoding: under 8
+// pixels wide), with values that need the exponent: 0.75 * 2^11, 2^-1 and 0.
+TEST(ImageFile, RadianceHdrIsMantissaTimesTwoToTheExponent) {
+  test::TempDir dir;
+  const unsigned char pixels[2][3][4] = {{{192, 64, 0, 139}, {128, 128, 128, 128}, {0, 0, 0, 0}},
+                                         {{255, 1, 16, 120}, {32, 64, 96, 130}, {200, 100, 50, 136}}};
+  {
+    std::ofstream out(dir / "t.hdr", std::ios::binary);
+    out << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 3\n";
+    out.write(reinterpret_cast<const char*>(pixels), sizeof pixels);
+  }
+  const ImageFile f = readImageFile(dir / "t.hdr");
+  EXPECT_EQ(f.format, "HDR");
+  EXPECT_TRUE(f.linear);
+  ASSERT_EQ(f.image.width, 3);
+  ASSERT_EQ(f.image.height, 2);
+  ASSERT_EQ(f.image.channels, 3);
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 3; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const unsigned char* p = pixels[y][x];
+        const float expected = p[3] == 0 ? 0.0f : std::ldexp(float(p[c]), int(p[3]) - 136);
+        EXPECT_EQ(f.image.at(x, y, c), expected) << x << ", " << y << ", channel " << c;
+      }
+  EXPECT_EQ(f.image.at(0, 0, 0), 1536.0f);  // 192 * 2^3: 0.75 * 2^11
+  EXPECT_EQ(f.image.at(1, 0, 2), 0.5f);     // 128 * 2^-8
 }
 
 TEST(ImageFile, BadFilesNameTheFileAndTheReason) {
