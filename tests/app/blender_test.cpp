@@ -326,7 +326,8 @@ resolution = [128, 72]
 }
 
 // A file the .blend needs that cannot be written (a baked texture, an environment map's copy: here a file stands where
-// OUT/blender/ should be) is an I/O error, exit 1, naming the file; no .blend is left, half-written or not.
+// OUT/blender/ should be) is an I/O error, exit 1, naming the file; no .blend is left, half-written or not. Written,
+// the file is referenced by its path relative to the .blend, and --pack puts it inside.
 TEST_F(Blender, UnwritableFilesForTheBlendAreAnIoErrorAndLeaveNoBlend) {
   if (!blender_)
     GTEST_SKIP() << "blender is not on PATH (./setup.sh tests installs it; plain setup.sh leaves it out: it is large)";
@@ -364,6 +365,17 @@ n = 3
     EXPECT_EQ(runWobble("blend " + out.string(), log), 0) << slurpFile(log);
     EXPECT_TRUE(fs::is_regular_file(out / "blender" / file));
     EXPECT_TRUE(fs::is_regular_file(out / (std::string(name) + ".blend")));
+    // --pack: the image (the baked wood, the map's copy) is inside the .blend, under its relative path.
+    EXPECT_EQ(runWobble("blend --pack " + out.string(), log), 0) << slurpFile(log);
+    EXPECT_EQ(blender((out / (std::string(name) + ".blend")).string() +
+                          " --python-exit-code 1 --python-expr \"import bpy; i = [x for x in bpy.data.images if "
+                          "x.filepath == '//blender/" +
+                          file +
+                          "']; assert len(i) == 1 and i[0].packed_file, "
+                          "[(x.filepath, x.packed_file) for x in bpy.data.images]\"",
+                      log),
+              0)
+        << slurpFile(log);
   }
 }
 
