@@ -35,6 +35,7 @@ std::optional<BlowUp> Simulation::advanceTo(double t_end) {
   if (!(remaining > kSliver)) return std::nullopt;
   const long count = std::max(1L, static_cast<long>(std::ceil(remaining - kSliver)));
   const double start = t_;
+  interval_speed_squared_ = 0, interval_kinetic_ = 0;
   for (long k = 1; k <= count; ++k) {
     const bool last = k == count;
     ++steps_;
@@ -149,12 +150,17 @@ std::string Simulation::contactFix() const {
 }
 
 std::optional<BlowUp> Simulation::check() {
+  double kinetic = 0, fastest = 0;
   for (int i = 0; i < system_.particleCount(); ++i) {
     const double s2 = particle(v_, i).squaredNorm();
+    fastest = std::max(fastest, s2);
     max_speed_squared_ = std::max(max_speed_squared_, s2);
+    kinetic += 0.5 * system_.mass()[i] * s2;
     if (std::isnan(s2) || std::isnan(particle(x_, i).sum()) || s2 > kBlowUpSpeedSquared)
       return BlowUp{std::string(integrator_->name()), steps_, t_, i, s2};
   }
+  interval_speed_squared_ = std::max(interval_speed_squared_, fastest);
+  interval_kinetic_ = std::max(interval_kinetic_, kinetic);
   return std::nullopt;
 }
 

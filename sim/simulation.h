@@ -4,6 +4,7 @@
 // of collisions (impact zones over their cap, a broad phase over its budget) is taken again from its start as two
 // halves, up to [contact] split_steps halvings deep (docs/body-contact.md), before the run stops.
 #pragma once
+#include <cmath>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -81,6 +82,10 @@ class Simulation {
   double dt() const { return dt_; }
   // Largest particle speed seen at any step end so far (initial state included).
   double maxSpeed() const;
+  // Over the step ends of the last advanceTo (a frame of `wobble run`): the largest particle speed and the largest
+  // total kinetic energy (the end state, as run.json reports it: whether the scene has come to rest).
+  double lastIntervalMaxSpeed() const { return std::sqrt(interval_speed_squared_); }
+  double lastIntervalMaxKinetic() const { return interval_kinetic_; }
   const Integrator& integrator() const { return *integrator_; }
   const MassSpringSystem& system() const { return system_; }
   // Contact between bodies (sim/collision/): nothing when no two surface elements may meet.
@@ -106,6 +111,7 @@ class Simulation {
   double t_ = 0;
   long steps_ = 0, split_steps_ = 0;
   double max_speed_squared_ = 0;
+  double interval_speed_squared_ = 0, interval_kinetic_ = 0;  // over the last advanceTo's steps
   std::unique_ptr<collision::BodyCollisions> collisions_;
   double energy_start_ = 0, collider_work_ = 0, collider_work_unsigned_ = 0, lift_margin_ = 0;
   VecX x_before_, v_before_;  // the state at the step's start, for collisions_ and the colliders' work

@@ -44,6 +44,8 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
   j["frames_skipped"] = r.frames_skipped;  // --skip-existing: already rendered with the same settings
   j["energy"] = {{"start", r.energy_start}, {"end", r.energy_end}, {"collider_work", r.collider_work}};
   j["max_speed"] = r.max_speed;
+  // The end state: over the steps of the last frame simulated (whether the scene has come to rest).
+  j["end_state"] = {{"max_speed", sim.lastIntervalMaxSpeed()}, {"max_kinetic_energy", sim.lastIntervalMaxKinetic()}};
   j["particles"] = sim.system().particleCount();
   j["springs"] = sim.system().springs().size();
   if (const IntegratorStats& s = sim.integrator().stats(); s.jacobians > 0)  // backward-euler's linear solves
@@ -61,6 +63,12 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
          {"cg_error_fraction", scene.integrator_options.cg_error_fraction},
          {"cg_max_iterations", scene.integrator_options.cg_max_iterations},
          {"error_rule_stops", s.error_rule_stops},
+         // Why each linear solve stopped, and the worst relative residual of each kind (docs/integrators.md).
+         {"stops",
+          {{"cg_tolerance", s.tolerance_stops},
+           {"error_rule", {{"solves", s.error_rule_stops}, {"max_relative_residual", s.max_cg_residual_error_rule}}},
+           {"cg_max_iterations",
+            {{"solves", s.iteration_cap_stops}, {"max_relative_residual", s.max_cg_residual_cap}}}}},
          {"impact_solves", s.impact_solves},  // solves again with impact constraints (docs/energy.md)
          {"exact_steps", s.exact_steps},      // linearized steps that made up energy, solved exactly (docs/energy.md)
          {"cg_iterations", s.cg_iterations},
@@ -77,7 +85,14 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
          {"split_steps", sim.splitSteps()},
          {"min_distance_m",
           std::isfinite(c->min_distance) ? nlohmann::ordered_json(c->min_distance) : nlohmann::ordered_json(nullptr)},
-         {"in_solve", sim.integrator().solvesBodyContact()}};        // [contact] in_solve, as the integrator took it
+         {"in_solve", sim.integrator().solvesBodyContact()},  // [contact] in_solve, as the integrator took it
+         // What the thickness means for this run (docs/body-contact.md, "What the thickness guarantees").
+         {"thickness_guarantee",
+          sim.integrator().solvesBodyContact()
+              ? "no surfaces cross; the solve's penalty pushes from the thickness, and pressed surfaces come closer "
+                "than it (min_distance_m)"
+              : "no surfaces cross; the pass's repulsion pushes surfaces within the thickness apart after each step, "
+                "so they may come closer than it within a step (min_distance_m)"}};
     if (integratorTraits(scene.integrator).body_contact_in_solve) {  // its solve's share (docs/body-contact.md)
       const IntegratorStats& s = sim.integrator().stats();
       b["pairs_in_solve"] = s.body_contact_pairs_carried;
