@@ -112,8 +112,8 @@ Body readCloth(TableReader& r, const std::string& name, SceneFile& scene) {
 
 // Untextured: a jelly red (deeper than the OBJ material's: the glossy coat whitens it) or the OBJ's cloth blue.
 const std::array kKinds{
-    BodyKind{"jelly", Vec3(0.8, 0.12, 0.15), "jelly", false, true, readJelly},
-    BodyKind{"cloth", Vec3(0.25, 0.4, 0.8), "diffuse", true, false, readCloth},
+    BodyKind{"jelly", Vec3(0.8, 0.12, 0.15), "jelly", false, true, true, readJelly},
+    BodyKind{"cloth", Vec3(0.25, 0.4, 0.8), "diffuse", true, true, false, readCloth},
 };
 
 }  // namespace
@@ -124,7 +124,7 @@ std::vector<std::string> bodyTypes() { return kindTypes(bodyKinds()); }
 
 const BodyKind& bodyKind(std::string_view type) { return findKind(bodyKinds(), type, "body"); }
 
-void readBodyContact(TableReader& r, const BodyKind& kind, Body& body) {
+void readBodyContact(TableReader& r, const BodyKind& kind, int bodies, Body& body) {
   const auto& rest = body.springs.rest;
   const double shortest =
       rest.empty() ? std::numeric_limits<double>::infinity() : *std::min_element(rest.begin(), rest.end());
@@ -134,7 +134,9 @@ void readBodyContact(TableReader& r, const BodyKind& kind, Body& body) {
     r.fail("thickness", "must be > 0 and below the body's shortest spring, " + io::formatNumber(shortest) +
                             " m (a thicker contact layer would hold a surface's own neighbours apart)");
   c.friction = r.number("friction", c.friction, Range::nonNegative());
-  c.self_contact = r.boolean("self_contact", kind.self_contact);
+  // A jelly alone folds only at very large strain; pressed by another body into a narrow place it folds through itself
+  // (docs/body-contact.md, "Self-contact"), and the pass runs for the bodies' sake anyway.
+  c.self_contact = r.boolean("self_contact", bodies > 1 ? kind.self_contact_among : kind.self_contact);
 }
 
 }  // namespace wobble

@@ -18,7 +18,8 @@ struct BodyKind {
   std::string_view type;      // the scene's `type` value
   Vec3 color;                 // default `color` when untextured (a textured body defaults to white)
   std::string_view material;  // default `material` (material_kinds.h)
-  bool self_contact;          // default `self_contact`: whether its surface collides with itself
+  bool self_contact;          // default `self_contact` for a body alone in its scene: whether it collides with itself
+  bool self_contact_among;    // ... for a body among others (another body can press it until it folds)
   bool closed;                // its surface is closed (has an inside), as gelatine needs
   // Reads the kind's own keys and builds the body, charging its size to the scene's budget first (scene_budget.h).
   Body (*read)(TableReader& r, const std::string& name, SceneFile& scene);
@@ -29,7 +30,8 @@ std::vector<std::string> bodyTypes();  // the `type` values, in table order
 // Throws std::out_of_range for a type not in the table (the reader has checked it).
 const BodyKind& bodyKind(std::string_view type);
 // The contact keys every kind has (`thickness`, `friction`, `self_contact`), into body.contact; the thickness must be
-// below the body's shortest spring (its default is the smaller of 0.02 m and a quarter of that spring).
-void readBodyContact(TableReader& r, const BodyKind& kind, Body& body);
+// below the body's shortest spring (its default is the smaller of 0.02 m and a quarter of that spring). bodies: how
+// many the scene has (self_contact's default follows it).
+void readBodyContact(TableReader& r, const BodyKind& kind, int bodies, Body& body);
 
 }  // namespace wobble

@@ -85,7 +85,7 @@ void readBody(TableReader r, const std::string& name, SceneFile& scene) {
   // Built after every check of its table but the look (read below, cheap): nothing large is allocated for a body
   // the reader refuses.
   Body body = kind.read(r, name, scene);
-  readBodyContact(r, kind, body);
+  readBodyContact(r, kind, scene.body_count, body);
   readBodyLook(r, kind, name, scene);
   r.finish();
   scene.system->addBody(std::move(body));
@@ -207,6 +207,7 @@ SceneFile loadScene(const fs::path& file, const std::vector<std::string>& overri
   readOutput(root.child("output"), scene);
   if (root.table("contact"))
     scene.system->setContactSettings(readContactTable(root.child("contact"), scene.integrator_options));
+  if (const toml::table* bodies = root.table("bodies")) scene.body_count = int(bodies->size());
   readGroup(root, "bodies", scene, readBody);
   readGroup(root, "colliders", scene, readCollider);
   readRenderTables(root, scene);

@@ -37,6 +37,7 @@ struct SceneFile {
   RenderConfig render;              // camera, render settings and the look of bodies and colliders (render_config.h)
   std::uint64_t memory_budget = 0;  // bytes the scene's estimate may reach (scene_limits.h)
   SceneEstimate estimate;           // summed as bodies and textures are read, before each is built or loaded
+  int body_count = 0;               // the [bodies] entries (known before the first is read)
 
   // Frame k (1-based) shows simulated time (k - 1) / fps; duration * fps frames, at least one.
   int frameCount() const;
