@@ -40,14 +40,16 @@ inline constexpr double kEnergyGainRelative = 0.1;
 
 struct EnergyGain {
   std::string integrator;
-  long step;                // 1-based index of the step at whose end the check failed
-  double time;              // simulated time there
-  double start;             // J, total energy at t = 0
-  double energy;            // J, total energy there
-  double collider_work;     // J, work done on the bodies by moving colliders up to there
-  double margin;            // J, the gain allowed
-  bool contact_solve_off;   // the integrator could carry contact between bodies in its solve, but was told not to
-  bool linearized = false;  // the integrator solved a linearized step (Integrator::linearizesItsStep)
+  long step;                      // 1-based index of the step at whose end the check failed
+  double time;                    // simulated time there
+  double start;                   // J, total energy at t = 0
+  double energy;                  // J, total energy there
+  double collider_work;           // J, work done on the bodies by moving colliders up to there
+  double margin;                  // J, the gain allowed
+  bool contact_solve_off;         // the integrator could carry contact between bodies in its solve, but was told not to
+  bool linearized = false;        // the integrator solved a linearized step (Integrator::linearizesItsStep)
+  bool bouncing = false;          // a collider gives bounces back (restitution > 0): a lower one is worth trying
+  bool moving_colliders = false;  // moving colliders did work on the bodies before the check
   double gained() const { return energy - start - collider_work; }
   // One paragraph for the user: what happened, where, and what to try.
   std::string message(double dt) const;
