@@ -347,7 +347,7 @@ void renderGrid(std::vector<Planned>& plans, const std::vector<Tracker>& tracker
         }
         render::CameraParams tile_camera = camera;
         if (blur && k >= 2 && std::size_t(k) <= cameras.size())  // the eye's motion over the shutter
-          tile_camera.shutter_motion = float(scene.render.camera.shutter) * (camera.position - cameras[k - 2].position);
+          tile_camera.shutter_motion = shutterMotion(scene, cameras[k - 2].position, camera.position);
         tiles[i] = developPicture(renderPicture(scenes[i].scene(), tile_camera, scene.render.options, k, blur),
                                   scene.render.options);
         previous[i] = std::move(surfaces);

@@ -61,7 +61,7 @@ void FrameOutput::frame(int frame, std::span<const SurfaceFrame> surfaces, bool 
     times = {scene_.frameTime(frame)};
     poses.emplace_back(surfaces.begin(), surfaces.end());
   } else {
-    camera.shutter_motion = float(scene_.render.camera.shutter) * (camera.position - before.position);
+    camera.shutter_motion = shutterMotion(scene_, before.position, camera.position);
   }
   std::vector<SurfaceFrame> keyed;  // every pose's surfaces
   for (const auto& pose : poses) keyed.insert(keyed.end(), pose.begin(), pose.end());

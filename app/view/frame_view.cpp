@@ -26,8 +26,7 @@ FrameView simulateTo(const SceneFile& scene, int frame) {
   }
   const std::vector<double> times = shutterTimes(scene, frame);
   FrameView view{RenderScene(scene), rig.params(), times.size() > 1};
-  if (view.motion_blur)
-    view.camera.shutter_motion = float(scene.render.camera.shutter) * (view.camera.position - before.position);
+  if (view.motion_blur) view.camera.shutter_motion = shutterMotion(scene, before.position, view.camera.position);
   view.scene.update(times, surfacesOf(scene, shutter.states(sim.x())));
   return view;
 }

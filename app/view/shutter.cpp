@@ -14,6 +14,10 @@ std::vector<double> shutterTimes(const SceneFile& scene, int frame) {
   return times;
 }
 
+Eigen::Vector3f shutterMotion(const SceneFile& scene, const Eigen::Vector3f& before, const Eigen::Vector3f& at) {
+  return float(scene.render.camera.shutter) * (at - before);
+}
+
 ShutterRecorder::ShutterRecorder(const SceneFile& scene, const VecX& x0) : scene_(scene), x_prev_(x0) {}
 
 void ShutterRecorder::begin(int frame) {

@@ -10,6 +10,8 @@
 #include <span>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "app/scene/scene_file.h"
 #include "sim/surface.h"
 
@@ -19,6 +21,11 @@ constexpr int kShutterPoses = 4;
 
 // The instants of frame k's poses, open to close: one (t_k) when the shutter is 0 or k is 1.
 std::vector<double> shutterTimes(const SceneFile& scene, int frame);
+
+// How far a moving camera travels while frame k's shutter is open: the shutter's fraction of its move from frame
+// k - 1's position (`before`) to frame k's (`at`); the renderer moves the eye back along it over the shutter
+// (render::CameraParams::shutter_motion).
+Eigen::Vector3f shutterMotion(const SceneFile& scene, const Eigen::Vector3f& before, const Eigen::Vector3f& at);
 
 class ShutterRecorder {
  public:
