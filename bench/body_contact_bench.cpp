@@ -1,9 +1,9 @@
-// The cost of contact between bodies (sim/collision/, docs/body-contact.md): a limp cloth folded in four layers
+// The cost of contact between bodies (sim/contact/, docs/body-contact.md): a limp cloth folded in four layers
 // (tests/sim/folded_cloth.h) is dropped onto the floor and collapses onto itself. After a warm-up of 0.5 s to the
 // collapsed state, layers lying on each other (simulated once per case, untimed), each of 10 iterations is one step
 // (steps 31 to 40: the same states in every run; wall time, and CPU time of the whole process, both threads), with
 // self-contact on (/1) against off (/0, the same cloth from its own warm-up, layers passing through each other); the
-// last argument 0 turns the broad phase's culls off (sim/collision/body_collisions.h), to show what it saves:
+// last argument 0 turns the broad phase's culls off (sim/contact/collisions/body_collisions.h), to show what it saves:
 //   BM_Folded/{100,256}/x: 100 x 100 cloth, backward Euler at dt 1/60 (the 2x target), and 256 x 256 (its
 //   folds spring open violently on release: the broad phase's budget once stopped it at its third step);
 //   BM_Stacked/{100,256}/x: the same cloth laid in four layers half a spacing apart, each fold one short spring and
@@ -18,10 +18,11 @@
 //   BM_StackInSolve/x: jelly_stack's two 5^3 jellies, the upper one resting on the lower, backward Euler at 1/60 with
 //   the contacts in its solve (/1) against the pass after the step alone (/0, as before they went into the solve).
 //   BM_BroadPhase/x: the broad phase of one step of the 100 x 100 cloth at step 31 (its vertices' and triangles',
-//   and its edges' swept boxes from that step's start to its end, padded as body_collisions.cpp pads them): the
-//   spatial hash wobble uses (/0, broad_phase.h) against Embree's rtcCollide (/1: a BVH of user boxes per list, the
-//   float boxes rounded outward, its pairs filtered by the double boxes and sorted as the hash's); both give the
-//   same pairs (checked). Boxes only: the diagonals body_collisions.cpp keeps beside them filter the pairs after.
+//   and its edges' swept boxes from that step's start to its end, padded as contact/collisions/body_collisions.cpp pads
+//   them): the spatial hash wobble uses (/0, broad_phase.h) against Embree's rtcCollide (/1: a BVH of user boxes per
+//   list, the float boxes rounded outward, its pairs filtered by the double boxes and sorted as the hash's); both give
+//   the same pairs (checked). Boxes only: the diagonals contact/collisions/body_collisions.cpp keeps beside them filter
+//   the pairs after.
 // Run: taskset -c 0,1 build/body_contact_bench (two cores).
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
@@ -33,9 +34,9 @@
 
 #include "sim/bodies/cloth.h"
 #include "sim/bodies/jelly.h"
-#include "sim/colliders/plane.h"
-#include "sim/collision/body_collisions.h"
-#include "sim/collision/broad_phase.h"
+#include "sim/contact/broad_phase/broad_phase.h"
+#include "sim/contact/colliders/plane.h"
+#include "sim/contact/collisions/body_collisions.h"
 #include "sim/simulation.h"
 #include "tests/sim/folded_cloth.h"
 #include "tests/sim/jelly_stack.h"
@@ -133,7 +134,7 @@ void BM_StackInSolve(benchmark::State& state) {
 BENCHMARK(BM_StackInSolve)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 // The broad phase's input: boxes of the surface's vertices, triangles and edges over one step, and the pairs that
-// body_collisions.cpp keeps (elements of no common vertex).
+// contact/collisions/body_collisions.cpp keeps (elements of no common vertex).
 struct BroadPhaseInput {
   std::vector<collision::Box> vertices, triangles, edges;
   std::vector<std::array<int, 3>> triangle_vertices;

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "sim/bodies/cloth.h"
-#include "sim/colliders/sphere.h"
+#include "sim/contact/colliders/sphere.h"
 #include "sim/integrators/integrator.h"
 #include "sim/system.h"
 

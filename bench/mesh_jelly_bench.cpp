@@ -20,9 +20,9 @@
 
 #include "sim/bodies/jelly.h"
 #include "sim/bodies/mesh_jelly.h"
-#include "sim/colliders/mesh.h"
-#include "sim/colliders/plane.h"
-#include "sim/contact.h"
+#include "sim/contact/colliders/mesh.h"
+#include "sim/contact/colliders/plane.h"
+#include "sim/contact/colliders/response.h"
 #include "sim/simulation.h"
 #include "tests/sim/test_models.h"
 

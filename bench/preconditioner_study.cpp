@@ -34,7 +34,7 @@
 
 #include "sim/bodies/cloth.h"
 #include "sim/bodies/jelly.h"
-#include "sim/colliders/plane.h"
+#include "sim/contact/colliders/plane.h"
 #include "sim/force_jacobian.h"
 #include "sim/integrators/integrator.h"
 #include "sim/simulation.h"

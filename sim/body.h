@@ -5,12 +5,19 @@
 #include <string>
 #include <vector>
 
-#include "sim/collision/params.h"
 #include "sim/springs.h"
 #include "sim/surface.h"
 #include "sim/types.h"
 
 namespace wobble {
+
+// How a body's surface meets other bodies and itself, read from its scene table (scenes/README.md); contact between
+// bodies (sim/contact/) reads it.
+struct SurfaceContact {
+  double thickness = 0.02;  // m: surfaces are kept this far apart (the larger of two bodies' values between them)
+  double friction = 0.3;    // Coulomb coefficient (the mean of two bodies' values between them)
+  bool self_contact = false;
+};
 
 struct Body {
   std::string name;
@@ -21,7 +28,7 @@ struct Body {
   double drag = 0;           // viscous air drag coefficient: f = -drag v on each particle
   Springs springs;
   SurfaceMesh surface;
-  collision::SurfaceParams contact;  // contact with other bodies and itself (sim/collision/)
+  SurfaceContact contact;
 
   int particleCount() const { return static_cast<int>(mass.size()); }
 };

@@ -31,13 +31,14 @@ struct ContactConstraint {
   // The surface's index among the system's colliders: at most one constraint per particle and surface.
   int collider = 0;
   bool impact = false;  // from addImpactConstraints (else a resting contact at the step's start)
-  // Friction of a resting contact (contact_constraints.h), which an implicit step must not hold as the explicit force
-  // the accelerations add: sized to cancel the springs' tangential pull at the start, held for a whole long step while
-  // they relax, it drives the body (a cloth landing on a floor with friction 0.5 gained 60 000 J in a step).
+  // Friction of a resting contact (contact/constraints/constraints.h), which an implicit step must not hold as the
+  // explicit force the accelerations add: sized to cancel the springs' tangential pull at the start, held for a whole
+  // long step while they relax, it drives the body (a cloth landing on a floor with friction 0.5 gained 60 000 J in a
+  // step).
   Vec3 friction = Vec3::Zero();  // N: the friction force the accelerations add at the start (taken out of it)
   // Static friction holds at the start: the particle's tangential velocity changes by h times this too (it is
   // held), the explicit law's rate: the surface's tangential acceleration, less the relative tangential velocity
-  // over the stick time (2 h of the system's step, contact.h).
+  // over the stick time (2 h of the system's step, contact/colliders/response.h).
   bool stick = false;
   Vec3 tangential_acceleration = Vec3::Zero();  // m/s^2, with stick
   // Sliding at the start: kinetic friction as a damper on the tangential velocity relative to the surface at the
@@ -47,8 +48,9 @@ struct ContactConstraint {
   Vec3 surface_velocity = Vec3::Zero(), surface_acceleration = Vec3::Zero();
 };
 
-// A support that the accelerations apply at a step's start but an implicit step must not hold (contact_constraints.h):
-// the particle is leaving the surface. The solver takes force (support and friction, N) back out of its start force.
+// A support that the accelerations apply at a step's start but an implicit step must not hold
+// (contact/constraints/constraints.h): the particle is leaving the surface. The solver takes force (support and
+// friction, N) back out of its start force.
 struct ReleasedSupport {
   int particle;
   Vec3 force;
@@ -56,8 +58,8 @@ struct ReleasedSupport {
 
 // Two surface elements of bodies near each other in an implicit step (contact between bodies, docs/body-contact.md): a
 // point against a triangle or an edge against an edge, as a stencil of particles with weights w such that sum w_i x_i
-// is the relative position (sim/collision/primitives.h): four particles for surfaces over particles, up to 32 when
-// the elements' vertices are blends of particles (a mesh jelly's embedded surface, sim/solver/stencil.h). At the
+// is the relative position (sim/contact/distance/primitives.h): four particles for surfaces over particles, up to 32
+// when the elements' vertices are blends of particles (a mesh jelly's embedded surface, sim/solver/stencil.h). At the
 // step's start their nearest points are along the unit normal n (from the second element to the first); the pair's
 // gap g(x) = n . sum w_i x_i - thickness, linear in x over the step, is kept >= 0 by a stiff penalty inside backward
 // Euler's solve (backward_euler.cpp). The same serves an embedded point against a collider (colliderPairs, below):
@@ -143,8 +145,8 @@ class ForceJacobian {
   }
   // Impacts of a candidate step from (x0, v0) at t to (x1, v1) at t + h: adds to out (kept in particle order) a
   // constraint for every particle the step ends inside a surface, with the normal velocity change that keeps it out
-  // and gives it its bounce (contact_constraints.h). Returns whether out changed; the solver then solves again. The
-  // default finds none.
+  // and gives it its bounce (contact/constraints/constraints.h). Returns whether out changed; the solver then solves
+  // again. The default finds none.
   virtual bool impactConstraints(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1, const VecX& v1,
                                  std::vector<ContactConstraint>& out) const {
     (void)t, (void)h, (void)x0, (void)v0, (void)x1, (void)v1, (void)out;
@@ -158,11 +160,11 @@ class ForceJacobian {
     (void)x0, (void)x1, (void)out, (void)join;
     return false;
   }
-  // Contact of embedded points (weighted_points.h) with colliders for a candidate step from x0 at t to x1 at t + h:
-  // appends to out, as pairs for the same penalty, every point not yet in it that x1 ends within a surface's contact
-  // band (epsilon) or below it (element {-1 - collider, point, 0, 0}, apart from the pairs between bodies), with its
-  // restitution's rise from its approach speed at (x0, v0). Returns whether out grew (the default: none). Their
-  // explicit supports are released (contactConstraints).
+  // Contact of embedded points (contact/colliders/weighted_points.h) with colliders for a candidate step from x0 at t
+  // to x1 at t + h: appends to out, as pairs for the same penalty, every point not yet in it that x1 ends within a
+  // surface's contact band (epsilon) or below it (element {-1 - collider, point, 0, 0}, apart from the pairs between
+  // bodies), with its restitution's rise from its approach speed at (x0, v0). Returns whether out grew (the default:
+  // none). Their explicit supports are released (contactConstraints).
   virtual bool colliderPairs(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
                              std::vector<ContactPair>& out) const {
     (void)t, (void)h, (void)x0, (void)v0, (void)x1, (void)out;

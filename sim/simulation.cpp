@@ -2,9 +2,80 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <sstream>
 
 namespace wobble {
+namespace {
+
+// A Dynamics with contact between bodies for an implicit solve: every call passed on to the system's, and the pairs of
+// surface elements a candidate step ends within reach (ForceJacobian::bodyContacts) from the pass between bodies. The
+// system knows nothing of the pass: Simulation joins them here. It forwards every method of ForceJacobian (dynamics.h):
+// one added there must be forwarded here too, or an integrator would see its default.
+class WithBodyContact final : public Dynamics, public ForceJacobian {
+ public:
+  WithBodyContact(const Dynamics& dynamics, collision::BodyCollisions& pass)
+      : dynamics_(dynamics), jacobian_(*dynamics.forceJacobian()), pass_(pass) {}
+
+  void acceleration(double t, const VecX& x, const VecX& v, VecX& a) const override {
+    dynamics_.acceleration(t, x, v, a);
+  }
+  const ForceJacobian* forceJacobian() const override { return this; }
+
+  const VecX& mass() const override { return jacobian_.mass(); }
+  const VecX& inverseMass() const override { return jacobian_.inverseMass(); }
+  void smoothForce(double t, const VecX& x, const VecX& v, VecX& f) const override {
+    jacobian_.smoothForce(t, x, v, f);
+  }
+  const PairSchedule& jacobianPattern() const override { return jacobian_.jacobianPattern(); }
+  void fillJacobian(double t, const VecX& x, const VecX& v, double cx, double cv, PairBlockMatrix& a, const VecX* w,
+                    VecX* kw) const override {
+    jacobian_.fillJacobian(t, x, v, cx, cv, a, w, kw);
+  }
+  bool parallel() const override { return jacobian_.parallel(); }
+  void contactConstraints(double t, const VecX& x, const VecX& v, std::vector<ContactConstraint>& out,
+                          std::vector<ReleasedSupport>* released) const override {
+    jacobian_.contactConstraints(t, x, v, out, released);
+  }
+  bool impactConstraints(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1, const VecX& v1,
+                         std::vector<ContactConstraint>& out) const override {
+    return jacobian_.impactConstraints(t, h, x0, v0, x1, v1, out);
+  }
+  bool bodyContacts(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out, PairJoin& join) const override {
+    return pass_.nearPairs(x0, x1, out, join);
+  }
+  bool colliderPairs(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
+                     std::vector<ContactPair>& out) const override {
+    return jacobian_.colliderPairs(t, h, x0, v0, x1, out);
+  }
+  double energyMadeUp(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
+                      const VecX& v1) const override {
+    return jacobian_.energyMadeUp(t, h, x0, v0, x1, v1);
+  }
+
+ private:
+  const Dynamics& dynamics_;
+  const ForceJacobian& jacobian_;
+  collision::BodyCollisions& pass_;
+};
+
+}  // namespace
+
+namespace collision {
+
+std::unique_ptr<BodyCollisions> makeBodyCollisions(const MassSpringSystem& system) {
+  std::vector<Surface> surfaces;
+  for (const BodySlot& slot : system.bodies()) {
+    const Springs& springs = slot.body.springs;
+    const double stiffness =
+        springs.size() ? std::accumulate(springs.ks.begin(), springs.ks.end(), 0.0) / double(springs.size()) : 0.0;
+    surfaces.push_back({&slot.body.surface, slot.first, slot.body.contact, stiffness});
+  }
+  if (!BodyCollisions::needed(surfaces)) return nullptr;
+  return std::make_unique<BodyCollisions>(surfaces, system.inverseMass(), system.contactSettings(), system.parallel());
+}
+
+}  // namespace collision
 
 Simulation::Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> integrator, double dt)
     : system_(system),
@@ -14,16 +85,14 @@ Simulation::Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> int
       v_(system.initialVelocities()),
       collisions_(collision::makeBodyCollisions(system)) {
   system.setStepSize(dt);
-  system.setBodyContact(collisions_.get());  // for an implicit solve's contacts (ForceJacobian::bodyContacts)
+  if (collisions_) with_contact_ = std::make_unique<WithBodyContact>(system, *collisions_);
   for (int i = 0; i < system.particleCount(); ++i)
     max_speed_squared_ = std::max(max_speed_squared_, particle(v_, i).squaredNorm());
   energy_start_ = system.energy(x_, v_);
   lift_margin_ = system.liftEnergy();
 }
 
-Simulation::~Simulation() {
-  if (system_.bodyContact() == collisions_.get()) system_.setBodyContact(nullptr);
-}
+Simulation::~Simulation() = default;
 
 double Simulation::maxSpeed() const { return std::sqrt(max_speed_squared_); }
 
@@ -50,7 +119,7 @@ std::optional<BlowUp> Simulation::advanceTo(double t_end) {
 std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int splits) {
   const bool colliders = !system_.colliders().empty();
   if (collisions_ || colliders) x_before_ = x_, v_before_ = v_;
-  integrator_->step(system_, t0, h, x_, v_);
+  integrator_->step(stepped(), t0, h, x_, v_);
   system_.resolveCollisions(t1, x_, v_);
   if (collisions_)
     if (auto failure = collisions_->resolve(x_before_, x_, v_, h, !integrator_->solvesBodyContact())) {

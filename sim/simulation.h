@@ -10,11 +10,16 @@
 #include <optional>
 #include <string>
 
-#include "sim/collision/body_collisions.h"
+#include "sim/contact/collisions/body_collisions.h"
 #include "sim/integrators/integrator.h"
 #include "sim/system.h"
 
 namespace wobble {
+
+namespace collision {
+// The pass between a system's bodies (their Body::contact), or nothing when no two surface elements may meet.
+std::unique_ptr<BodyCollisions> makeBodyCollisions(const MassSpringSystem& system);
+}  // namespace collision
 
 // The course framework's rule: the run is unstable once any velocity is NaN or any |v|^2 exceeds this.
 inline constexpr double kBlowUpSpeedSquared = 1e6;
@@ -90,7 +95,7 @@ class Simulation {
   double lastIntervalMaxKinetic() const { return interval_kinetic_; }
   const Integrator& integrator() const { return *integrator_; }
   const MassSpringSystem& system() const { return system_; }
-  // Contact between bodies (sim/collision/): nothing when no two surface elements may meet.
+  // Contact between bodies (sim/contact/): nothing when no two surface elements may meet.
   const collision::Stats* bodyContact() const { return collisions_ ? &collisions_->stats() : nullptr; }
   // Steps (or parts of one) the pass between bodies failed on and took again as two halves ([contact] split_steps).
   long splitSteps() const { return split_steps_; }
@@ -115,6 +120,10 @@ class Simulation {
   double max_speed_squared_ = 0;
   double interval_speed_squared_ = 0, interval_kinetic_ = 0;  // over the last advanceTo's steps
   std::unique_ptr<collision::BodyCollisions> collisions_;
+  // What the integrator steps: the system, with the pairs of collisions_ for an implicit solve when bodies may touch
+  // (ForceJacobian::bodyContacts); the system alone otherwise.
+  std::unique_ptr<Dynamics> with_contact_;
+  const Dynamics& stepped() const { return with_contact_ ? *with_contact_ : system_; }
   double energy_start_ = 0, collider_work_ = 0, collider_work_unsigned_ = 0, lift_margin_ = 0;
   VecX x_before_, v_before_;  // the state at the step's start, for collisions_ and the colliders' work
   std::optional<EnergyGain> energy_gain_;

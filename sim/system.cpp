@@ -7,10 +7,9 @@
 #include <stdexcept>
 #include <tuple>
 
-#include "sim/collision/body_collisions.h"
-#include "sim/contact.h"
-#include "sim/contact_constraints.h"
-#include "sim/contact_pair_set.h"
+#include "sim/contact/colliders/response.h"
+#include "sim/contact/constraints/constraints.h"
+#include "sim/contact/pair_set.h"
 #include "sim/force_jacobian.h"
 #include "sim/solver/pair_block_matrix.h"
 #include "sim/spring_runs.h"
@@ -115,11 +114,6 @@ bool MassSpringSystem::impactConstraints(double t, double h, const VecX& x0, con
   return addImpactConstraints(colliders_, t, h, x0, v0, x1, v1, collider_inv_mass_, out);
 }
 
-bool MassSpringSystem::bodyContacts(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out,
-                                    PairJoin& join) const {
-  return body_contact_ && body_contact_->nearPairs(x0, x1, out, join);
-}
-
 bool MassSpringSystem::colliderPairs(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
                                      std::vector<ContactPair>& out) const {
   if (points_.empty()) return false;
@@ -195,8 +189,8 @@ double MassSpringSystem::colliderWork(double t, double h, const VecX& x0, const 
     nearest[i] = distance;
     surface[i] = c;
   };
-  // The particles colliders meet, then the embedded points (those of the cells near the collider, contact.h's
-  // nearPoints), each claiming its particles.
+  // The particles colliders meet, then the embedded points (those of the cells near the collider,
+  // contact/colliders/response.h's nearPoints), each claiming its particles.
   thread_local VecX point_x, point_v;  // the near points' positions and velocities
   thread_local CellBoxes cells0, cells1;
   cells0.clear();

@@ -7,16 +7,13 @@
 #include <vector>
 
 #include "sim/body.h"
-#include "sim/colliders/collider.h"
+#include "sim/contact/colliders/collider.h"
+#include "sim/contact/colliders/weighted_points.h"
+#include "sim/contact/params.h"
 #include "sim/dynamics.h"
 #include "sim/solver/pair_schedule.h"
-#include "sim/weighted_points.h"
 
 namespace wobble {
-
-namespace collision {
-class BodyCollisions;
-}
 
 // The energy checks' margins (docs/energy.md): the run's (Simulation) is at least the energy of lifting every free
 // particle by kEnergyGainLift (m |g|, |g| at least 1 m/s^2); a step's (energyMadeUp) kStepEnergyMargin of the larger
@@ -38,10 +35,10 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   void addBody(Body body);
   void addCollider(std::unique_ptr<Collider> collider) { colliders_.push_back(std::move(collider)); }
   // The step size the system will be integrated with: static friction stops sticking contacts over 2 h
-  // (see contact.h). Simulation sets it; a constant during each step, so accelerations stay pure.
+  // (see contact/colliders/response.h). Simulation sets it; a constant during each step, so accelerations stay pure.
   void setStepSize(double h) { stick_time_ = 2 * h; }
   double stepSize() const { return stick_time_ / 2; }
-  // The caps of contact between bodies (sim/collision/body_collisions.h).
+  // The caps of contact between bodies (sim/contact/collisions/body_collisions.h).
   void setContactSettings(const collision::Settings& s) { contact_settings_ = s; }
   const collision::Settings& contactSettings() const { return contact_settings_; }
 
@@ -58,23 +55,20 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   bool parallel() const override { return runsInParallel(particleCount()); }
   // The same Jacobians as triplets of dF/dx and dF/dv (duplicates summed): for analysis and tests.
   void addForceJacobians(double t, const VecX& x, const VecX& v, Triplets& dfdx, Triplets& dfdv) const;
-  // The particles whose contact support is active (contact_constraints.h).
+  // The particles whose contact support is active (contact/constraints/constraints.h).
   void contactConstraints(double t, const VecX& x, const VecX& v, std::vector<ContactConstraint>& out,
                           std::vector<ReleasedSupport>* released = nullptr) const override;
-  // The particles a candidate implicit step ends inside a collider (contact_constraints.h, addImpactConstraints).
+  // The particles a candidate implicit step ends inside a collider (contact/constraints/constraints.h,
+  // addImpactConstraints).
   bool impactConstraints(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1, const VecX& v1,
                          std::vector<ContactConstraint>& out) const override;
-  // Contact between bodies for an implicit step (BodyCollisions::nearPairs of the pass set below; none without one).
-  bool bodyContacts(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out, PairJoin& join) const override;
   // The embedded points a candidate implicit step ends within a collider's band, as penalty pairs (ForceJacobian).
   bool colliderPairs(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
                      std::vector<ContactPair>& out) const override;
-  // The body-contact pass whose pairs bodyContacts reports (Simulation sets it; nullptr: none).
-  void setBodyContact(collision::BodyCollisions* pass) { body_contact_ = pass; }
-  const collision::BodyCollisions* bodyContact() const { return body_contact_; }
   // Restitution and penetration correction, applied to the stored state at the end of each step. Every integrator
-  // meets colliders with an embedded surface here and in the contact forces (weighted_points.h); backward Euler's
-  // constraints hold particles only, so an embedded surface's impacts are resolved here after its solve.
+  // meets colliders with an embedded surface here and in the contact forces (contact/colliders/weighted_points.h);
+  // backward Euler's constraints hold particles only, so an embedded surface's impacts are resolved here after its
+  // solve.
   void resolveCollisions(double t, VecX& x, VecX& v) const;
 
   // Work done on the bodies by moving colliders over a step from (x0, v0) at t to (x1, v1) at t + h (after contact
@@ -114,7 +108,6 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   Vec3 gravity_;
   double stick_time_ = 2e-3;
   collision::Settings contact_settings_;
-  collision::BodyCollisions* body_contact_ = nullptr;
   std::vector<BodySlot> bodies_;
   std::vector<std::unique_ptr<Collider>> colliders_;
   VecX x0_, v0_, mass_, inv_mass_, drag_;

@@ -74,7 +74,8 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
          {"cg_iterations", s.cg_iterations},
          {"cg_iterations_per_step", s.steps ? double(s.cg_iterations) / double(s.steps) : 0.0},
          {"max_relative_residual", s.max_cg_residual}};
-  if (const collision::Stats* c = sim.bodyContact()) {  // contact between bodies (sim/collision/body_collisions.h)
+  if (const collision::Stats* c =
+          sim.bodyContact()) {  // contact between bodies (sim/contact/collisions/body_collisions.h)
     auto& b = j["body_contact"];
     b = {{"steps_checked", c->passes},
          {"contacts", c->contacts},

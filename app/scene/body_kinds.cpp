@@ -128,7 +128,7 @@ void readBodyContact(TableReader& r, const BodyKind& kind, int bodies, Body& bod
   const auto& rest = body.springs.rest;
   const double shortest =
       rest.empty() ? std::numeric_limits<double>::infinity() : *std::min_element(rest.begin(), rest.end());
-  collision::SurfaceParams& c = body.contact;
+  SurfaceContact& c = body.contact;
   c.thickness = r.number("thickness", std::min(c.thickness, 0.25 * shortest), Range::positive());
   if (c.thickness >= shortest)
     r.fail("thickness", "must be > 0 and below the body's shortest spring, " + io::formatNumber(shortest) +

@@ -6,11 +6,11 @@
 #include "app/scene/kind_table.h"
 #include "app/scene/model_file.h"
 #include "app/scene/table_reader.h"
-#include "sim/colliders/box.h"
-#include "sim/colliders/elevator.h"
-#include "sim/colliders/mesh.h"
-#include "sim/colliders/plane.h"
-#include "sim/colliders/sphere.h"
+#include "sim/contact/colliders/box.h"
+#include "sim/contact/colliders/elevator.h"
+#include "sim/contact/colliders/mesh.h"
+#include "sim/contact/colliders/plane.h"
+#include "sim/contact/colliders/sphere.h"
 
 namespace wobble {
 namespace {

@@ -1,8 +1,8 @@
 // The collider kinds a scene may name (`type` in [colliders.NAME]), one entry each: the keys it reads, its default
 // look and the shape it is drawn as. The reader (scene.cpp), the look (render_config.cpp), the renderer's scene
 // (render_scene.cpp) and `wobble blend` go through this table and never ask which kind a collider is; the camera
-// frames colliders by Collider::bounds. Adding a kind: a collider in sim/colliders/, an entry in collider_kinds.cpp,
-// its keys in scenes/README.md.
+// frames colliders by Collider::bounds. Adding a kind: a collider in sim/contact/colliders/, an entry in
+// collider_kinds.cpp, its keys in scenes/README.md.
 #pragma once
 #include <array>
 #include <memory>
@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "app/scene/render_config.h"
-#include "sim/colliders/collider.h"
+#include "sim/contact/colliders/collider.h"
 
 namespace wobble {
 

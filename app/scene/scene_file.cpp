@@ -99,7 +99,7 @@ ContactParams readContact(TableReader& r) {
   return c;
 }
 
-// [contact]: the caps of contact between bodies (sim/collision/params.h), and whether backward Euler carries the
+// [contact]: the caps of contact between bodies (sim/contact/params.h), and whether backward Euler carries the
 // contacts in its solve (IntegratorOptions::body_contact_in_solve; the other integrators have no solve to carry them
 // in and ignore the key, as they ignore [simulation]'s cg_ keys).
 collision::Settings readContactTable(TableReader r, IntegratorOptions& options) {

@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "sim/contact_filter.h"
+#include "sim/contact/constraints/filter.h"
 #include "sim/integrators/methods.h"
 #include "sim/solver/parallel.h"
 
@@ -61,7 +61,8 @@ void BackwardEuler::step(const Dynamics& dynamics, double t, double h, VecX& x, 
   // F0 = M a0: every force, contact included, at the start state.
   ++stats_.evaluations;
   dynamics.acceleration(t, x, v, f0_);
-  // A support on a particle leaving its surface would act for the whole step (contact_constraints.h): taken out.
+  // A support on a particle leaving its surface would act for the whole step (contact/constraints/constraints.h): taken
+  // out.
   for (const ReleasedSupport& r : released_) particle(f0_, r.particle) -= jacobian->inverseMass()[r.particle] * r.force;
   // Friction likewise (ContactConstraint::friction): the filter holds a sticking contact, a damper in the solve
   // slows a sliding one (frictionBlocks).

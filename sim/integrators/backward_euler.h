@@ -15,9 +15,9 @@
 // has S_i = 0, dv_i = 0; a particle whose contact support is active at the start (ForceJacobian::contactConstraints)
 // has S_i = I - n n^T and its normal dv prescribed (the surface's normal acceleration times h; on two surfaces at
 // once S_i = d d^T, d the line both leave free, on three S_i = 0, every normal component prescribed: B&W section
-// 5.3, contact_filter.h), which is what the explicit support force does instantaneously. Their friction is taken
-// out of F0 as well and held in the solve (docs/contact.md): a contact whose static friction sticks at the start is
-// held (S_i = 0, its tangential change the explicit law's), a sliding one slowed by a tangential damper of Coulomb's
+// 5.3, contact/constraints/filter.h), which is what the explicit support force does instantaneously. Their friction is
+// taken out of F0 as well and held in the solve (docs/contact.md): a contact whose static friction sticks at the start
+// is held (S_i = 0, its tangential change the explicit law's), a sliding one slowed by a tangential damper of Coulomb's
 // force at its start speed (frictionBlocks).
 // Without that, the support sized to cancel a stiff spring's push at the start would act for the whole step while the
 // spring relaxes and launch the body; for the same reason a support on a particle leaving its surface within the step
@@ -33,15 +33,15 @@
 // does: Li et al. 2020, "Incremental Potential Contact"). The penalty is convex, and backward Euler is the minimizer of
 // the incremental potential (Gast et al. 2015, "Optimization integrator for large time steps"), so an exact step never
 // gains energy through it; the pass after the step keeps only its collision impulses and impact zones (Bridson et al.
-// 2002), the guarantee that nothing passes through. An embedded surface's points (a mesh jelly's, weighted_points.h)
-// meet colliders through the same penalty (ForceJacobian::colliderPairs: each point the step would end below a
-// surface, against its tangent plane, its restitution's bounce a raised rest gap), their explicit supports taken out
-// of F0 (ReleasedSupport): held from the step's start they made a resting mesh jelly hop. Options:
-// cg_tolerance (relative residual |S (b - A dv)| / |S (b - A z)|, default in integrator.h), cg_error_fraction (below),
-// cg_preconditioner (integrator.h) and cg_max_iterations of each linear solve (a solve that hits the limit is used as
-// it stands, as Blender's cloth solver does; the achieved residual is in the stats); newton: after that first step,
-// iterate Newton on the full nonlinear equations (contact still held at its start value) with a backtracking line
-// search on the residual, until max |M^-1 residual| <= newton_tolerance * max(1, max |v1|), at most
+// 2002), the guarantee that nothing passes through. An embedded surface's points (a mesh jelly's,
+// contact/colliders/weighted_points.h) meet colliders through the same penalty (ForceJacobian::colliderPairs: each
+// point the step would end below a surface, against its tangent plane, its restitution's bounce a raised rest gap),
+// their explicit supports taken out of F0 (ReleasedSupport): held from the step's start they made a resting mesh jelly
+// hop. Options: cg_tolerance (relative residual |S (b - A dv)| / |S (b - A z)|, default in integrator.h),
+// cg_error_fraction (below), cg_preconditioner (integrator.h) and cg_max_iterations of each linear solve (a solve that
+// hits the limit is used as it stands, as Blender's cloth solver does; the achieved residual is in the stats); newton:
+// after that first step, iterate Newton on the full nonlinear equations (contact still held at its start value) with a
+// backtracking line search on the residual, until max |M^-1 residual| <= newton_tolerance * max(1, max |v1|), at most
 // newton_max_iterations linear solves (the damper's x-dependence is not in the Jacobian, so convergence is linear
 // rather than quadratic when dampers act; it still converges to the exact backward-Euler step). The error rule
 // (cg_error_fraction = eta > 0, without newton): the solve also stops once its error is at most eta times the step's

@@ -2,7 +2,7 @@
 // the solved step ends a particle inside a surface or changes which contact pairs are pressed (backward_euler.h).
 #include <algorithm>
 
-#include "sim/contact_filter.h"
+#include "sim/contact/constraints/filter.h"
 #include "sim/integrators/backward_euler.h"
 
 namespace wobble {
@@ -32,8 +32,8 @@ void BackwardEuler::addFrictionWeights(double h) {
 }
 
 // After the filter is rebuilt for impacts: a sliding contact whose normal it no longer removes (its constraint gone
-// with an impact, contact_constraints.h) leaves the matrix, where h c would damp its normal velocity too; its
-// friction stays the start's force in the right-hand side (at most Coulomb's).
+// with an impact, contact/constraints/constraints.h) leaves the matrix, where h c would damp its normal velocity too;
+// its friction stays the start's force in the right-hand side (at most Coulomb's).
 void BackwardEuler::dropFreedFriction(double h) {
   for (SlidingContact& s : sliding_)
     if (s.in_matrix && filter_.apply(s.contact.particle, s.contact.normal).squaredNorm() > 1e-12) {
@@ -47,9 +47,9 @@ Vec3 BackwardEuler::tangentialSlide(const ContactConstraint& c, double h, const 
   return u - c.normal.dot(u) * c.normal;
 }
 
-// Impacts (contact_constraints.h): while the solved step ends a particle inside a surface, constrain it along the
-// normal to its bounce and solve again (warm-started), so the springs share its impulse with the body within the
-// step; likewise while it ends two bodies' surface elements within their thickness (ForceJacobian::bodyContacts:
+// Impacts (contact/constraints/constraints.h): while the solved step ends a particle inside a surface, constrain it
+// along the normal to its bounce and solve again (warm-started), so the springs share its impulse with the body within
+// the step; likewise while it ends two bodies' surface elements within their thickness (ForceJacobian::bodyContacts:
 // the pairs' penalty, addPairs). At most kImpactPasses more solves (what still ends inside is lifted by the step
 // end's projection, what still ends too near is the post-step pass's). Between bodies, a check that changes the
 // activity of fewer than kSettledShare of the step's pairs (new pressed pairs included) and finds no impact ends the

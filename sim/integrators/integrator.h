@@ -57,8 +57,8 @@ struct IntegratorStats {
   long iteration_cap_stops = 0;     // backward-euler: solves stopped by cg_max_iterations above both bounds
   double max_cg_residual_error_rule = 0;  // backward-euler: the worst relative residual of the error rule's stops
   double max_cg_residual_cap = 0;         // backward-euler: ... of the iteration cap's
-  long pattern_setups = 0;       // backward-euler: matrices sized for a new Jacobian pattern (once per topology)
-  long impact_solves = 0;        // backward-euler: extra solves with impact constraints (contact_constraints.h)
+  long pattern_setups = 0;  // backward-euler: matrices sized for a new Jacobian pattern (once per topology)
+  long impact_solves = 0;   // backward-euler: extra solves with impact constraints (contact/constraints/constraints.h)
   long body_contact_solves = 0;  // backward-euler: extra solves with contact between bodies (ContactPair)
   long body_contact_pairs = 0;   // backward-euler: pairs of surface elements in those solves, all steps
   long exact_steps = 0;          // backward-euler without newton: steps whose linearized solve made up energy,
@@ -77,7 +77,7 @@ class Integrator {
   // Advances x, v from time t to t + h.
   virtual void step(const Dynamics& dynamics, double t, double h, VecX& x, VecX& v) = 0;
   // Whether step() keeps the surfaces of bodies apart itself (ForceJacobian::bodyContacts): then the pass after the
-  // step (sim/collision/body_collisions.h) only checks for collisions and leaves out its repulsion.
+  // step (sim/contact/collisions/body_collisions.h) only checks for collisions and leaves out its repulsion.
   virtual bool solvesBodyContact() const { return false; }
   // Whether step() solves one linearization of an implicit method's equations rather than the equations themselves
   // (backward Euler without newton): a spring that turns or shortens by much of its length within a step may then

@@ -5,7 +5,7 @@
 // independent normals. S_p is the orthogonal projection onto the directions every one of the particle's normals
 // leaves free: symmetric, idempotent, S_p n_i = 0. Normals within kParallel of the span of the ones before count as
 // one of them (their constraint is the same to that accuracy, and a near-singular pair would make the prescribed
-// part ill-conditioned: contact_constraints.h).
+// part ill-conditioned: contact/constraints/constraints.h).
 #pragma once
 #include <cstdint>
 #include <vector>

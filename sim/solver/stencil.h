@@ -2,8 +2,9 @@
 // velocity) of two surface elements in contact between bodies (Bridson, Fedkiw & Anderson 2002's stencils). Four
 // particles for a point-triangle or edge-edge pair of surfaces over particles; up to 32 when the elements' vertices
 // are themselves blends of particles (a mesh jelly's model vertices, each the trilinear blend of its lattice cell's 8
-// particles: sim/weighted_points.h), each particle once with its weights summed. Four in place and the rest on the
-// heap, not a vector: the stencils of surfaces over particles are built and copied every step and must not allocate.
+// particles: sim/contact/colliders/weighted_points.h), each particle once with its weights summed. Four in place and
+// the rest on the heap, not a vector: the stencils of surfaces over particles are built and copied every step and must
+// not allocate.
 #pragma once
 #include <algorithm>
 #include <array>

@@ -1,5 +1,5 @@
 // Under backward Euler the contacts are inside the solve, and the pass after the step (continuous detection, impulses,
-// impact zones: sim/collision/) is what still guarantees that no surface ends a step through another. A jelly thrown
+// impact zones: sim/contact/) is what still guarantees that no surface ends a step through another. A jelly thrown
 // fast at another, at a step long enough that it covers its own size, is a case the solve alone leaves crossing.
 // Oracle: the independent triangle-triangle test (tests/sim/triangle_intersection.h) at every step's end.
 #include <gtest/gtest.h>

@@ -14,8 +14,8 @@
 
 #include "sim/bodies/cloth.h"
 #include "sim/bodies/jelly.h"
-#include "sim/colliders/plane.h"
-#include "sim/colliders/sphere.h"
+#include "sim/contact/colliders/plane.h"
+#include "sim/contact/colliders/sphere.h"
 #include "sim/simulation.h"
 #include "tests/sim/cloth_on_sphere.h"
 #include "tests/sim/stiff_cloth.h"

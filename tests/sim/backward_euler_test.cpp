@@ -8,7 +8,7 @@
 
 #include "sim/bodies/cloth.h"
 #include "sim/bodies/jelly.h"
-#include "sim/colliders/plane.h"
+#include "sim/contact/colliders/plane.h"
 #include "sim/force_jacobian.h"
 #include "sim/simulation.h"
 
@@ -141,9 +141,9 @@ TEST(BackwardEuler, StiffJellyRestsOnAPlaneInShape) {
 }
 
 // Dropped half a metre (3.1 m/s at impact): the bottom layer would sink up to v h = 5 cm into the plane in a step;
-// the impact constraints stop it inside the solve (contact_constraints.h), so no end-of-step correction compresses it
-// (that correction gave strains ~0.12). It must keep its shape and come to rest on the plane, within the contact
-// band (epsilon 0.01), where a resting particle may sit anywhere.
+// the impact constraints stop it inside the solve (contact/constraints/constraints.h), so no end-of-step correction
+// compresses it (that correction gave strains ~0.12). It must keep its shape and come to rest on the plane, within the
+// contact band (epsilon 0.01), where a resting particle may sit anywhere.
 TEST(BackwardEuler, StiffJellyDroppedOnAPlaneKeepsItsShapeAndSettles) {
   const JellyRun run = runStiffJelly(0.5, 0, 45);
   EXPECT_LT(run.worst_strain, 0.01);

@@ -1,12 +1,13 @@
-// scenes/cloth_drop.toml in code, for contact's tests (tests/sim/body_contact_test.cpp): an n x n cloth 1.6 m square,
-// released hanging edge-down (at the given velocity) above a sphere of radius 0.4 m on the floor, with self-contact
-// (thickness a quarter of the particle spacing): it lands on the sphere, buckles and folds onto itself.
+// scenes/cloth_drop.toml in code, for contact's tests (tests/sim/contact/collisions/body_contact_test.cpp): an n x n
+// cloth 1.6 m square, released hanging edge-down (at the given velocity) above a sphere of radius 0.4 m on the floor,
+// with self-contact (thickness a quarter of the particle spacing): it lands on the sphere, buckles and folds onto
+// itself.
 #pragma once
 #include <memory>
 
 #include "sim/bodies/cloth.h"
-#include "sim/colliders/plane.h"
-#include "sim/colliders/sphere.h"
+#include "sim/contact/colliders/plane.h"
+#include "sim/contact/colliders/sphere.h"
 #include "sim/system.h"
 
 namespace wobble::testing {

@@ -4,7 +4,7 @@
 #include <memory>
 
 #include "sim/bodies/cloth.h"
-#include "sim/colliders/sphere.h"
+#include "sim/contact/colliders/sphere.h"
 #include "sim/system.h"
 
 namespace wobble::testing {

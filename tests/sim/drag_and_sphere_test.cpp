@@ -5,7 +5,7 @@
 
 #include "point_masses.h"
 #include "sim/bodies/cloth.h"
-#include "sim/colliders/sphere.h"
+#include "sim/contact/colliders/sphere.h"
 
 namespace wobble {
 namespace {

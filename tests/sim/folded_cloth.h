@@ -1,18 +1,18 @@
 // A cloth that falls onto itself, for contact's cost and tests (bench/body_contact_bench.cpp,
-// tests/sim/body_contact_test.cpp): a side x side cloth, 2 x 2 m and 4 kg whatever the resolution, folded like a
-// ribbon into `layers` stacked layers (half-circle folds, two particle spacings between layers) just above a floor,
-// with self-contact (thickness a quarter of the spacing). Its bending springs are at 1% of the cloth's stiffness: a
-// limp cloth, so that the folds collapse and the layers land on each other instead of springing open.
-// With layer_gap > 0 (less than 1) the layers lie that many spacings apart instead, each fold one short spring,
-// and every spring's rest length is its length in this folded shape: nothing springs open at release, the stack drops
-// onto the floor and its layers settle onto each other (at 256 x 256 the default folds spring open so violently that
-// the run stops: docs/body-contact.md, Cost). floor_friction: the floor's Coulomb coefficient.
+// tests/sim/contact/collisions/body_contact_test.cpp): a side x side cloth, 2 x 2 m and 4 kg whatever the resolution,
+// folded like a ribbon into `layers` stacked layers (half-circle folds, two particle spacings between layers) just
+// above a floor, with self-contact (thickness a quarter of the spacing). Its bending springs are at 1% of the cloth's
+// stiffness: a limp cloth, so that the folds collapse and the layers land on each other instead of springing open. With
+// layer_gap > 0 (less than 1) the layers lie that many spacings apart instead, each fold one short spring, and every
+// spring's rest length is its length in this folded shape: nothing springs open at release, the stack drops onto the
+// floor and its layers settle onto each other (at 256 x 256 the default folds spring open so violently that the run
+// stops: docs/body-contact.md, Cost). floor_friction: the floor's Coulomb coefficient.
 #pragma once
 #include <cmath>
 #include <memory>
 
 #include "sim/bodies/cloth.h"
-#include "sim/colliders/plane.h"
+#include "sim/contact/colliders/plane.h"
 #include "sim/system.h"
 
 namespace wobble::testing {

@@ -1,11 +1,11 @@
 // scenes/jelly_stack.toml in code, for contact's cost and tests (bench/body_contact_bench.cpp,
-// tests/sim/body_contact_test.cpp): two 5^3 jellies, the smaller one turned by 30 degrees and dropped from 2.1 m onto
-// the other, which stands on a floor.
+// tests/sim/contact/collisions/body_contact_test.cpp): two 5^3 jellies, the smaller one turned by 30 degrees and
+// dropped from 2.1 m onto the other, which stands on a floor.
 #pragma once
 #include <memory>
 
 #include "sim/bodies/jelly.h"
-#include "sim/colliders/plane.h"
+#include "sim/contact/colliders/plane.h"
 #include "sim/system.h"
 
 namespace wobble::testing {

@@ -7,7 +7,7 @@
 
 #include "sim/bodies/jelly.h"
 #include "sim/bodies/mesh_jelly.h"
-#include "sim/colliders/mesh.h"
+#include "sim/contact/colliders/mesh.h"
 #include "test_models.h"
 
 namespace wobble {

@@ -1,10 +1,10 @@
 // Baraff & Witkin's filter with several constraints on one particle (1998, section 5.3; particle_filter.h) and the
-// velocity change the contacts prescribe (contact_filter.h). Oracles: the algebra of an orthogonal projection
-// (symmetric, idempotent, zero on every constraint normal, identity on the free directions) and the constraints
-// themselves (n_i . z = h a_i for each).
+// velocity change the contacts prescribe (contact/constraints/filter.h). Oracles: the algebra of an orthogonal
+// projection (symmetric, idempotent, zero on every constraint normal, identity on the free directions) and the
+// constraints themselves (n_i . z = h a_i for each).
 #include <gtest/gtest.h>
 
-#include "sim/contact_filter.h"
+#include "sim/contact/constraints/filter.h"
 
 namespace wobble {
 namespace {

@@ -10,8 +10,8 @@
 #include <cmath>
 
 #include "sim/bodies/jelly.h"
-#include "sim/colliders/elevator.h"
-#include "sim/colliders/plane.h"
+#include "sim/contact/colliders/elevator.h"
+#include "sim/contact/colliders/plane.h"
 #include "sim/simulation.h"
 
 namespace wobble {

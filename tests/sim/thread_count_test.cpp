@@ -14,7 +14,7 @@
 #include <tbb/global_control.h>
 
 #include "sim/bodies/jelly.h"
-#include "sim/colliders/plane.h"
+#include "sim/contact/colliders/plane.h"
 #include "sim/simulation.h"
 #include "sim/solver/parallel.h"
 #include "tests/sim/cloth_on_sphere.h"

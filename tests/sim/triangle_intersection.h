@@ -1,6 +1,6 @@
 // An independent triangle-triangle intersection test for the contact tests (Moller 1997, "A fast triangle-triangle
 // intersection test", journal of graphics tools 2(2)): written here from the paper, sharing nothing with the solver's
-// proximity or continuous queries (sim/collision/), so that it can catch their mistakes. Touching counts as
+// proximity or continuous queries (sim/contact/), so that it can catch their mistakes. Touching counts as
 // intersecting; no epsilon.
 #pragma once
 #include <algorithm>

@@ -431,7 +431,7 @@ TEST(TwoLevelPcg, CoarseStencilsCutIterationsOnAStackedCloth) {
   PairBlockMatrix springs = a;
   std::vector<ContactPair> pairs;
   PairJoin every;  // every pair within reach
-  ASSERT_TRUE(system->bodyContacts(sim.x(), sim.x(), pairs, every));
+  ASSERT_TRUE(collision::makeBodyCollisions(*system)->nearPairs(sim.x(), sim.x(), pairs, every));
   for (const ContactPair& c : pairs)
     if (const double weight = c.stencil.inverseMass(jacobian.inverseMass()); weight > 0)
       a.stencils().push_back({c.stencil, (100 / weight) * Sym3::outer(c.normal)});

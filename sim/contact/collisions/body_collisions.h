@@ -1,0 +1,113 @@
+// Contact between bodies and within a body's own surface: the pass that runs after every step, for every integrator
+// (Bridson, Fedkiw & Anderson 2002, "Robust treatment of collisions, contact and friction for cloth animation";
+// Harmon, Vouga, Tamstorf & Grinspun 2008, "Robust treatment of simultaneous collisions"; Provot 1997 for rigid impact
+// zones). Given the step's start x0 (free of intersections) and the integrator's candidate end x1, v1, the particles
+// of every surface move along x0 + s h vbar, vbar = (x1 - x0) / h, s in [0, 1]. The pass changes vbar only:
+//   1. repulsion: each point-triangle and edge-edge pair within the contact thickness at x0 gets an inelastic impulse
+//      that stops its approach, a repulsion capped by a spring of the bodies' stiffness over the thickness left,
+//      and Coulomb friction on its tangential relative velocity (Bridson 2002, 7.2);
+//   2. collisions: continuous detection of every pair along the trajectories (ccd.h); each hit gets an impulse that
+//      stops the approach (with at most a tenth of it back as separation), in a fixed order, iterated up to
+//      ccd_iterations rounds, each testing only the pairs whose particles moved in the last one;
+//   3. fail-safe: hits left after those rounds merge their particles into rigid impact zones (union-find) that move as
+//      rigid bodies with their linear and angular momentum (a zone holding a pinned particle stands still), until a
+//      round finds no hit or zone_iterations rounds pass: then the pass fails.
+// Then x1 = x0 + h vbar and v1 += vbar - (x1 - x0) / h for the particles whose vbar changed; every other byte of x1 and
+// v1 is left as it was, so a step in which no two surfaces come within the thickness is unchanged.
+// An implicit integrator that carries the contacts in its solve (backward Euler: nearPairs below, a penalty on each
+// pair's gap with its Jacobian) skips stage 1: its step ends with the pairs at the thickness already, and impulses on
+// the touching particles alone would compress the springs behind them (the energy gain of docs/body-contact.md).
+// Stages 2 and 3 stay the guarantee that no surface passes through another.
+// A surface's vertices are particles, or for a mesh jelly points riding on its lattice (each the trilinear blend of
+// its cell's 8 particles, contact/colliders/weighted_points.h): such a vertex moves along the blend of its particles'
+// straight trajectories, itself straight, so detection is the same on it; an impulse on a pair is handed to the
+// particles of its vertices by the combined weights (up to 32 particles, each once) and their inverse masses, which
+// gives the pair exactly the velocity change asked for (embedded collision proxies: Sifakis, Shinar, Irving & Fedkiw
+// 2007; McAdams et al. 2011); impact zones gather the particles under the colliding vertices, and a rigid motion of the
+// particles moves the points blended from them rigidly too.
+#pragma once
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sim/body.h"
+#include "sim/contact/params.h"
+#include "sim/dynamics.h"
+#include "sim/types.h"
+
+namespace wobble {
+
+namespace collision {
+
+struct Stats {
+  long passes = 0;            // steps checked
+  long skin_passes = 0;       // of them, those whose candidates came from an earlier step's broad phase (its skin)
+  long skin_searches = 0;     // backward Euler's steps whose near-pair candidates came from an earlier step's
+  long contacts = 0;          // pairs within the thickness at a step's start (repulsion impulses)
+  long ccd_hits = 0;          // collisions found by continuous detection and stopped by impulses
+  long zone_activations = 0;  // steps that needed rigid impact zones
+  long zone_rounds = 0;       // impact-zone rounds over all steps
+  int largest_zone = 0;       // particles in the largest impact zone
+  long broad_phases = 0;      // broad phases run (a step's first, and those of its later rounds and solves)
+  long candidates = 0;        // candidate pairs they listed (point-triangle and edge-edge)
+  long step_updates = 0;      // backward Euler's searches that brought the step's candidates to a far end in part
+  long skin_lists = 0;        // lists found padded for later steps (skins: the pass's and backward Euler's)
+  long skin_updates = 0;      // backward Euler's kept lists brought up to date in part (vertices that left theirs)
+  long step_rounds = 0;       // the pass's later rounds that took backward Euler's step list, not a broad phase
+  // Smallest distance between non-adjacent surface elements seen at any step's start, over the pairs within the
+  // thickness there (infinity when no pair ever was).
+  double min_distance = std::numeric_limits<double>::infinity();
+};
+
+struct Failure {
+  int particle;  // one particle of a collision left (or of the vertex that moved furthest)
+  std::string reason;
+  std::string fix;  // what to change, when not the contact settings (empty: Simulation suggests those)
+};
+
+struct Surface {
+  const SurfaceMesh* mesh;
+  int first_particle;
+  SurfaceContact params;
+  double stiffness;  // N/m of the repulsion spring: the body's mean spring stiffness (Bridson 2002, 7.2)
+};
+
+class BodyCollisions {
+ public:
+  BodyCollisions(const std::vector<Surface>& surfaces, const VecX& inverse_mass, Settings settings, bool parallel);
+  ~BodyCollisions();
+  // Whether any pair of elements may collide at all: two bodies, or one with self-contact.
+  static bool needed(const std::vector<Surface>& surfaces);
+  // The pass over one step of size h from x0 to (x1, v1); see above. Nothing when the end is free of collisions.
+  // repulsion: stage 1's impulses (false when the integrator's solve carried the contacts; the pairs are still
+  // counted).
+  std::optional<Failure> resolve(const VecX& x0, VecX& x1, VecX& v1, double h, bool repulsion = true);
+  // For an implicit solve (ForceJacobian::bodyContacts): appends to out the pairs of elements, not in out yet, whose
+  // gap, linearized at x0 along their nearest points' direction there, ends below 0 at x1 (candidates from the swept
+  // boxes of x0 to x1; those of the step's first call, padded by half the thickness more, serve its later calls and
+  // the pass while x0 is the same and every end lies within that margin of the first's). In a fixed order; returns
+  // whether out grew. join: which of them it hands over (PairJoin; every one when left out), and how many it held back.
+  bool nearPairs(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out, PairJoin& join);
+  bool nearPairs(const VecX& x0, const VecX& x1, std::vector<ContactPair>& out) {
+    PairJoin every;
+    return nearPairs(x0, x1, out, every);
+  }
+  const Stats& stats() const { return stats_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  Stats stats_;
+};
+
+// Whether the broad phase takes its shortcuts (on by default): dropping the pairs a fixed axis keeps apart all
+// through the step and those whose boxes meet but a diagonal keeps apart (an 18-DOP), in the later rounds of a step
+// listing only the pairs with a particle that moved, and keeping a step's candidates and their nearest points at the
+// start through an implicit step's solves and the pass after it (found once with a margin; see nearPairs). The pass
+// finds the same contacts in the same order either way, only slower without; tests compare the two.
+void setBroadPhaseCulls(bool on);
+
+}  // namespace collision
+}  // namespace wobble
