@@ -18,10 +18,10 @@
 //   BM_StackInSolve/x: jelly_stack's two 5^3 jellies, the upper one resting on the lower, backward Euler at 1/60 with
 //   the contacts in its solve (/1) against the pass after the step alone (/0, as before they went into the solve).
 //   BM_BroadPhase/x: the broad phase of one step of the 100 x 100 cloth at step 31 (its vertices' and triangles',
-//   and its edges' swept boxes from that step's start to its end, padded as contact/collisions/body_collisions.cpp pads
+//   and its edges' swept boxes from that step's start to its end, padded as contact/candidates/search.cpp pads
 //   them): the spatial hash wobble uses (/0, broad_phase.h) against Embree's rtcCollide (/1: a BVH of user boxes per
 //   list, the float boxes rounded outward, its pairs filtered by the double boxes and sorted as the hash's); both give
-//   the same pairs (checked). Boxes only: the diagonals contact/collisions/body_collisions.cpp keeps beside them filter
+//   the same pairs (checked). Boxes only: the diagonals contact/candidates/search.cpp keeps beside them filter
 //   the pairs after.
 // Run: taskset -c 0,1 build/body_contact_bench (two cores).
 #include <benchmark/benchmark.h>
@@ -134,7 +134,7 @@ void BM_StackInSolve(benchmark::State& state) {
 BENCHMARK(BM_StackInSolve)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 // The broad phase's input: boxes of the surface's vertices, triangles and edges over one step, and the pairs that
-// contact/collisions/body_collisions.cpp keeps (elements of no common vertex).
+// contact/candidates/search.h keeps (elements of no common vertex).
 struct BroadPhaseInput {
   std::vector<collision::Box> vertices, triangles, edges;
   std::vector<std::array<int, 3>> triangle_vertices;

@@ -28,8 +28,6 @@ struct Hit {
   Vec3 normal;  // unit, oriented along the relative position at the step's start (from second to first)
 };
 
-enum class Primitive { PointTriangle, EdgeEdge };
-
 // The first time in [0, 1] at which the four points of the stencil (order as in Stencil), moving linearly from x0
 // to x1, are within eta and approaching. Nothing if none.
 std::optional<Hit> firstHit(Primitive kind, const std::array<Vec3, 4>& x0, const std::array<Vec3, 4>& x1, double eta);

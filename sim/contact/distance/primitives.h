@@ -11,6 +11,8 @@
 
 namespace wobble::collision {
 
+enum class Primitive { PointTriangle, EdgeEdge };
+
 struct Stencil {
   std::array<int, 4> vertex;  // point-triangle: p, a, b, c; edge-edge: a0, a1, b0, b1
   std::array<double, 4> w;    // point-triangle: 1, -u, -v, -w; edge-edge: 1 - s, s, -(1 - t), -t

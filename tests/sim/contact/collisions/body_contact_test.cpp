@@ -368,9 +368,9 @@ TEST(BodyContact, BroadPhaseCullsFindTheSameContacts) {
     EXPECT_GT(cull.stats.contacts, 0);
     if (std::string(integrator) == "backward-euler") {
       EXPECT_GT(cull.stats.ccd_hits, 0);
-      // With the contacts in the solve the pass's later rounds mostly take the step's list (laterRoundCandidates),
+      // With the contacts in the solve the pass's later rounds mostly take the step's list (StepList::laterRound),
       // and, as the layers settle, its searches take the step skin's list, brought up to date where vertices left
-      // their intervals (contact/collisions/body_collisions.cpp, StepSkin).
+      // their intervals (contact/candidates/skins.h, StepSkin).
       if (in_solve) {
         EXPECT_GT(cull.stats.step_rounds, 0);
         EXPECT_GT(cull.stats.skin_updates, 0);
@@ -385,7 +385,7 @@ TEST(BodyContact, BroadPhaseCullsFindTheSameContacts) {
 }
 
 // A body's pairs with itself are found in a frame that moves with the body over the step
-// (contact/collisions/body_collisions.cpp, broadPhase: a common translation changes none of the tests that follow). Two
+// (contact/candidates/search.h, moving frames: a common translation changes none of the tests that follow). Two
 // runs under backward Euler at 1/60 s: cloth_drop.h's 24 x 24 cloth released hanging at 3 m/s downwards: it lands on
 // the sphere and folds onto itself; and a 3^3 jelly dropped at 4 m/s onto a pinned 16 x 16 cloth with self-contact (the
 // cloth's pairs with itself in its frame, the pairs between the two bodies in the world's, merged). Each gives the same
@@ -443,7 +443,7 @@ TEST(BodyContact, MovingFramesFindTheSameContacts) {
   }
 }
 
-// Candidates kept across steps (a skin, contact/collisions/body_collisions.cpp) serve a body resting on another under
+// Candidates kept across steps (a skin, contact/candidates/skins.h) serve a body resting on another under
 // backward Euler: jelly_stack's two jellies at 1/60 s, the upper one landing on the lower and coming to rest, give the
 // same bytes and counts with the broad phase's shortcuts as without, with the contacts in the solve (its near-pair
 // searches take kept lists) and with the pass alone (the pass takes them). (The kept lists' reach is checked where
@@ -471,7 +471,7 @@ TEST(BodyContact, KeptCandidatesOfARestingStackFindTheSameContacts) {
 }
 
 // Backward Euler's later near-pair searches of a step pass over the candidates whose pair an earlier search put in
-// the solver's list, as long as it is still there (contact/collisions/body_collisions.cpp, nearPairs). Over states of
+// the solver's list, as long as it is still there (contact/collisions/near_pairs.cpp). Over states of
 // the folded cloth collapsing onto itself, a step's searches with the shortcuts find what the exact broad phase finds
 // for the same list, pair for pair and bit for bit: after the list lost every pair, a third of them (their places taken
 // by others), or kept them all in another order; and on the list the first search filled itself, as the solver's is:
@@ -623,7 +623,7 @@ TEST(BodyContact, ASearchHandsTheSolveThePairsItsRulePicks) {
 }
 
 // Backward Euler's step lists are kept from step to step and brought up to date where vertices left their intervals
-// (contact/collisions/body_collisions.cpp, StepSkin). Over 24 steps of the folded cloth collapsing onto itself, a
+// (contact/candidates/skins.h, StepSkin). Over 24 steps of the folded cloth collapsing onto itself, a
 // search at each step's start by one instance kept throughout finds what a new instance with the exact broad phase
 // finds, pair for pair and bit for bit, at ends where a random 8% of the vertices lie up to three thicknesses above or
 // below their own (towards or through the layers beside them: beyond their intervals at the end only).

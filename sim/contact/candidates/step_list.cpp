@@ -1,0 +1,156 @@
+#include "sim/contact/candidates/step_list.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "sim/contact/distance/separation.h"
+#include "sim/solver/parallel.h"
+
+namespace wobble::collision {
+namespace {
+// The step's candidates are found with boxes padded by this fraction of the largest thickness more than the exact
+// broad phase's: room for the solves' ends to move from the first one's.
+constexpr double kStepMarginFraction = 0.25;
+}  // namespace
+
+bool StepList::reuse(Candidates& round, bool may_update) {
+  if (!broadPhaseCulls() || !step.valid || step.start.size() != motion_.nxs.size() ||
+      step.end.size() != motion_.nxe.size())
+    return false;
+  if (std::memcmp(step.start.data(), motion_.nxs.data(), sizeof(double) * std::size_t(motion_.nxs.size())) != 0)
+    return false;
+  if (!((motion_.nxe - step.end).cwiseAbs().maxCoeff() <= step.margin) && !(may_update && update(round))) return false;
+  round.step = &step;
+  round.drift = 0;
+  for (int k = 0; k < nodes_.nodeCount(); ++k)
+    round.drift = std::max(round.drift, (particle(motion_.nxe, k) - particle(step.end, k)).norm());
+  return true;
+}
+
+bool StepList::laterRound(Candidates& round) {
+  if (reuse(round, false)) {
+    ++counters_.step_rounds;
+    return true;
+  }
+  return search_.broadPhase(round, true);
+}
+
+bool StepList::find(Candidates& round) {
+  step.margin = kStepMarginFraction * nodes_.max_thickness;
+  step.valid = false;
+  int found = skins_.stepCandidates(round, 0.5 * nodes_.max_thickness + step.margin);
+  if (!found) found = search_.broadPhase(round, false, step.margin) ? 3 : 0;
+  if (!found) return false;
+  counters_.skin_searches += found == 1;
+  step.frames = round.listed;
+  step.start = motion_.nxs;
+  step.end = motion_.nxe;
+  step.vf.swap(round.vf);
+  step.ee.swap(round.ee);
+  round.step = &step;
+  round.drift = 0;
+  const int n = round.count();
+  step.joined.assign(n, SIZE_MAX);
+  step.closest.resize(n);
+  auto& [closing, hitting, near] = scratch_;  // kept: fresh pages each step cost more than the work
+  closing.resize(n), hitting.resize(n), near.resize(n);
+  forEachChunk(n, parallel_, [&](int begin, int end) {
+    for (int k = begin; k < end; ++k) measure(round, k);
+  });
+  step.near_min = std::numeric_limits<double>::infinity();
+  sort(round);
+  step.valid = true;
+  return true;
+}
+
+void StepList::measure(const Candidates& round, int k) {
+  auto& [closing, hitting, near] = scratch_;
+  const PairInfo p = round.info(nodes_, k);
+  const auto x = points(motion_.nxs, p.stencil);
+  const Closest c = nearest(p.kind, x);
+  step.closest[k] = c;
+  double gap = -std::numeric_limits<double>::infinity();  // at the end along the start's direction
+  if (c.distance > 0) {
+    const double end_gap = gapAlong(c.delta / c.distance, step.end, p.stencil.vertex, p.first());
+    if (std::isfinite(end_gap)) gap = end_gap;
+  }
+  const double eta2 = 2 * kEtaFraction * p.thickness;
+  closing[k] = c.distance > 0 ? gap - (1 + 1e-5) * p.thickness : std::numeric_limits<double>::infinity();
+  hitting[k] = c.distance > eta2 ? gap - eta2 : -std::numeric_limits<double>::infinity();
+  near[k] = c.distance < p.thickness;
+}
+
+void StepList::sort(const Candidates& round) {
+  // Any end the candidates serve lies within the margin of step.end along each axis: within sqrt(3) margin.
+  const double most = 2 * std::sqrt(3.0) * step.margin;
+  auto& [closing, hitting, near] = scratch_;
+  step.near.clear();
+  step.closing.clear();
+  step.hitting.clear();
+  const int n = round.count(), vf_count = int(step.vf.size());
+  int kept = 0, kept_vf = 0;
+  for (int k = 0; k < n; ++k) {
+    if (!near[k] && closing[k] > most && hitting[k] > most) continue;
+    const int j = kept++;
+    if (k < vf_count) step.vf[kept_vf++] = step.vf[k];
+    else step.ee[j - kept_vf] = step.ee[k - vf_count];
+    step.closest[j] = step.closest[k], step.joined[j] = step.joined[k];
+    closing[j] = closing[k], hitting[j] = hitting[k], near[j] = near[k];
+    if (near[j]) step.near.push_back(j), step.near_min = std::min(step.near_min, step.closest[j].distance);
+    if (!(closing[j] > most)) step.closing.emplace_back(j, closing[j]);
+    if (!(hitting[j] > most)) step.hitting.emplace_back(j, hitting[j]);
+  }
+  step.ee.resize(kept - kept_vf), step.vf.resize(kept_vf);
+  step.closest.resize(kept), step.joined.resize(kept);
+  closing.resize(kept), hitting.resize(kept), near.resize(kept);
+}
+
+bool StepList::update(Candidates& round) {
+  auto& [beyond, fresh_vf, fresh_ee, merged_vf, merged_ee, from, closest, old_closing, old_hitting, old_near, joined] =
+      update_scratch_;
+  beyond.assign(nodes_.nodeCount(), 0);
+  for (int k = 0; k < nodes_.nodeCount(); ++k)
+    beyond[k] = !((particle(motion_.nxe, k) - particle(step.end, k)).cwiseAbs().maxCoeff() <= step.margin);
+  search_.marks.mark(nodes_, beyond);
+  VecX end = step.end;
+  for (int k = 0; k < nodes_.nodeCount(); ++k)
+    if (beyond[k]) particle(end, k) = particle(motion_.nxe, k);
+  if (!search_.listPairs(round.cull, end, step.frames.shifts, step.frames.pad, true, false, fresh_vf, fresh_ee))
+    return false;
+  // The kept candidates (no marked element) and the fresh ones, merged in order; per merged candidate its old index
+  // (-1: fresh).
+  from.clear();
+  mergeUnmarked(step.vf, fresh_vf, search_.marks.vertex, search_.marks.triangle, merged_vf, &from, 0);
+  mergeUnmarked(step.ee, fresh_ee, search_.marks.edge, search_.marks.edge, merged_ee, &from, int(step.vf.size()));
+  if (merged_vf.size() + merged_ee.size() > search_.budget()) return false;
+  const int n = int(from.size());
+  auto& [closing, hitting, near] = scratch_;
+  // The old measures copied aside (the kept list is short: sort keeps what a search may test), the step's
+  // arrays refilled in place (they keep the room of the step's first, full list).
+  closest.assign(step.closest.begin(), step.closest.end()), joined.assign(step.joined.begin(), step.joined.end());
+  old_closing.assign(closing.begin(), closing.end());
+  old_hitting.assign(hitting.begin(), hitting.end()), old_near.assign(near.begin(), near.end());
+  step.vf.swap(merged_vf), step.ee.swap(merged_ee), step.end.swap(end);
+  round.step = &step;  // pairInfo reads the step's lists
+  step.closest.resize(n), step.joined.resize(n);
+  closing.resize(n), hitting.resize(n), near.resize(n);
+  forEachChunk(n, parallel_, [&](int begin, int stop) {
+    for (int k = begin; k < stop; ++k) {
+      const int i = from[k];
+      if (i < 0) {
+        step.joined[k] = SIZE_MAX;
+        measure(round, k);
+        continue;
+      }
+      step.closest[k] = closest[i], step.joined[k] = joined[i];
+      closing[k] = old_closing[i], hitting[k] = old_hitting[i], near[k] = old_near[i];
+    }
+  });
+  sort(round);
+  ++counters_.step_updates;
+  return true;
+}
+
+}  // namespace wobble::collision
