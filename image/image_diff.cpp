@@ -97,7 +97,7 @@ DiffResult diffImages(const ImageF& a, const ImageF& b, const DiffOptions& o, Im
         // In float, as idiff: a difference right at a threshold falls on the same side.
         const double e = std::fabs(va - vb);
         const double mean_abs = 0.5 * (std::fabs(va) + std::fabs(vb));
-        const double relative = mean_abs > 0 ? e / mean_abs : 0.0;  // idiff's relative test, its threshold 0
+        const double relative = mean_abs > 0 ? e / mean_abs : 0.0;  // idiff's relative test
         total += e;
         total_squared += e * e;
         if (!(e <= max_error)) {
@@ -105,8 +105,8 @@ DiffResult diffImages(const ImageF& a, const ImageF& b, const DiffOptions& o, Im
           r.max_x = x, r.max_y = y, r.max_channel = c;
         }
         if (std::isfinite(e)) pixel_error = std::max(pixel_error, float(e));
-        if (!warned && !(e <= o.warn) && !(relative <= 0.0)) ++r.warn_pixels, warned = true;
-        if (!failed && !(e <= o.fail) && !(relative <= 0.0)) ++r.fail_pixels, failed = true;
+        if (!warned && !(e <= o.warn) && !(relative <= o.warn_relative)) ++r.warn_pixels, warned = true;
+        if (!failed && !(e <= o.fail) && !(relative <= o.fail_relative)) ++r.fail_pixels, failed = true;
       }
       if (error_map) error_map->at(x, y) = pixel_error;
     }
@@ -167,7 +167,7 @@ DiffResult diffFiles(const std::filesystem::path& a, const std::filesystem::path
   ImageF difference;
   DiffResult r = diffImages(fa.image, fb.image, o, difference_png.empty() ? nullptr : &difference, fa.channels,
                             fb.channels, error_map);
-  if (!difference_png.empty()) {
+  if (!difference_png.empty() && !(o.difference_only_if_different && r.max_error == 0)) {
     if (difference.channels > 4) {  // a PNG holds at most 4: the first three (colour) show
       ImageF rgb(difference.width, difference.height, 3);
       for (int y = 0; y < rgb.height; ++y)

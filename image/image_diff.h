@@ -26,7 +26,8 @@
 // The report (DiffResult::stats) is idiff's: mean, RMS, peak SNR, max error with its pixel, channel and values, the
 // warning and failing pixel counts, the perceptual failures; then PASS, WARNING or FAILURE.
 // The difference image is |A - B| * diff_scale per channel over the union, clamped to [0, 1] (alpha forced opaque so
-// it shows); diffFiles writes it as PNG whenever a path is given, even when the images are equal.
+// it shows); diffFiles writes it as PNG whenever a path is given, also when the images are equal unless
+// difference_only_if_different (idiff -od) says otherwise.
 #pragma once
 #include <filesystem>
 #include <limits>
@@ -41,10 +42,13 @@ namespace wobble::image {
 struct DiffOptions {
   float fail = 1e-6f, fail_percent = 0, hard_fail = std::numeric_limits<float>::infinity();
   float warn = 1e-6f, warn_percent = 0, hard_warn = std::numeric_limits<float>::infinity();
-  long allow_failures = 0;  // this many failing pixels pass, by any amount
-  bool perceptual = false;  // idiff -p
-  float diff_scale = 1;     // e.g. 10 or 20 to make small differences visible
-  ChannelChoice channels;   // which channels of EXR files (image_file.h)
+  // idiff -failrelative, -warnrelative: a value also needs |a - b| > relative * (|a| + |b|) / 2 to fail or warn.
+  float fail_relative = 0, warn_relative = 0;
+  long allow_failures = 0;                    // this many failing pixels pass, by any amount
+  bool perceptual = false;                    // idiff -p
+  float diff_scale = 1;                       // e.g. 10 or 20 to make small differences visible
+  bool difference_only_if_different = false;  // idiff -od: no difference image when the images are the same
+  ChannelChoice channels;                     // which channels of EXR files (image_file.h)
 };
 
 enum class DiffCode : int { Pass = 0, Warning = 1, Fail = 2, FileError = 4 };

@@ -18,8 +18,10 @@
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfMultiPartInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfStdIO.h>
+#include <OpenEXR/ImfVersion.h>
 #include <stb/stb_image.h>
 
 #include "image/png_io.h"
@@ -294,6 +296,28 @@ ImageFile readImageFile(const std::filesystem::path& file, const ChannelChoice& 
     return select(file, readPfmFile(file), choice, false);
   const bool png = m[0] == 0x89 && magic[1] == 'P' && magic[2] == 'N' && magic[3] == 'G';
   return select(file, readStb(file, png), choice, false);
+}
+
+int subimageCount(const std::filesystem::path& file) {
+  try {
+    char magic[4] = {};
+    std::ifstream(file, std::ios::binary).read(magic, 4);
+    if (!Imf::isImfMagic(magic)) return 1;
+    Imf::MultiPartInputFile in(file.c_str());
+    int count = 0;
+    for (int part = 0; part < in.parts(); ++part) {
+      const Imf::Header& h = in.header(part);
+      if (!h.hasTileDescription() || h.tileDescription().mode == Imf::ONE_LEVEL) {
+        ++count;
+        continue;
+      }
+      const Imath::Box2i w = h.dataWindow();  // MIP levels: halving the larger side down to 1 pixel
+      for (int size = std::max(w.max.x - w.min.x, w.max.y - w.min.y) + 1; size >= 1; size /= 2) ++count;
+    }
+    return count;
+  } catch (const std::exception&) {
+    return 1;
+  }
 }
 
 void writeExrImage(const std::filesystem::path& file, const ImageF& image, const std::vector<std::string>& channels,

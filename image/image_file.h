@@ -49,6 +49,10 @@ struct ImageFile {
 
 ImageFile readImageFile(const std::filesystem::path& file, const ChannelChoice& choice = {});
 
+// How many images the file holds in idiff -a's sense (subimages and MIP levels): an EXR's parts, a tiled part's
+// levels counted; 1 for every other format (and for a file that cannot be read: readImageFile says why).
+int subimageCount(const std::filesystem::path& file);
+
 void writeExrImage(const std::filesystem::path& file, const ImageF& image, const std::vector<std::string>& channels,
                    bool half);
 

@@ -27,8 +27,11 @@ int main(int argc, char** argv) {
   wobble::addVideoCommand(app, status);
   wobble::addFramesCommand(app, status);
   wobble::addStudyCommand(app, status);
+  std::vector<std::string> args = wobble::idiffSpelling({argv, argv + argc});
+  std::vector<char*> spelled;
+  for (std::string& a : args) spelled.push_back(a.data());
   try {
-    app.parse(argc, argv);
+    app.parse(int(spelled.size()), spelled.data());
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : wobble::kExitBadInput;
   } catch (const wobble::InputError& e) {

@@ -212,8 +212,12 @@ DiffReport runDiff(const DiffCommandOptions& o, std::ostream& log) {
     }
     if (!o.out.empty() && c.pair.code != DiffCode::FileError) {
       if (single) {  // the idiff metric's difference image is written by diffFiles
-        if (o.metric == DiffMetric::Flip) heatmaps.emplace_back(o.out, std::move(c.error_map));
-        c.pair.heatmap = o.out;
+        const bool same =
+            std::all_of(c.error_map.pixels.begin(), c.error_map.pixels.end(), [](float e) { return e == 0; });
+        if (!(same && o.idiff.difference_only_if_different)) {  // -od: none for images that are the same
+          if (o.metric == DiffMetric::Flip) heatmaps.emplace_back(o.out, std::move(c.error_map));
+          c.pair.heatmap = o.out;
+        }
       } else if (flagged && !c.error_map.pixels.empty()) {
         c.pair.heatmap = o.out / (name + ".heatmap.png");
         heatmaps.emplace_back(c.pair.heatmap, std::move(c.error_map));
@@ -260,12 +264,17 @@ DiffReport runDiff(const DiffCommandOptions& o, std::ostream& log) {
     io::writeFileAtomically(o.junit,
                             junitXml(report, report.folders ? o.a.string() + " vs " + o.b.string() : "wobble diff"));
 
+  if (o.quiet) return report;
   if (!report.folders) {
     const DiffPair& p = report.pairs.front();
     if (p.code == DiffCode::FileError) {
       log << p.report << "\n";
     } else {
       log << "Comparing \"" << o.a.string() << "\" and \"" << single_b.string() << "\"\n";
+      if (o.verbose && o.all_subimages) {  // idiff -a -v: each subimage's size, of the first image
+        const image::ImageF a = image::readImageFile(o.a, o.idiff.channels).image;
+        log << a.width << " x " << a.height << ", " << a.channels << " channels\n";
+      }
       // idiff prints the numbers only when the images are not the same (or with -v); FLIP's always.
       const bool numbers = o.verbose || p.code != DiffCode::Pass || o.metric == DiffMetric::Flip;
       const std::string& r = p.report;

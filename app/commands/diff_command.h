@@ -38,7 +38,9 @@ struct DiffCommandOptions {
   image::DiffOptions idiff;  // thresholds and channels (the channel choice applies to FLIP too)
   std::map<std::string, double> flip_fail = {{"mean", 0.0}}, flip_warn;  // statistic -> limit
   double pixels_per_degree = image::kFlipDefaultPixelsPerDegree;
-  bool verbose = false;  // idiff's report for passing pairs too
+  bool verbose = false;        // idiff's report for passing pairs too
+  bool quiet = false;          // print nothing (idiff -q)
+  bool all_subimages = false;  // idiff -a: with verbose, the image's size and channels (its one subimage) too
 };
 
 // "mean=0.05,p99=0.5" or "0.05" -> statistic -> limit. Throws InputError naming the flag for anything else.

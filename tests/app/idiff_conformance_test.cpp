@@ -4,7 +4,9 @@
 // different size or channel count (which idiff compares over both, the missing values as black); 16-bit PNG.
 // EXR pairs (half and float): equal, noise, a shifted edge, different sizes, different channel counts, NaN and
 // infinity pixels; Radiance HDR and PFM pairs; -p (idiff's perceptual test) on colour and brightness differences.
-// Options: the defaults, only --fail, --warn below --fail, percentages, hard limits, --allowfailures.
+// Options: the defaults, only --fail, --warn below --fail, percentages, hard limits, --allowfailures, relative limits.
+// Every option set runs in both spellings: idiff's own (one dash, -fail 0.02), given to idiff and to wobble diff, and
+// the two-dash one (--fail 0.02), given to wobble diff: the same exit code and report from all three.
 // Skipped, saying why, where idiff is not installed. Prints the table of exit codes it compared.
 #include <gtest/gtest.h>
 
@@ -13,6 +15,12 @@
 #include <limits>
 #include <map>
 
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfMultiPartOutputFile.h>
+#include <OpenEXR/ImfOutputPart.h>
+#include <OpenEXR/ImfPartType.h>
 #include <png.h>
 
 #include "app/output/external_program.h"
@@ -140,6 +148,8 @@ const std::vector<std::string> kOptions = {
     "--fail 0.007843137718737125",                   // 2/255 as a float: right at the threshold
     "--allowfailures 3",
     "--failpercent 100 --warnpercent 20 --hardwarn 0.5",
+    "--fail 0.004 --failrelative 0.05",  // relative limits: large values need more
+    "--fail 1 --warn 0.001 --warnrelative 0.1 --warnpercent 1",
 };
 
 const std::vector<std::string> kHdrOptions = {
@@ -151,6 +161,8 @@ const std::vector<std::string> kHdrOptions = {
     "--allowfailures 3",
     "--failpercent 100 --warnpercent 20 --hardwarn 0.5",
     "--fail 1e30 --hardfail 1e30",
+    "--fail 0.001 --failrelative 0.02",
+    "--fail 0.001 --failrelative 0.5 --warn 0.001 --warnrelative 0.01",
 };
 
 const std::vector<std::string> kPerceptualOptions = {
@@ -161,6 +173,14 @@ const std::vector<std::string> kPerceptualOptions = {
     "-p --fail 2",
     "-p --allowfailures 5 --failpercent 50",
 };
+
+// idiff's spelling of an option set: "--fail 0.02 --failpercent 1" -> "-fail 0.02 -failpercent 1".
+std::string oneDash(const std::string& options) {
+  std::string out;
+  std::istringstream words(options);
+  for (std::string w; words >> w;) out += (out.empty() ? "" : " ") + (w.starts_with("--") ? w.substr(1) : w);
+  return out;
+}
 
 struct FilePair {
   std::string name;
@@ -182,16 +202,19 @@ class IdiffConformance : public testing::ScratchDir {
     table << "idiff / wobble diff exit codes\n";
     for (const FilePair& p : pairs) {
       table << "  " << p.name << ":";
-      for (const std::string& o : options) {
-        const std::string files = " " + p.a.string() + " " + p.b.string();
+      for (const std::string& two_dashes : options) {
+        const std::string files = " " + p.a.string() + " " + p.b.string(), o = oneDash(two_dashes);
         const int status = std::system((idiff_->string() + " " + o + files + " > " + idiff_log.string()).c_str());
         const int expected = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        const int got = testing::runWobble("diff " + o + files, log);
-        EXPECT_EQ(got, expected) << p.name << " with [" << o << "]:\nwobble:\n"
-                                 << testing::slurpFile(log) << "idiff:\n"
-                                 << testing::slurpFile(idiff_log);
-        if (same_report && expected != 4) {
-          EXPECT_EQ(testing::slurpFile(log), testing::slurpFile(idiff_log)) << p.name << " with [" << o << "]";
+        int got = 0;
+        for (const std::string& spelling : {o, two_dashes}) {
+          got = testing::runWobble("diff " + spelling + files, log);
+          EXPECT_EQ(got, expected) << p.name << " with [" << spelling << "]:\nwobble:\n"
+                                   << testing::slurpFile(log) << "idiff:\n"
+                                   << testing::slurpFile(idiff_log);
+          if (same_report && expected != 4) {
+            EXPECT_EQ(testing::slurpFile(log), testing::slurpFile(idiff_log)) << p.name << " with [" << spelling << "]";
+          }
         }
         table << " " << expected << "/" << got;
       }
@@ -345,6 +368,69 @@ TEST_F(IdiffConformance, Perceptual) {
   compare({png("p_red_sweep_decides", grey, sweep), png("p_blue_sweep_decides", grey, fine)},
           {"-p --fail 0.3 --failpercent 10", "-p --fail 0.3 --failpercent 40", "-p --fail 0.3 --failpercent 50",
            "-p --fail 0.3 --failpercent 70", "--fail 0.3 --failpercent 10"});
+}
+
+// The difference image and the other options of idiff's spelling: -o writes it (-od only when the images differ),
+// -abs and -scale, -a on single images, -q prints nothing; same exit codes as idiff, same files written.
+TEST_F(IdiffConformance, OutputOptionsInIdiffSpelling) {
+  if (!idiff_) GTEST_SKIP() << "idiff (OpenImageIO's, Debian package openimageio-tools) is not on PATH";
+  const Image8 base = gradient(20, 10, 3);
+  const std::vector<FilePair> pairs = {png("o_equal", base, base), png("o_80px", base, raised(80, 5))};
+  const fs::path log = dir() / "log.txt", idiff_log = dir() / "idiff.txt";
+  for (const FilePair& p : pairs)
+    for (const std::string& o : {"-o {}", "-od -o {}", "-abs -scale 10 -o {}", "-a -fail 0.02 -o {}", "-q",
+                                 "-q -fail 0.02 -warn 0.01 -warnpercent 5", "-a -v"}) {
+      std::string command = o;
+      const std::string files = " " + p.a.string() + " " + p.b.string();
+      const auto run = [&](const std::string& program, const fs::path& difference, const fs::path& to) {
+        std::string c = command;
+        if (const auto at = c.find("{}"); at != std::string::npos) c.replace(at, 2, difference.string());
+        return program == "idiff" ? std::system((idiff_->string() + " " + c + files + " > " + to.string()).c_str())
+                                  : testing::runWobble("diff " + c + files, to);
+      };
+      const fs::path theirs = dir() / (p.name + "_idiff_d.png"), ours = dir() / (p.name + "_wobble_d.png");
+      fs::remove(theirs), fs::remove(ours);
+      const int status = run("idiff", theirs, idiff_log);
+      const int got = run("wobble", ours, log);
+      EXPECT_EQ(got, WIFEXITED(status) ? WEXITSTATUS(status) : -1) << p.name << " with [" << o << "]";
+      EXPECT_EQ(fs::exists(ours), fs::exists(theirs)) << p.name << " with [" << o << "]: the difference image";
+      EXPECT_EQ(testing::slurpFile(log), testing::slurpFile(idiff_log)) << p.name << " with [" << o << "]";
+      if (o == std::string("-abs -scale 10 -o {}") && p.name == "o_80px") {  // |A - B| x 10: 5 codes -> 50
+        const ImageF d = image::readImageFile(ours).image;
+        EXPECT_EQ(std::lround(d.at(0, 0, 1) * 255), 50);
+        EXPECT_EQ(std::lround(d.at(0, 0, 0) * 255), 0);
+      }
+    }
+}
+
+// What wobble diff does not do, it refuses by name: -a on a file with more than one image.
+TEST_F(IdiffConformance, AllSubimagesRefusesMultiPartExr) {
+  const fs::path multi = dir() / "two_parts.exr", single = dir() / "one.exr", log = dir() / "log.txt";
+  const ImageF base = hdrGradient(8, 4, 3);
+  image::writeExrImage(single, base, names(3), false);
+  {
+    std::vector<Imf::Header> headers(2, Imf::Header(8, 4));
+    for (int i = 0; i < 2; ++i) {
+      headers[std::size_t(i)].setName("part" + std::to_string(i));
+      headers[std::size_t(i)].setType(Imf::SCANLINEIMAGE);
+      headers[std::size_t(i)].channels().insert("Y", Imf::Channel(Imf::FLOAT));
+    }
+    Imf::MultiPartOutputFile out(multi.c_str(), headers.data(), 2);
+    std::vector<float> y(8 * 4, 0.5f);
+    for (int i = 0; i < 2; ++i) {
+      Imf::OutputPart part(out, i);
+      Imf::FrameBuffer frame;
+      frame.insert("Y", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(y.data()), sizeof(float), sizeof(float) * 8));
+      part.setFrameBuffer(frame);
+      part.writePixels(4);
+    }
+  }
+  EXPECT_EQ(image::subimageCount(multi), 2);
+  EXPECT_EQ(image::subimageCount(single), 1);
+  EXPECT_EQ(testing::runWobble("diff -a " + multi.string() + " " + multi.string(), log), 2);
+  EXPECT_NE(testing::slurpFile(log).find("holds 2 subimages"), std::string::npos) << testing::slurpFile(log);
+  EXPECT_EQ(testing::runWobble("diff " + multi.string() + " " + multi.string(), log), 0);  // without -a: part 0
+  EXPECT_EQ(testing::runWobble("diff -a " + single.string() + " " + single.string(), log), 0);
 }
 
 }  // namespace
