@@ -36,7 +36,7 @@ Body readMeshJelly(TableReader& r, const std::string& name, SceneFile& scene) {
   reserveBody(r, scene, "cells", p.cells, [&model](int cells) {
     return meshJellySize(cells, std::int64_t(model.points.size()), std::int64_t(model.triangles.size()));
   });
-  p.placement = readPlacement(r, JellyParams{}.center);
+  p.placement = readPlacement(r, JellyParams{}.center, model);
   p.mass = r.number("mass", p.mass, Range::positive());
   p.ks = r.number("ks", p.ks, Range::nonNegative());
   p.kd = r.number("kd", p.kd, Range::nonNegative());

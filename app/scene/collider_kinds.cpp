@@ -85,7 +85,7 @@ DrawnShape drawBox(const Collider& c, const ColliderLook&, double) {
 std::unique_ptr<Collider> readMesh(TableReader& r, const std::string& name, const ContactParams& contact,
                                    ColliderLook&) {
   const ModelMesh model = readModelKey(r, false);
-  const Placement place = readPlacement(r, Vec3::Zero());
+  const Placement place = readPlacement(r, Vec3::Zero(), model);
   const Eigen::Matrix3d rotation = place.rotation();
   std::vector<Vec3> points;
   for (const Vec3& p : localPoints(model, place.scale)) points.push_back(place.center + rotation * p);

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "app/scene/table_reader.h"
+#include "io/number_text.h"
 
 namespace wobble {
 namespace fs = std::filesystem;
@@ -149,7 +150,7 @@ ModelMesh readModelFile(const fs::path& path) {
 ModelMesh readModelKey(TableReader& r, bool closed) {
   const auto name = r.optionalString("mesh");
   if (!name) r.fail("mesh", "is required: the path of a triangle mesh file (OBJ, PLY, STL, glTF)");
-  const fs::path path = r.file().parent_path() / *name;
+  const fs::path path = r.filePath("mesh", *name);
   if (!fs::is_regular_file(path)) r.fail("mesh", "file not found: " + path.string());
   ModelMesh model;
   try {
@@ -162,10 +163,18 @@ ModelMesh readModelKey(TableReader& r, bool closed) {
   return model;
 }
 
-Placement readPlacement(TableReader& r, const Vec3& center) {
+Placement readPlacement(TableReader& r, const Vec3& center, const ModelMesh& model) {
   Placement p;
   p.center = r.vec3("center", center);
   p.scale = r.number("scale", p.scale, Range::positive());
+  Eigen::AlignedBox3d box;
+  for (const Vec3& point : model.points) box.extend(point);
+  const double span = box.sizes().maxCoeff();  // > 0: checkModel refuses a degenerate model
+  if (!(p.scale * span <= kMaxPlacedModelSpan))
+    r.fail("scale", "scales the model (" + io::formatNumber(span, 4) + " m across) to " +
+                        io::formatNumber(p.scale * span, 4) + " m; allowed: at most " +
+                        io::formatNumber(kMaxPlacedModelSpan, 4) +
+                        " m, scale <= " + io::formatNumber(kMaxPlacedModelSpan / span, 4));
   p.rotation_axis = r.vec3("rotation_axis", p.rotation_axis);
   p.rotation_deg = r.number("rotation_deg", p.rotation_deg);
   if (p.rotation_deg != 0 && p.rotation_axis.norm() == 0) r.fail("rotation_axis", "must not be zero");

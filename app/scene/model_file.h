@@ -26,7 +26,12 @@ ModelMesh readModelFile(const std::filesystem::path& path);
 // file and the problem.
 ModelMesh readModelKey(TableReader& r, bool closed);
 
-// Reads center (default `center`), scale (> 0), rotation_axis, rotation_deg.
-Placement readPlacement(TableReader& r, const Vec3& center);
+// The most a placed model may span (its bounding box's longest side times `scale`): far beyond any scene wobble
+// simulates (centimetres to metres), and far below where the lattice's cell arithmetic and squared lengths overflow.
+inline constexpr double kMaxPlacedModelSpan = 1e6;  // metres
+
+// Reads center (default `center`), scale (> 0, and at most what keeps `model` within kMaxPlacedModelSpan),
+// rotation_axis, rotation_deg.
+Placement readPlacement(TableReader& r, const Vec3& center, const ModelMesh& model);
 
 }  // namespace wobble

@@ -288,6 +288,24 @@ TEST_F(BadFiles, OverridesAreCheckedToo) {
   expectRefused(scene, "--set 'x=" + std::string(1000, '[') + "'", dir() / "out", {"--set x=", "nesting too deep"});
 }
 
+// A scale that takes a model beyond any finite lattice (the fuzzer's jelly_mould with scale = 1e308 once stopped deep
+// in the model's weights, exit 1): a scene error naming the file, line, key, value and the largest scale allowed, for
+// the mesh jelly and for the mesh collider alike.
+TEST_F(BadFiles, MeshScaleThatOverflowsIsRefused) {
+  const fs::path models = fs::path(WOBBLE_SOURCE_DIR) / "scenes" / "models";
+  const fs::path scene =
+      write("mould.toml", "[bodies.jelly]\ntype = \"jelly\"\nmesh = \"" + (models / "jelly_mould.obj").string() +
+                              "\"\ncells = 3\nscale = 1e308\n");
+  expectRefused(scene, "", dir() / "out",
+                {"mould.toml:5:", "bodies.jelly.scale = 1e+308", "2.14 m across", "allowed: at most 1e+06 m",
+                 "scale <= 4.673e+05"});
+  const fs::path mould = fs::path(WOBBLE_SOURCE_DIR) / "scenes" / "jelly_mould.toml";
+  expectRefused(mould, "--set jelly.scale=1e7", dir() / "out",
+                {"(--set)", "bodies.jelly.scale = 10000000", "scale <= "});
+  expectRefused(mould, "--set plate.scale=1e300", dir() / "out",
+                {"colliders.plate.scale = 1", "4.8e+300 m", "scale <= 2.083e+05"});
+}
+
 TEST_F(BadFiles, MaxMemoryOption) {
   const fs::path scene = write("ok.toml", kJelly + "[output]\nobj = false\n[render]\npng = false\n");
   expectRefused(scene, "--max-memory 1KB", dir() / "out", {"ok.toml:3:", "bodies.jelly.n = 3", "1.0 KB"});
