@@ -13,11 +13,15 @@ namespace wobble {
 
 void addRenderCommand(CLI::App& app, int& status) {
   auto options = std::make_shared<RenderCommandOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "render", "Render an existing OBJ sequence (a run's OUT/mesh) without simulating: OUT/frames/<scene>_NNNN.png");
-  cmd->add_option("mesh_dir", options->mesh_dir, "Folder of <body>_NNNN.obj files (a run's OUT/mesh)")->required();
-  cmd->add_option("--scene", options->scene, "The scene the sequence was run from (colliders, camera, looks)")
+  CLI::App* cmd =
+      app.add_subcommand("render",
+                         "Render a run's OBJ sequence again without simulating (OUT, or OUT/mesh with --scene): "
+                         "OUT/frames/<scene>_NNNN.png");
+  cmd->add_option("mesh_dir", options->mesh_dir,
+                  "A run's folder OUT (its carried scene), or a folder of <body>_NNNN.obj files (with --scene)")
       ->required();
+  cmd->add_option("--scene", options->scene,
+                  "The scene the sequence was run from (default: the one the run carried into OUT/scene)");
   cmd->add_option("--frames", options->frames, "Frames to render, 1-based and inclusive: A:B or A (default: all)");
   cmd->add_option("--out", options->out, "Output folder (default: the folder that holds MESH_DIR)");
   cmd->add_option("--set", options->sets, "Override a scene key, KEY=VALUE in TOML syntax (repeatable)");
@@ -26,7 +30,8 @@ void addRenderCommand(CLI::App& app, int& status) {
   addRenderFlags(*cmd, options->render);
   addSkipExistingFlag(*cmd, options->skip_existing);
   cmd->footer(
-      "Example:\n  wobble render out/jelly_slope/mesh --scene scenes/jelly_slope.toml --frames 1:30 --spp 32\n"
+      "Examples:\n  wobble render out/jelly_slope --frames 1:30 --spp 32\n"
+      "  wobble render out/jelly_slope/mesh --scene scenes/jelly_slope.toml --frames 1:30\n"
       "Pieces (several at once into one OUT): wobble frames OUT --chunks N, one --frames A:B each, with "
       "--skip-existing; then wobble video OUT.");
   cmd->callback([options, &status] {

@@ -214,10 +214,13 @@ BlendReport makeBlend(const BlendOptions& options) {
   const fs::path out = options.out;
   const RunRecord run = [&] {
     RunRecord r = readRunRecord(out, " (wobble run SCENE --pc2 --out " + out.string() + ")");
-    if (options.scene) r.scene = *options.scene;
+    if (options.scene) {  // another scene file, with the run's overrides laid over it (not the carried scene)
+      r.scene = *options.scene;
+      r.carried.clear();
+    }
     return r;
   }();
-  const SceneFile scene = loadScene(run.scene, run.overrides);
+  const SceneFile scene = loadRecordedScene(out, run);
   const fs::path mesh = out / "mesh";
   // What wobble's renderer draws (app/view/render_scene.h): its materials, shapes, sun and sky, or environment map.
   const RenderScene drawn(scene);

@@ -10,10 +10,12 @@
 #include "app/output/obj_sequence_reader.h"
 #include "app/output/output_folder.h"
 #include "app/output/progress.h"
+#include "app/output/run_record.h"
 #include "app/scene/input_error.h"
 #include "app/scene/scene_file.h"
 #include "app/view/disk_budget.h"
 #include "app/view/frame_output.h"
+#include "io/writable_place.h"
 
 namespace fs = std::filesystem;
 
@@ -24,8 +26,19 @@ fs::path objPath(const fs::path& dir, const Body& body, int frame) { return objF
 
 }  // namespace
 
-RenderCommandReport renderSequence(const RenderCommandOptions& options) {
-  SceneFile scene = loadScene(options.scene, options.sets, renderFlagSettings(options.render));
+RenderCommandReport renderSequence(const RenderCommandOptions& given) {
+  RenderCommandOptions options = given;
+  SceneFile scene = [&] {
+    if (options.scene) return loadScene(*options.scene, options.sets, renderFlagSettings(options.render));
+    // The run's own scene: MESH_DIR is OUT (holding run.json) or OUT/mesh.
+    fs::path out = options.mesh_dir.lexically_normal();
+    if (out.filename().empty()) out = out.parent_path();  // "out/x/mesh/" -> "out/x/mesh"
+    if (!fs::is_regular_file(out / "run.json") && fs::is_regular_file(out.parent_path() / "run.json"))
+      out = out.parent_path();
+    else options.mesh_dir = out / "mesh";
+    const RunRecord run = readRunRecord(out, "; name the scene the sequence was made from with --scene FILE");
+    return loadRecordedScene(out, run, options.sets, renderFlagSettings(options.render));
+  }();
   RenderCommandReport report;
   // A piece (--frames) makes no video of its own unless --video asks: the pieces of a split render would each write
   // OUT/<scene>.mp4 of their frames; `wobble video OUT` joins them all at the end.
@@ -65,6 +78,7 @@ RenderCommandReport renderSequence(const RenderCommandOptions& options) {
   fs::path mesh_dir = options.mesh_dir.lexically_normal();
   if (mesh_dir.filename().empty()) mesh_dir = mesh_dir.parent_path();  // "out/x/mesh/" -> "out/x/mesh"
   report.out = options.out.value_or(mesh_dir.has_parent_path() ? mesh_dir.parent_path() : fs::path("."));
+  io::checkWritable(report.out);  // the OS's reason first: the budget speaks only for a writable place
   checkDiskBudget(estimateRenderOutput(scene, report.first_frame, report.last_frame), report.out);
   // Only the frames of the range are written: pieces of a split render share the folder.
   const OutputFolder folder(report.out, OutputFolder::Access::shared);

@@ -1,5 +1,7 @@
-// `wobble render MESH_DIR --scene SCENE`: renders an existing OBJ sequence (a run's OUT/mesh) without simulating
-// again, so frames can be re-rendered with other settings or rendered in pieces (--frames A:B). Bodies come from the
+// `wobble render OUT` (or `wobble render MESH_DIR --scene SCENE`): renders an existing OBJ sequence (a run's OUT/mesh)
+// without simulating again, so frames can be re-rendered with other settings or rendered in pieces (--frames A:B).
+// Without --scene, the scene is the one the run carried (run_record.h: OUT/scene, checked against run.json), so a run
+// folder renders from any directory, wherever it has moved; MESH_DIR may then be OUT itself. Bodies come from the
 // OBJ files (obj_sequence_reader.h); colliders from the scene at each frame's time; output as `wobble run`'s
 // (frame_output.h), into the folder that holds MESH_DIR unless --out says otherwise. Pieces of one sequence may render
 // into one folder at the same time (output_folder.h: a shared hold), each its own --frames; a piece makes no video
@@ -15,11 +17,11 @@
 namespace wobble {
 
 struct RenderCommandOptions {
-  std::filesystem::path mesh_dir;
-  std::filesystem::path scene;
-  std::optional<std::string> frames;         // "A:B" or "A"; default: every frame MESH_DIR holds
-  std::optional<std::filesystem::path> out;  // default: MESH_DIR's parent
-  std::vector<std::string> sets;             // KEY=VALUE scene overrides, as for `wobble run`
+  std::filesystem::path mesh_dir;              // OUT/mesh, or (without scene) OUT
+  std::optional<std::filesystem::path> scene;  // default: the scene the run in MESH_DIR's folder carried
+  std::optional<std::string> frames;           // "A:B" or "A"; default: every frame MESH_DIR holds
+  std::optional<std::filesystem::path> out;    // default: MESH_DIR's parent
+  std::vector<std::string> sets;               // KEY=VALUE scene overrides, as for `wobble run`
   RenderFlags render;
   bool skip_existing = false;  // keep frames already rendered with the same settings (frame_output.h)
 };
@@ -34,7 +36,7 @@ struct RenderCommandReport {
 };
 
 // Throws InputError (bad input, nothing written): a bad scene or flag, a missing MESH_DIR or frame file, an OBJ that
-// does not match the scene's bodies.
+// does not match the scene's bodies, no run.json without --scene, a carried file missing or altered.
 RenderCommandReport renderSequence(const RenderCommandOptions& options);
 
 }  // namespace wobble

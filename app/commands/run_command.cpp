@@ -9,6 +9,7 @@
 
 #include "app/commands/frame_range.h"
 #include "app/commands/wall_clock.h"
+#include "app/output/carried_scene.h"
 #include "app/output/interrupt.h"
 #include "app/output/obj_sequence.h"
 #include "app/output/output_folder.h"
@@ -20,17 +21,21 @@
 #include "app/view/frame_output.h"
 #include "app/view/shutter.h"
 #include "io/text_file.h"
+#include "io/writable_place.h"
 
 namespace fs = std::filesystem;
 
 namespace wobble {
 namespace {
 
-void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overrides, const Simulation& sim,
-                  const RunReport& r) {
+void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overrides,
+                  const std::vector<CarriedFile>& carried, const Simulation& sim, const RunReport& r) {
   nlohmann::ordered_json j;
-  j["scene"] = scene.file.string();
-  j["overrides"] = overrides;  // --set and the flags that set keys: `wobble blend` reads the scene as the run did
+  j["scene"] = carried.front().path;  // relative to this folder: the scene as run, carried (carried_scene.h)
+  j["overrides"] = overrides;         // --set and the flags that set keys (already applied in the carried scene)
+  j["carried"] = nlohmann::ordered_json::array();
+  for (const CarriedFile& c : carried)
+    j["carried"].push_back({{"path", c.path}, {"hash", c.hash}, {"source", c.source}});
   j["integrator"] = scene.integrator;
   j["dt"] = scene.dt;
   j["fps"] = scene.fps;
@@ -144,6 +149,7 @@ RunReport runScene(const RunOptions& options) {
   std::tie(report.first_frame, report.last_frame) =
       options.frames ? parseFrameRange(*options.frames, scene.frameCount()) : std::pair{1, scene.frameCount()};
   report.out = options.out.value_or(fs::path("out") / scene.name);
+  io::checkWritable(report.out);  // the OS's reason first: the budget speaks only for a writable place
   checkDiskBudget(estimateRunOutput(scene, report.first_frame, report.last_frame), report.out);
 
   MassSpringSystem& system = *scene.system;
@@ -155,6 +161,7 @@ RunReport runScene(const RunOptions& options) {
   report.files_cleared =
       folder.clearEarlierRun(scene.name, options.skip_existing ? std::pair{report.first_frame, report.last_frame}
                                                                : std::pair{1, 0});
+  const std::vector<CarriedFile> carried = carryScene(scene, report.out);  // the folder stands alone
   std::vector<ObjSequenceWriter> writers;  // the sequence, and the point cache's base mesh
   std::vector<std::unique_ptr<Pc2Writer>> caches;
   writers.reserve(system.bodies().size());  // the caches keep references to the writers' vertex orders
@@ -240,7 +247,7 @@ RunReport runScene(const RunOptions& options) {
   if (report.blow_up) report.blow_up_message = report.blow_up->message(scene.dt);
   if (estimator) report.error_estimate = estimator->result();
   report.interrupted = interrupted();  // between frames or during the video
-  writeRunJson(scene, overrides, sim, report);
+  writeRunJson(scene, overrides, carried, sim, report);
   return report;
 }
 

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "app/scene/input_error.h"
+#include "io/writable_place.h"
 
 namespace fs = std::filesystem;
 
@@ -65,6 +66,7 @@ std::vector<std::string> lockHolders(int fd) {
 }  // namespace
 
 OutputFolder::OutputFolder(fs::path out, Access access) : out_(std::move(out)) {
+  io::checkWritable(out_);  // the OS's reason, naming the folder
   fs::create_directories(out_);
   const fs::path lock = out_ / kLockName;
   fd_ = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);

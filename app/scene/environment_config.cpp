@@ -23,7 +23,7 @@ EnvironmentConfig readEnvironment(TableReader& r, SceneFile& scene) {
       if (r.node(key)) r.fail(key, "applies to an environment map: set render.environment = \"FILE.hdr\" too");
     return env;
   }
-  const fs::path path = scene.file.parent_path() / *name;
+  const fs::path path = r.filePath("environment", *name);
   const std::string allowed =
       "; allowed: an equirectangular Radiance .hdr or OpenEXR .exr file (linear radiance, "
       "twice as wide as high, at most " +

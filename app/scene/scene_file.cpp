@@ -13,6 +13,7 @@
 #include "app/scene/table_reader.h"
 #include "app/scene/toml_depth.h"
 #include "image/image_header.h"
+#include "io/content_hash.h"
 #include "io/number_text.h"
 #include "io/text_file.h"
 
@@ -64,7 +65,7 @@ void readOutput(TableReader r, SceneFile& scene) {
 void readBody(TableReader r, const std::string& name, SceneFile& scene) {
   const BodyKind& kind = bodyKind(r.string("type", "", bodyTypes()));
   if (const auto texture = r.optionalString("texture")) {
-    const fs::path path = scene.file.parent_path() / *texture;
+    const fs::path path = r.filePath("texture", *texture);
     if (!fs::is_regular_file(path)) r.fail("texture", "file not found: " + path.string());
     std::string reason;
     const auto header = image::readImageHeader(path, reason);
@@ -198,9 +199,8 @@ SceneFile loadScene(const fs::path& file, const std::vector<std::string>& overri
   std::ostringstream text;
   text << table;
   scene.text = text.str();
-  scene.picture_text = pictureText(table);
 
-  TableReader root(table, file, "", &flags);
+  TableReader root(table, file, "", &flags, &scene.files);
   Vec3 gravity;
   readSimulation(root.child("simulation"), scene, gravity);
   scene.system = std::make_unique<MassSpringSystem>(gravity);
@@ -223,6 +223,13 @@ SceneFile loadScene(const fs::path& file, const std::vector<std::string>& overri
   if (scene.system->bodies().empty())
     root.fail("bodies", "a scene needs at least one body: [bodies.NAME] with type = \"jelly\" or \"cloth\"");
   root.finish();
+  // What a picture shows depends on the files' bytes, not on where they are: a run folder's carried copies
+  // (carried_scene.h) render the frames of the original to the byte.
+  scene.picture_text = pictureText(withFileValues(table, scene.files, [](const SceneFileUse& use) {
+    io::ContentHash h;
+    h.addFile(use.path);
+    return "content " + h.hex();
+  }));
   return scene;
 }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/scene/render_config.h"
+#include "app/scene/scene_file_use.h"
 #include "app/scene/scene_flags.h"
 #include "app/scene/scene_limits.h"
 #include "sim/integrators/integrator.h"
@@ -30,9 +31,11 @@ struct SceneFile {
 
   std::unique_ptr<MassSpringSystem> system;
   std::map<std::string, std::filesystem::path> textures;  // body name -> texture file, only for bodies naming one
+  std::vector<SceneFileUse> files;  // every file the scene reads besides itself (textures, models, environment map)
   std::string text;  // the file after --set and flags, as TOML (keys sorted): what a cache of results may be keyed by
   // The same without the keys that choose which files are written, not what a frame shows (render.png, .exr, .video,
-  // output.*, simulation.duration): what a frame's picture key hashes (app/view/picture_key.h).
+  // output.*, simulation.duration), and with each file key's value (`files`) replaced by the file's content hash: what
+  // a frame's picture key hashes (app/view/picture_key.h), the same wherever the files are.
   std::string picture_text;
   RenderConfig render;              // camera, render settings and the look of bodies and colliders (render_config.h)
   std::uint64_t memory_budget = 0;  // bytes the scene's estimate may reach (scene_limits.h)

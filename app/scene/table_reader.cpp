@@ -61,8 +61,14 @@ std::string nearestKey(std::string_view unknown, const std::set<std::string>& kn
 }
 
 TableReader::TableReader(const toml::table& table, std::filesystem::path file, std::string path,
-                         const SceneFlags* flags)
-    : table_(table), file_(std::move(file)), path_(std::move(path)), flags_(flags) {}
+                         const SceneFlags* flags, std::vector<SceneFileUse>* files)
+    : table_(table), file_(std::move(file)), path_(std::move(path)), flags_(flags), files_(files) {}
+
+std::filesystem::path TableReader::filePath(std::string_view key, const std::string& name) {
+  std::filesystem::path path = file_.parent_path() / name;
+  if (files_) files_->push_back({keyPath(key), path});
+  return path;
+}
 
 std::string TableReader::keyPath(std::string_view key) const {
   return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
@@ -199,7 +205,7 @@ const toml::table* TableReader::table(std::string_view key) {
 TableReader TableReader::child(std::string_view key) {
   static const toml::table kEmpty;
   const toml::table* sub = table(key);
-  return TableReader(sub ? *sub : kEmpty, file_, keyPath(key), flags_);
+  return TableReader(sub ? *sub : kEmpty, file_, keyPath(key), flags_, files_);
 }
 
 void TableReader::finish() const {
@@ -213,6 +219,13 @@ void TableReader::finish() const {
     for (const auto& k : known_) list += (list.empty() ? "" : ", ") + k;
     throw InputError(message + " (allowed here: " + list + ")");
   }
+}
+
+toml::table withFileValues(toml::table table, const std::vector<SceneFileUse>& files,
+                           const std::function<std::string(const SceneFileUse&)>& value) {
+  for (const SceneFileUse& use : files)
+    if (auto* text = table.at_path(use.key).as_string()) *text = value(use);
+  return table;
 }
 
 }  // namespace wobble

@@ -5,6 +5,7 @@
 #pragma once
 #include <array>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <set>
@@ -14,6 +15,7 @@
 
 #include <toml++/toml.h>
 
+#include "app/scene/scene_file_use.h"
 #include "app/scene/scene_flags.h"
 #include "sim/types.h"
 
@@ -37,8 +39,9 @@ class TableReader {
  public:
   // file: the scene file, for messages; path: the table's dotted path ("" for the root), e.g. "bodies.jelly".
   // flags: the settings laid over the scene (kept by the caller while the reader lives), for messages.
-  TableReader(const toml::table& table, std::filesystem::path file, std::string path,
-              const SceneFlags* flags = nullptr);
+  // files: receives every file the readers of this table and its children resolve (filePath), when given.
+  TableReader(const toml::table& table, std::filesystem::path file, std::string path, const SceneFlags* flags = nullptr,
+              std::vector<SceneFileUse>* files = nullptr);
 
   double number(std::string_view key, double fallback, Range range = {});
   int integer(std::string_view key, int fallback, Range range = {});
@@ -47,6 +50,8 @@ class TableReader {
   Vec3 vec3(std::string_view key, const Vec3& fallback);
   std::array<double, 2> pair(std::string_view key, std::array<double, 2> fallback, Range range = {});
   std::optional<std::string> optionalString(std::string_view key);
+  // The file a string key names (`name`, as read), relative to the scene file's folder; recorded among the files.
+  std::filesystem::path filePath(std::string_view key, const std::string& name);
   // The node itself (for keys of mixed type such as a pin list); marks the key as known.
   const toml::node* node(std::string_view key);
   // A sub-table; marks the key known. Nothing when absent; an error when present but not a table.
@@ -75,7 +80,12 @@ class TableReader {
   std::string path_;
   std::set<std::string> known_;
   const SceneFlags* flags_;
+  std::vector<SceneFileUse>* files_;
 };
+
+// `table` with the value of each of `files`' keys replaced by value(use).
+toml::table withFileValues(toml::table table, const std::vector<SceneFileUse>& files,
+                           const std::function<std::string(const SceneFileUse&)>& value);
 
 // The known key nearest to an unknown one (edit distance), or "" if none is close.
 std::string nearestKey(std::string_view unknown, const std::set<std::string>& known);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <system_error>
 
+#include "app/output/carried_scene.h"
 #include "app/output/obj_sequence.h"
 #include "app/output/pc2.h"
 #include "app/scene/input_error.h"
@@ -94,7 +95,8 @@ DiskEstimate estimateRunOutput(const SceneFile& scene, int first, int last) {
   if (obj > 0) e.parts.push_back({"OBJ + MTL, " + per, obj, {"no OBJ sequence (--set output.obj=false)"}});
   if (pc2 > 0) e.parts.push_back({"PC2, " + per, pc2, {"no point cache (no --pc2, output.pc2 = false)"}});
   addPictures(e, scene, e.frames, "no pictures (--render none)");
-  e.parts.push_back({"textures and run.json", other, {}});
+  other += carriedBytes(scene);  // the scene and its files, carried into OUT/scene (carried_scene.h)
+  e.parts.push_back({"textures, the carried scene and run.json", other, {}});
   return e;
 }
 

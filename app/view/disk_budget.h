@@ -9,7 +9,8 @@
 //   PNG, EXR    per frame: the uncompressed size (file_size_bound.h); a picture compresses to less, by how much
 //               depends on what it shows (a 1280 x 720 frame of jelly_slope: 2.4 times for PNG, 2.1 for EXR)
 //   video       rough: 1 bit per pixel per frame (x264 at CRF 20: 0.3 on two 1280 x 720 frames of jelly_slope)
-//   the rest    textures copied beside the meshes (their size) and run.json
+//   the rest    textures copied beside the meshes (their size), the scene and its files carried into OUT/scene
+//               (carried_scene.h) and run.json
 // Files of an earlier run that the command replaces are not counted as free space.
 #pragma once
 #include <cstdint>

@@ -129,6 +129,7 @@ TEST_F(Interrupt, RenderStopsAfterACompleteFrame) {
   const fs::path clean = dir() / "clean";
   fs::create_directories(clean);
   fs::copy(out() / "mesh", clean / "mesh", fs::copy_options::recursive);
+  fs::copy(out() / "scene", clean / "scene", fs::copy_options::recursive);  // the scene the run carried
   const auto cleanRender = [&](int frames) {
     const fs::path clean_log = dir() / "clean.txt";
     return runWobble("render " + (clean / "mesh").string() + " --scene " + file.string() +
