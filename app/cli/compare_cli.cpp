@@ -8,6 +8,7 @@
 #include "app/commands/compare_command.h"
 #include "app/compare/tile_label.h"
 #include "app/output/interrupt.h"
+#include "app/scene/input_error.h"
 
 namespace wobble {
 
@@ -34,6 +35,12 @@ void addCompareCommand(CLI::App& app, int& status) {
   cmd->add_flag("--estimate-error", run.estimate_error,
                 "Each variant also runs at dt/2 and compare.md gives its estimated error (doubles the run time)");
   cmd->add_option("--jobs", options->jobs, "Variants run at once (default 0: one per hardware thread)");
+  auto piece = std::make_shared<std::string>();
+  cmd->add_option("--piece", *piece,
+                  "I/N: run only piece I of N of the variants (a farm's task; resumes what it finished); the pictures "
+                  "and compare.md come with --gather");
+  cmd->add_flag("--gather", options->gather,
+                "Run no variant: render the grid, video and compare.md from every --piece's variants in OUT");
   cmd->add_option("--strain-bound", options->strain_bound,
                   "A variant whose largest spring strain passes this has lost its shape (the stability study's)")
       ->capture_default_str();
@@ -41,8 +48,11 @@ void addCompareCommand(CLI::App& app, int& status) {
       "The picture is the size of the scene's frames (camera.resolution, --resolution, --quality); the tiles\n"
       "share it. Example:\n  wobble compare --vary integrator=explicit-euler,pc-euler,midpoint,rk4 "
       "--set jelly.ks=5e4 --dt 1.2e-3");
-  cmd->callback([options, &status] {
+  cmd->callback([options, piece, &status] {
     installInterruptHandlers();
+    if (!piece->empty()) options->piece = parsePiece(*piece);
+    if (options->piece && options->gather)
+      throw InputError("--piece and --gather: one or the other (a piece, or the pictures and report)");
     const CompareReport r = runCompare(*options);
     for (const CompareVariant& v : r.variants) {
       const RunReport& result = v.report;
@@ -55,7 +65,16 @@ void addCompareCommand(CLI::App& app, int& status) {
         std::printf("; lost its shape (strain %s)", shortNumber(v.lost_shape_strain).c_str());
       std::printf("\n");
     }
-    std::printf("ran %zu variant(s), %d at a time, in %.2f s\n", r.variants.size(), r.jobs, r.seconds_runs);
+    if (options->piece) {
+      std::printf(
+          "piece %s: variants %zu to %zu of %zu (%zu kept from an earlier run) in %s; when every piece is "
+          "done: the same command with --gather\n",
+          piece->c_str(), r.piece_first + 1, r.piece_last, r.variant_count, r.variants_resumed, r.out.c_str());
+      status = exitStatusAfterSignals(kExitOk);
+      return;
+    }
+    if (!options->gather)
+      std::printf("ran %zu variant(s), %d at a time, in %.2f s\n", r.variants.size(), r.jobs, r.seconds_runs);
     if (r.grid)
       std::printf("rendered %d frame(s) of %d x %d (%d x %d tiles of %d x %d) into %s (%.2f s)%s%s\n",
                   r.frames_rendered, r.grid->width(), r.grid->height(), r.grid->rows, r.grid->cols, r.grid->tile_width,

@@ -96,22 +96,40 @@ void addStability(CLI::App& study, int& status) {
   cmd->add_flag("--no-contact", *no_contact, "Leave the contact case out");
   cmd->add_option("--jobs", o->jobs, "Threads (0: one per hardware thread; results do not depend on it)")
       ->capture_default_str();
+  auto piece = std::make_shared<std::string>();
+  cmd->add_option("--piece", *piece,
+                  "I/N: run only piece I of N of the study's rows into OUT/pieces (a farm's task; resumes what it "
+                  "finished); then --gather");
+  cmd->add_flag("--gather", o->gather, "Run nothing: write the report from every --piece's rows in OUT/pieces");
   cmd->add_option("--set", o->sets, "Override a scene key, KEY=VALUE (repeatable), as for `wobble run`");
   addMaxMemoryOption(*cmd);
   cmd->add_option("--gnuplot", o->gnuplot, "The gnuplot program (name on PATH or a path)")->capture_default_str();
   cmd->footer(
       "The users' cases (ks 5e4 at dt 1.2e-3, ks 1e5 at dt 1.4e-3) and the contact case are always run in full.\n"
-      "Example:\n"
-      "  wobble study stability --integrators explicit-euler,rk4 --duration 0.3");
-  cmd->callback([o, fine, no_infer, no_contact, &status] {
+      "Examples:\n"
+      "  wobble study stability --integrators explicit-euler,rk4 --duration 0.3\n"
+      "  wobble study stability --fine --out out/map --piece 3/8    # one task of a farm (scripts/slurm/)\n"
+      "  wobble study stability --fine --out out/map --gather       # when all 8 are done");
+  cmd->callback([o, fine, no_infer, no_contact, piece, &status] {
     if (*no_contact) o->contact_scene.clear();
     if (*fine) {
       o->ks_points = 13;
       o->dt_points = 12;
     }
     o->infer = !*no_infer;
+    if (!piece->empty()) o->piece = parsePiece(*piece);
+    if (o->piece && o->gather) throw InputError("--piece and --gather: one or the other (a piece, or the report)");
+    if (o->out.empty()) o->out = defaultOut("stability", o->scene);
     const StabilityResult r = runStabilityStudy(*o);
-    const fs::path out = o->out.empty() ? defaultOut("stability", o->scene) : o->out;
+    const fs::path out = o->out;
+    if (o->piece) {
+      std::printf(
+          "stability study of %s, piece %s: rows %zu to %zu of %zu (%zu kept from an earlier run) in "
+          "%s/pieces/stability; when every piece is done: --gather\n",
+          r.scene_name.c_str(), piece->c_str(), r.piece_first + 1, r.piece_last, r.items, r.items_resumed, out.c_str());
+      status = kExitOk;
+      return;
+    }
     const auto plots = writeStabilityOutputs(r, out, o->gnuplot);
     std::printf("stability study of %s: %zu cells, %g s each\n", r.scene_name.c_str(), r.cells.size(), r.duration);
     for (const StabilityCell& c : r.cells)

@@ -5,9 +5,12 @@
 #include <cctype>
 #include <deque>
 #include <exception>
+#include <functional>
 #include <future>
 #include <mutex>
 #include <thread>
+
+#include <nlohmann/json.hpp>
 
 #include "app/commands/frame_range.h"
 #include "app/commands/wall_clock.h"
@@ -29,6 +32,7 @@
 #include "image/font.h"
 #include "image/font_file.h"
 #include "image/png_io.h"
+#include "io/content_hash.h"
 #include "io/number_text.h"
 #include "io/text_file.h"
 #include "sim/springs.h"
@@ -214,14 +218,17 @@ std::vector<VaryAxis> parseAxes(const CompareOptions& o) {
 
 // Runs every variant, `jobs` at a time; each run is single-threaded or deterministic on its own threads, so the
 // results do not depend on jobs. The first error (in variant order) is rethrown after every run has ended.
-void runVariants(std::vector<Planned>& plans, std::vector<Tracker>& trackers, int jobs) {
+// `which`: the variants to run (a piece's); `finished` is called on the run's thread when one ran to its end.
+void runVariants(std::vector<Planned>& plans, std::vector<Tracker>& trackers, int jobs,
+                 const std::vector<std::size_t>& which, const std::function<void(std::size_t)>& finished) {
   std::atomic<std::size_t> next{0};
   std::atomic<int> done{0};
   std::mutex progress_lock;
-  Progress progress("compare", int(plans.size()), "run");
+  Progress progress("compare", int(which.size()), "run");
   std::vector<std::exception_ptr> errors(plans.size());
   const auto work = [&] {
-    for (std::size_t i; (i = next++) < plans.size() && !interrupted();) {
+    for (std::size_t n; (n = next++) < which.size() && !interrupted();) {
+      const std::size_t i = which[n];
       CompareVariant& v = plans[i].variant;
       RunOptions run = v.run;
       run.on_frame = [&tracker = trackers[i]](int frame, const VecX& x) { tracker.observe(frame, x); };
@@ -232,6 +239,7 @@ void runVariants(std::vector<Planned>& plans, std::vector<Tracker>& trackers, in
         errors[i] = std::current_exception();
       }
       v.wall_seconds = secondsSince(start);
+      if (!errors[i] && !v.report.interrupted && finished) finished(i);
       const std::lock_guard lock(progress_lock);
       progress.update(++done);
     }
@@ -370,6 +378,84 @@ void renderGrid(std::vector<Planned>& plans, const std::vector<Tracker>& tracker
   if (video && !interrupted()) report.video = video->finish();
 }
 
+// What the pictures and compare.md need of a variant that ran, as a farm piece keeps it (farm_pieces.h): doubles
+// exact, the camera of every frame.
+nlohmann::json variantJson(const CompareVariant& v, const Tracker& t) {
+  const RunReport& r = v.report;
+  nlohmann::json j = {{"first_frame", r.first_frame},
+                      {"frames_written", r.frames_written},
+                      {"steps", r.steps},
+                      {"simulated_time", r.simulated_time},
+                      {"seconds_simulate", r.seconds_simulate},
+                      {"wall_seconds", v.wall_seconds},
+                      {"max_strain", t.max_strain},
+                      {"lost_strain", t.lost_strain},
+                      {"lost_frame", t.lost_frame ? nlohmann::json(*t.lost_frame) : nlohmann::json(nullptr)}};
+  if (r.blow_up) j["blow_up"] = {{"time", r.blow_up->time}, {"step", r.blow_up->step}};
+  if (r.error_estimate)
+    j["error_estimate"] = {{"max_error", r.error_estimate->max_error}, {"failure", r.error_estimate->failure}};
+  nlohmann::json cameras = nlohmann::json::array();
+  for (const render::CameraParams& c : t.cameras) {
+    nlohmann::json values = nlohmann::json::array();
+    for (const Eigen::Vector3f* v3 : {&c.position, &c.look_at, &c.up, &c.shutter_motion})
+      for (int k = 0; k < 3; ++k) values.push_back((*v3)[k]);
+    for (const float f : {c.vfov_deg, c.aperture, c.focus}) values.push_back(f);
+    values.push_back(c.width), values.push_back(c.height);
+    cameras.push_back(values);
+  }
+  j["cameras"] = cameras;
+  return j;
+}
+
+void readVariantJson(const nlohmann::json& j, CompareVariant& v, Tracker& t) {
+  RunReport& r = v.report;
+  r.first_frame = j.at("first_frame").get<int>();
+  r.frames_written = j.at("frames_written").get<int>();
+  r.steps = j.at("steps").get<long>();
+  r.simulated_time = j.at("simulated_time").get<double>();
+  r.seconds_simulate = j.at("seconds_simulate").get<double>();
+  v.wall_seconds = j.at("wall_seconds").get<double>();
+  t.max_strain = j.at("max_strain").get<double>();
+  t.lost_strain = j.at("lost_strain").get<double>();
+  if (!j.at("lost_frame").is_null()) t.lost_frame = j.at("lost_frame").get<int>();
+  if (j.contains("blow_up")) {
+    r.blow_up = BlowUp{};
+    r.blow_up->time = j.at("blow_up").at("time").get<double>();
+    r.blow_up->step = j.at("blow_up").at("step").get<long>();
+  }
+  if (j.contains("error_estimate")) {
+    r.error_estimate = ErrorEstimate{};
+    r.error_estimate->max_error = j.at("error_estimate").at("max_error").get<double>();
+    r.error_estimate->failure = j.at("error_estimate").at("failure").get<std::string>();
+  }
+  t.cameras.clear();
+  for (const nlohmann::json& values : j.at("cameras")) {
+    render::CameraParams c;
+    int k = 0;
+    for (Eigen::Vector3f* v3 : {&c.position, &c.look_at, &c.up, &c.shutter_motion})
+      for (int i = 0; i < 3; ++i) (*v3)[i] = values.at(k++).get<float>();
+    for (float* f : {&c.vfov_deg, &c.aperture, &c.focus}) *f = values.at(k++).get<float>();
+    c.width = values.at(k++).get<int>();
+    c.height = values.at(k++).get<int>();
+    t.cameras.push_back(c);
+  }
+}
+
+// Everything the variants' results depend on, hashed: the pieces of one comparison share it.
+std::string compareKey(const CompareOptions& o, const std::vector<Planned>& plans) {
+  io::ContentHash h;
+  h.add(std::string_view("wobble compare 1"));
+  for (const Planned& p : plans) {
+    RunOptions run = p.variant.run;
+    run.out.reset();
+    h.add(std::string_view(runFlags(run, false)));
+    h.add(std::string_view(p.picture.text));
+  }
+  h.add(o.strain_bound);
+  h.add(std::string_view(o.run.frames.value_or("")));
+  return h.hex();
+}
+
 CompareSummary summarize(const CompareOptions& o, const std::vector<Planned>& plans, const CompareReport& report) {
   CompareSummary s;
   s.scene = o.run.scene.string();
@@ -439,10 +525,20 @@ CompareReport runCompare(const CompareOptions& o) {
   std::tie(report.first_frame, report.last_frame) =
       o.run.frames ? parseFrameRange(*o.run.frames, first.frameCount()) : std::pair{1, first.frameCount()};
 
-  const OutputFolder folder(report.out);
-  folder.clearEarlierRun("compare");  // frames/compare_NNNN.png, compare.mp4
-  std::error_code ignored;
-  fs::remove(report.out / "compare.md", ignored);
+  std::optional<FarmPieces> pieces;
+  if (o.piece || o.gather)
+    pieces.emplace(report.out, "compare", compareKey(o, plans), plans.size(), o.gather ? std::nullopt : o.piece);
+  report.variant_count = plans.size();
+  std::tie(report.piece_first, report.piece_last) =
+      pieces ? pieces->range() : std::pair<std::size_t, std::size_t>{0, plans.size()};
+  // A piece shares OUT with the others (each variant holds its own folder); the pictures and compare.md are the
+  // gathering's, which holds OUT alone.
+  const OutputFolder folder(report.out, o.piece ? OutputFolder::Access::shared : OutputFolder::Access::exclusive);
+  if (!o.piece) {
+    folder.clearEarlierRun("compare");  // frames/compare_NNNN.png, compare.mp4
+    std::error_code ignored;
+    fs::remove(report.out / "compare.md", ignored);
+  }
 
   std::vector<Tracker> trackers(plans.size());
   for (std::size_t i = 0; i < plans.size(); ++i) {
@@ -450,15 +546,38 @@ CompareReport runCompare(const CompareOptions& o) {
     trackers[i].rig.emplace(plans[i].picture);
     trackers[i].strain_bound = o.strain_bound;
   }
-  report.jobs = std::clamp(o.jobs > 0 ? o.jobs : int(std::thread::hardware_concurrency()), 1, int(plans.size()));
+  std::vector<std::size_t> which;  // the variants this command runs
+  if (o.gather) {
+    const std::vector<nlohmann::json> gathered = pieces->gather();
+    for (std::size_t i = 0; i < plans.size(); ++i) readVariantJson(gathered[i], plans[i].variant, trackers[i]);
+  }
+  for (std::size_t i = report.piece_first; i < report.piece_last && !o.gather; ++i) {
+    if (pieces)
+      if (const auto kept = pieces->load(i)) {
+        readVariantJson(*kept, plans[i].variant, trackers[i]);
+        ++report.variants_resumed;
+        continue;
+      }
+    which.push_back(i);
+  }
+  report.jobs = std::clamp(o.jobs > 0 ? o.jobs : int(std::thread::hardware_concurrency()), 1,
+                           int(std::max<std::size_t>(1, which.size())));
   auto start = Clock::now();
-  runVariants(plans, trackers, report.jobs);
+  runVariants(plans, trackers, report.jobs, which, [&](std::size_t i) {
+    if (pieces) pieces->store(i, variantJson(plans[i].variant, trackers[i]));
+  });
   report.seconds_runs = secondsSince(start);
   for (std::size_t i = 0; i < plans.size(); ++i) {
     CompareVariant& v = plans[i].variant;
     v.max_strain = trackers[i].max_strain;
     v.lost_shape_frame = trackers[i].lost_frame;
     v.lost_shape_strain = trackers[i].lost_strain;
+  }
+  if (o.piece) {  // its own variants only; the pictures and numbers are the gathering's
+    report.interrupted = interrupted();
+    for (std::size_t i = report.piece_first; i < report.piece_last; ++i)
+      report.variants.push_back(std::move(plans[i].variant));
+    return report;
   }
   report.interrupted = interrupted();
   if (!report.interrupted && rendering) {

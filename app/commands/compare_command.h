@@ -8,6 +8,10 @@
 //      a tile (grid_layout.h), labelled (tile_label.h) and tiled into OUT/frames/compare_NNNN.png and OUT/compare.mp4.
 //      A variant that blew up keeps its last frame, frozen, with a red label.
 //   3. OUT/compare.md: the numbers (compare_report.h).
+// On a farm (app/study/farm_pieces.h): `piece` runs step 1 for that piece's variants only (each into its folder as
+// above; what steps 2 and 3 need of it kept in OUT/pieces/compare/), resuming, while other pieces run beside it;
+// `gather` runs no variant and makes steps 2 and 3 from every piece's: the frames, video and numbers of a one-machine
+// run.
 #pragma once
 #include <filesystem>
 #include <optional>
@@ -16,6 +20,7 @@
 
 #include "app/commands/run_command.h"
 #include "app/compare/grid_layout.h"
+#include "app/study/farm_pieces.h"
 #include "app/study/study_stability.h"
 
 namespace wobble {
@@ -26,6 +31,8 @@ struct CompareOptions {
   std::optional<std::filesystem::path> out;  // default out/compare-<scene name>
   int jobs = 0;                              // variants run at once; 0: one per hardware thread
   double strain_bound = kStrainBound;        // lost its shape above this strain (the stability study's)
+  std::optional<Piece> piece;                // run only this piece's variants (no pictures, no compare.md)
+  bool gather = false;                       // run no variant: pictures and compare.md from every piece's
 };
 
 struct CompareVariant {
@@ -49,6 +56,8 @@ struct CompareReport {
   double seconds_runs = 0, seconds_render = 0;
   int jobs = 1;
   bool interrupted = false;  // SIGINT/SIGTERM: stopped after the runs or a frame; no compare.md
+  std::size_t piece_first = 0, piece_last = 0, variants_resumed = 0;  // a piece: its variants [first, last)
+  std::size_t variant_count = 0;                                      // of the whole comparison
 };
 
 // Throws InputError (exit 2, nothing written) for a bad --vary, scene, flag or any variant's settings, and

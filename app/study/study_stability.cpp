@@ -6,14 +6,18 @@
 #include <limits>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <sstream>
 #include <thread>
+
+#include <nlohmann/json.hpp>
 
 #include "app/output/progress.h"
 #include "app/scene/input_error.h"
 #include "app/scene/scene_file.h"
 #include "app/study/stability_theory.h"
 #include "app/study/study_report.h"
+#include "io/content_hash.h"
 #include "io/text_table.h"
 #include "sim/simulation.h"
 
@@ -63,6 +67,67 @@ std::vector<std::string> bodyNames(const SceneFile& scene) {
   std::vector<std::string> names;
   for (const BodySlot& slot : scene.system->bodies()) names.push_back(slot.body.name);
   return names;
+}
+
+nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+double number(const nlohmann::json& j) { return j.is_null() ? kNaN : j.get<double>(); }
+
+// A work item's cells as a piece keeps them (farm_pieces.h): every field, doubles exact (NaN as null).
+nlohmann::json cellsJson(const std::vector<StabilityCell>& cells) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const StabilityCell& c : cells)
+    list.push_back({{"integrator", c.integrator},
+                    {"ks", c.ks},
+                    {"dt", c.dt},
+                    {"outcome", int(c.outcome)},
+                    {"inferred", c.inferred},
+                    {"user_case", c.user_case},
+                    {"contact_case", c.contact_case},
+                    {"max_strain", number(c.max_strain)},
+                    {"final_strain", number(c.final_strain)},
+                    {"end_time", number(c.end_time)},
+                    {"max_speed", number(c.max_speed)},
+                    {"steps", c.steps},
+                    {"note", c.note}});
+  return list;
+}
+
+std::vector<StabilityCell> cellsOf(const nlohmann::json& list) {
+  std::vector<StabilityCell> cells;
+  for (const nlohmann::json& j : list) {
+    StabilityCell c;
+    c.integrator = j.at("integrator").get<std::string>();
+    c.ks = j.at("ks").get<double>();
+    c.dt = j.at("dt").get<double>();
+    c.outcome = Outcome(j.at("outcome").get<int>());
+    c.inferred = j.at("inferred").get<bool>();
+    c.user_case = j.at("user_case").get<bool>();
+    c.contact_case = j.at("contact_case").get<bool>();
+    c.max_strain = number(j.at("max_strain"));
+    c.final_strain = number(j.at("final_strain"));
+    c.end_time = number(j.at("end_time"));
+    c.max_speed = number(j.at("max_speed"));
+    c.steps = j.at("steps").get<long>();
+    c.note = j.at("note").get<std::string>();
+    cells.push_back(std::move(c));
+  }
+  return cells;
+}
+
+// Everything a cell's result depends on, hashed: pieces of one study share it (farm_pieces.h).
+std::string studyKey(const StabilityOptions& o, const StabilityResult& r, const std::string& scene_text,
+                     const std::string& contact_text) {
+  io::ContentHash h;
+  h.add(std::string_view("wobble study stability 1"));
+  h.add(std::string_view(scene_text));
+  h.add(std::string_view(contact_text));
+  for (const std::string& name : r.integrators) h.add(std::string_view(name));
+  h.addArray(std::span<const double>(r.ks));
+  h.addArray(std::span<const double>(r.dt));
+  for (const auto& c : o.cases) h.add(c[0]), h.add(c[1]);
+  for (const auto& c : o.contact_cases) h.add(c[0]), h.add(c[1]);
+  h.add(o.duration), h.add(o.contact_duration), h.add(o.strain_bound), h.add(o.infer);
+  return h.hex();
 }
 
 }  // namespace
@@ -144,19 +209,22 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
   result.dt = logSpaced(o.dt_min, o.dt_max, o.dt_points);
   const std::vector<std::string> bodies = bodyNames(base);
   std::vector<std::string> contact_bodies;
+  std::string contact_text;
   IntegratorOptions contact_options;  // the scene's [simulation] solver keys and [contact] in_solve
   if (!o.contact_scene.empty()) {
     result.contact_scene_file = o.contact_scene;
     result.contact_duration = o.contact_duration;
     const SceneFile contact = loadScene(o.contact_scene, {});
+    contact_text = contact.text;
     result.contact_scene_name = contact.name;
     contact_bodies = bodyNames(contact);
     contact_options = contact.integrator_options;
   }
 
-  // Theory at every ks the study touches.
+  // Theory at every ks the study touches (for the report: not in a piece).
   std::vector<double> theory_ks = result.ks;
   for (const auto& c : o.cases) theory_ks.push_back(c[0]);
+  if (o.piece) theory_ks.clear();
   for (double ks : theory_ks) {
     const auto system = systemAt(o.scene, o.sets, bodies, ks);
     StabilityTheory t;
@@ -171,8 +239,9 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
     result.theory.push_back(t);
   }
 
-  // Work items: one grid row (integrator, ks) each, plus one item per user case; each with its own system (a
-  // Simulation sets the system's step size, so systems are not shared between threads).
+  // Work items: one grid row (integrator, ks) each, plus one item per user case and contact case; each with its own
+  // system (a Simulation sets the system's step size, so systems are not shared between threads), built only for the
+  // items this command runs.
   struct Item {
     std::string integrator;
     double ks;
@@ -187,39 +256,38 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
   std::vector<double> descending(result.dt.rbegin(), result.dt.rend());
   for (const std::string& name : result.integrators) {
     for (double ks : result.ks)
-      items.push_back({name,
-                       ks,
-                       descending,
-                       false,
-                       false,
-                       o.duration,
-                       base.integrator_options,
-                       systemAt(o.scene, o.sets, bodies, ks),
-                       {}});
+      items.push_back({name, ks, descending, false, false, o.duration, base.integrator_options, nullptr, {}});
     for (const auto& c : o.cases)
-      items.push_back({name,
-                       c[0],
-                       {c[1]},
-                       true,
-                       false,
-                       o.duration,
-                       base.integrator_options,
-                       systemAt(o.scene, o.sets, bodies, c[0]),
-                       {}});
+      items.push_back({name, c[0], {c[1]}, true, false, o.duration, base.integrator_options, nullptr, {}});
     if (!o.contact_scene.empty())
       for (const auto& c : o.contact_cases)
-        items.push_back({name,
-                         c[0],
-                         {c[1]},
-                         false,
-                         true,
-                         o.contact_duration,
-                         contact_options,
-                         systemAt(o.contact_scene, {}, contact_bodies, c[0]),
-                         {}});
+        items.push_back({name, c[0], {c[1]}, false, true, o.contact_duration, contact_options, nullptr, {}});
+  }
+  std::optional<FarmPieces> pieces;
+  if (o.piece || o.gather) {
+    if (o.out.empty()) throw InputError("--piece, --gather: need the study's folder (--out)");
+    pieces.emplace(o.out, "stability", studyKey(o, result, base.text, contact_text), items.size(),
+                   o.gather ? std::nullopt : o.piece);
+  }
+  const auto [first, last] = pieces ? pieces->range() : std::pair<std::size_t, std::size_t>{0, items.size()};
+  result.items = items.size(), result.piece_first = first, result.piece_last = last;
+  if (o.gather) {
+    const std::vector<nlohmann::json> gathered = pieces->gather();
+    for (std::size_t i = 0; i < items.size(); ++i) items[i].cells = cellsOf(gathered[i]);
+  }
+  for (std::size_t i = first; i < last && !o.gather; ++i) {
+    Item& item = items[i];
+    if (pieces)
+      if (const auto kept = pieces->load(i)) {
+        item.cells = cellsOf(*kept);
+        ++result.items_resumed;
+        continue;
+      }
+    item.system = item.contact_case ? systemAt(o.contact_scene, {}, contact_bodies, item.ks)
+                                    : systemAt(o.scene, o.sets, bodies, item.ks);
   }
   int total = 0;
-  for (const Item& item : items) total += int(item.dts.size());
+  for (const Item& item : items) total += item.system ? int(item.dts.size()) : 0;
   Progress progress("stability " + result.scene_name, total, "cell");
   std::mutex mutex;
   int done = 0;
@@ -227,6 +295,7 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
   const auto work = [&] {
     for (std::size_t i; (i = next++) < items.size();) {
       Item& item = items[i];
+      if (!item.system) continue;             // another piece's, or kept from an earlier run of this piece
       std::optional<Outcome> survived_above;  // the outcome of the first cell from the top that did not blow up
       for (double dt : item.dts) {
         StabilityCell c;
@@ -249,6 +318,7 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
         std::lock_guard lock(mutex);
         if (o.progress) progress.update(++done);
       }
+      if (pieces) pieces->store(i, cellsJson(item.cells));  // done: a piece run again keeps it
     }
   };
   const int jobs = o.jobs > 0 ? o.jobs : int(std::max(1u, std::thread::hardware_concurrency()));
@@ -258,7 +328,7 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
   for (std::thread& t : threads) t.join();
   progress.finish();
   for (Item& item : items)  // in item order, whatever thread ran it: the output does not depend on jobs
-    for (StabilityCell& c : item.cells) result.cells.push_back(std::move(c));
+    for (StabilityCell& c : item.cells) result.cells.push_back(std::move(c));  // a piece: its own items only
   // The grid first, then the users' cases, then the contact case.
   const auto group = [](const StabilityCell& c) { return c.contact_case ? 2 : c.user_case ? 1 : 0; };
   std::stable_sort(result.cells.begin(), result.cells.end(),

@@ -11,13 +11,18 @@
 // smaller step solves the same physics more accurately). The extra `cases` (ks, dt) always run, and so do the
 // `contact_cases` on their own scene (two jellies, one landing on the other: contact between bodies at large steps).
 // Rows run on `jobs` threads; each cell is single-threaded and deterministic, so the results do not depend on jobs.
+// On a farm (farm_pieces.h): `piece` runs only that piece's rows (work items: per integrator, each grid ks, then each
+// user case, then each contact case) into OUT/pieces/stability/, resuming; `gather` runs none and reads them all,
+// giving the StabilityResult of a one-machine run.
 // This file runs the study into a plain StabilityResult; study_stability_report.h writes it.
 #pragma once
 #include <array>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "app/study/farm_pieces.h"
 #include "sim/integrators/integrator.h"
 #include "sim/system.h"
 
@@ -45,6 +50,8 @@ struct StabilityOptions {
   int jobs = 0;  // 0: hardware threads
   std::string gnuplot = "gnuplot";
   bool progress = true;
+  std::optional<Piece> piece;  // run only this piece's work items, kept in out/pieces (out must be set)
+  bool gather = false;         // run nothing: the result from every piece's items in out/pieces
 };
 
 // GainedEnergy: ran to the end without blowing up, but the run's energy check failed (sim/simulation.h,
@@ -81,6 +88,8 @@ struct StabilityResult {
   std::vector<StabilityCell> cells;
   std::vector<StabilityTheory> theory;  // per grid ks, then per user-case ks
   std::vector<std::string> notes;
+  // A piece: its work items [first, last) of items, and how many of them an earlier run of the piece had finished.
+  std::size_t piece_first = 0, piece_last = 0, items = 0, items_resumed = 0;
 };
 
 // One cell on a system already built at that ks, the integrator with the scene's options (its [simulation] solver keys

@@ -1,5 +1,6 @@
 #!/bin/bash
-# End-to-end test of scripts/slurm/render_array.sbatch on a real scheduler, outside CI: starts a one-node Slurm
+# End-to-end test of scripts/slurm/render_array.sbatch, study_array.sbatch and compare_array.sbatch on a real
+# scheduler, outside CI: starts a one-node Slurm
 # cluster on this machine (munge, slurmctld and slurmd from Debian's slurm-wlm, started directly: no systemd needed),
 # with a temporary slurm.conf (this host, its CPUs) and state folder, then
 #   1. submits the sbatch script with 1 piece and with 4 pieces (2 CPUs a piece, then 1: two run at once on a
@@ -8,6 +9,9 @@
 #      of the one-piece render and their video decodes to the same frames (ffmpeg framemd5);
 #   3. re-queues a running piece (scontrol requeue) and checks that it resumes: its log says it skipped the frames
 #      it had written;
+#   4. splits a stability study (3 pieces) and a comparison (2 pieces) through study_array.sbatch and
+#      compare_array.sbatch and checks that what each gathering job wrote is the bytes of the same command run on one
+#      machine (stability.csv, .md and plots; the comparison's frames and the frames its video decodes to);
 # prints the wall times, and stops the daemons and removes the temporary folder (kept on failure).
 #
 #   apt-get install -y slurm-wlm                      # once (root); munge comes with it
@@ -90,25 +94,25 @@ for ((i = 0; ; ++i)); do
 done
 echo "cluster up: node $host, $cpus CPUs, $(sinfo -V)"
 
-# Waits for a pipeline's video job (the last id in OUT/slurm/jobs: it runs after all the others succeeded, and
-# kill_invalid_depend cancels it when one failed) to end; it must have completed.
-wait_pipeline() {
-  local out=$1 simulate render video state
-  read -r simulate render video <"$out/slurm/jobs"
+# Waits for the last job of a submission (the last id in OUT/slurm/jobs: the video or gathering job, which runs after
+# all the others succeeded, and kill_invalid_depend cancels it when one failed) to end; it must have completed.
+wait_last_job() {
+  local out=$1 job state
+  job=$(awk '{ print $NF }' "$out/slurm/jobs")
   while :; do
-    state=$(scontrol show job "$video" 2>/dev/null | grep -o 'JobState=[A-Z_]*' || true)
+    state=$(scontrol show job "$job" 2>/dev/null | grep -o 'JobState=[A-Z_]*' || true)
     [[ $state =~ =(PENDING|CONFIGURING|RUNNING|COMPLETING|REQUEUED|SUSPENDED)$ ]] || break
     sleep 0.25
   done
-  [[ $state == JobState=COMPLETED ]] || fail "$out: the video job did not complete: $(
-    scontrol show job "$video" | grep -o 'JobState=[A-Z_]* Reason=[^ ]*')"
+  [[ $state == JobState=COMPLETED ]] || fail "$out: the last job ($job) did not complete: $(
+    scontrol show job "$job" | grep -o 'JobState=[A-Z_]* Reason=[^ ]*')"
 }
 # Runs the sbatch script: OUT PIECES CPUS_PER_TASK; prints the wall time from submission to the video.
 pipeline() {
   local out=$tmp/$1 start
   start=$(now)
   CPUS_PER_TASK=$3 WOBBLE=$wobble scripts/slurm/render_array.sbatch "$scene" "$out" "$2" "${flags[@]}" >&2
-  wait_pipeline "$out"
+  wait_last_job "$out"
   awk "BEGIN { printf \"%.1f\", $(now) - $start }"
 }
 # The render stage's own seconds per piece, from the pieces' logs ("rendered N frame(s) ... (S s)").
@@ -164,7 +168,7 @@ for ((i = 0; i < 120; ++i)); do
     scontrol update JobId="${render}_1" StartTime=now && break
   sleep 0.25
 done
-wait_pipeline "$out"
+wait_last_job "$out"
 requeue_wait=$(awk "BEGIN { printf \"%.0f\", $(now) - $requeued }")
 log=$out/slurm/wobble-render-${render}_1.out
 skipped=$(sed -n 's/^skipped \([0-9]*\) frame.*/\1/p' "$log" | tail -1)
@@ -172,6 +176,32 @@ skipped=$(sed -n 's/^skipped \([0-9]*\) frame.*/\1/p' "$log" | tail -1)
 [[ $(frame_md5 "$out/$name.mp4") == "$(frame_md5 "$tmp/one/$name.mp4")" ]] || fail "requeue: the video differs"
 echo "requeue: piece 1 (frames $first_piece) was re-queued after some frames; it resumed and skipped $skipped," \
   "the video is the same ($requeue_wait s from the requeue to the video)"
+
+# Sweeps in pieces: a stability study and a comparison, each split on the cluster and gathered, against the same
+# command run here on one machine.
+study=(scenes/jelly_impact.toml --integrators explicit-euler,midpoint,rk4 --ks-points 3 --dt-points 3 --duration 0.2
+  --no-contact)
+"$wobble" study stability "${study[@]}" --out "$tmp/study_one" >/dev/null
+CPUS_PER_TASK=1 WOBBLE=$wobble scripts/slurm/study_array.sbatch "$tmp/study_split" 3 "${study[@]}" >&2
+wait_last_job "$tmp/study_split"
+for file in "$tmp/study_one/"stability*; do
+  cmp -s "$file" "$tmp/study_split/$(basename "$file")" ||
+    fail "study: $(basename "$file") of the 3 pieces differs from the one-machine study's"
+done
+echo "study: 3 pieces gathered into the one-machine study's files, byte for byte: $(cd "$tmp/study_one" && ls stability*)"
+compare=(scenes/jelly_slope.toml --vary integrator=pc-euler,midpoint,rk4 --set simulation.duration=0.5
+  --resolution 192x108 --quality preview)
+"$wobble" compare "${compare[@]}" --out "$tmp/compare_one" >/dev/null
+CPUS_PER_TASK=1 WOBBLE=$wobble scripts/slurm/compare_array.sbatch "$tmp/compare_split" 2 "${compare[@]}" >&2
+wait_last_job "$tmp/compare_split"
+for png in "$tmp/compare_one/frames/"*.png; do
+  cmp -s "$png" "$tmp/compare_split/frames/$(basename "$png")" ||
+    fail "compare: $(basename "$png") of the 2 pieces differs from the one-machine comparison's"
+done
+[[ $(frame_md5 "$tmp/compare_split/compare.mp4") == "$(frame_md5 "$tmp/compare_one/compare.mp4")" ]] ||
+  fail "compare: the gathered video decodes to other frames than the one-machine comparison's"
+echo "compare: 2 pieces gathered into the one-machine comparison's $(ls "$tmp/compare_one/frames" | wc -l) frames" \
+  "(byte for byte) and video (frame for frame)"
 
 echo "wall time ($frames frames, ${flags[*]}; load average $(cut -d' ' -f1-3 /proc/loadavg)):"
 echo "                         submission to video   render stage   each piece's render"

@@ -1,0 +1,60 @@
+// Farm pieces of a sweep (`wobble study stability --piece I/N`, `wobble compare --piece I/N`): the sweep's work items
+// (a study's rows, a comparison's variants), numbered as the one-machine run numbers them, are cut into N contiguous
+// pieces (the first ones one item longer when N does not divide them, as `wobble frames --chunks`); piece I runs only
+// its own, each item's result kept in OUT/pieces/<sweep>/item-NNNN.json as soon as it is done, and `--gather` reads
+// them all back and writes the report (plots, video) a one-machine run writes, from the same numbers.
+//
+//   OUT/pieces/<sweep>.json   {"pieces": N, "key": K}: written by the first piece; every later piece in OUT must
+//                             give the same N and the same sweep (K: a hash of everything its results depend on),
+//                             else it is refused (exit 2) naming --piece and what is allowed
+//   item-NNNN.json            {"key": K, "item": ...}: written atomically when the item is done; a piece run again
+//                             (re-queued, preempted) keeps the items it finished and runs the rest (resumable)
+//
+// Each item is deterministic on its own (one thread per item), so its result is the bytes of the same item in a
+// one-machine run, whichever piece, node or thread count ran it.
+#pragma once
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include <nlohmann/json.hpp>
+
+namespace wobble {
+
+struct Piece {
+  int index = 1, count = 1;  // 1-based: piece index of count
+};
+
+// "I/N" -> Piece. Throws InputError naming --piece for anything else (or I outside 1..N).
+Piece parsePiece(const std::string& text);
+
+class FarmPieces {
+ public:
+  // sweep: names the files ("stability", "compare"); key: the hash of the sweep's settings; items: how many.
+  // With a piece: checks it against the folder (InputError: N above items, another N or another sweep there before)
+  // and records the folder's N and key. Without (gather): the folder must hold a sweep of this key.
+  FarmPieces(std::filesystem::path out, std::string sweep, std::string key, std::size_t items,
+             std::optional<Piece> piece);
+
+  // The items [first, last) of the piece (all of them for gather).
+  std::pair<std::size_t, std::size_t> range() const { return range_; }
+  // A finished item's result, if the folder holds it for this sweep.
+  std::optional<nlohmann::json> load(std::size_t item) const;
+  void store(std::size_t item, const nlohmann::json& result) const;
+  // Gather: every item's result, in order. Throws InputError naming the pieces whose items are missing.
+  std::vector<nlohmann::json> gather() const;
+
+ private:
+  std::filesystem::path itemFile(std::size_t item) const;
+  std::filesystem::path folder_, manifest_;
+  std::string sweep_, key_;
+  std::size_t items_;
+  int count_ = 1;
+  std::pair<std::size_t, std::size_t> range_;
+};
+
+// The items [first, last) of piece `p` of `items` (contiguous; the first items % count pieces one longer).
+std::pair<std::size_t, std::size_t> pieceItems(Piece p, std::size_t items);
+
+}  // namespace wobble
