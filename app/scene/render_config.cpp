@@ -1,6 +1,7 @@
 // Readers of the render-related scene keys (render_config.h): same TableReader checks as every other key.
 #include "app/scene/render_config.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -37,6 +38,8 @@ constexpr QualityPreset kPresets[] = {
 };
 
 }  // namespace
+
+double autoNoiseThreshold(int samples) { return std::max(0.001, 1.0 / std::max(1, samples)); }
 
 const QualityPreset& qualityPreset(const std::string& name) {
   for (const QualityPreset& p : kPresets)
@@ -136,7 +139,13 @@ void readRenderTables(TableReader& root, SceneFile& scene) {
   o.min_samples = r.integer("min_samples", std::min(preset.min_samples, o.samples_per_pixel), Range{1, 65536});
   if (o.min_samples > o.samples_per_pixel)
     r.fail("min_samples", "must be at most render.samples (" + std::to_string(o.samples_per_pixel) + ")");
-  o.noise_threshold = r.number("noise_threshold", preset.noise_threshold, Range{0, 1});
+  const toml::node* threshold = r.node("noise_threshold");
+  if (threshold && threshold->is_string()) {
+    if (threshold->as_string()->get() != "auto") r.fail("noise_threshold", "must be a number in [0, 1] or \"auto\"");
+    o.noise_threshold = autoNoiseThreshold(o.samples_per_pixel);
+  } else {
+    o.noise_threshold = r.number("noise_threshold", preset.noise_threshold, Range{0, 1});
+  }
   o.denoise = r.boolean("denoise", preset.denoise);
   o.sampler = r.string("sampler", o.sampler, {"sobol", "independent"});
   o.environment = readEnvironment(r, scene);  // sampled by default: an HDR map's sun is found by light samples

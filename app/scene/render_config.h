@@ -45,6 +45,9 @@ struct QualityPreset {
   const char* summary;      // for --help and the docs
 };
 const QualityPreset& qualityPreset(const std::string& name);  // "preview" or "final"; throws std::out_of_range
+// render.noise_threshold = "auto" (what --spp sets): Cycles' automatic threshold for a budget of `samples`,
+// max(0.001, 1 / samples), so more samples buy a lower error instead of stopping where a fixed threshold says.
+double autoNoiseThreshold(int samples);
 std::vector<std::string> qualityNames();
 
 struct RenderOptionsConfig {

@@ -73,7 +73,10 @@ SceneFlags renderFlagSettings(const RenderFlags& flags) {
     if (!png) o.set("render.video", "--render", false);
   }
   if (flags.quality) o.set("render.quality", "--quality", *flags.quality);
-  if (flags.samples_per_pixel) o.set("render.samples", "--spp", std::int64_t{*flags.samples_per_pixel});
+  if (flags.samples_per_pixel) {  // the noise threshold follows the budget (render_config.h)
+    o.set("render.samples", "--spp", std::int64_t{*flags.samples_per_pixel});
+    o.set("render.noise_threshold", "--spp", std::string("auto"));
+  }
   if (flags.denoise) o.set("render.denoise", "--denoise", *flags.denoise == "on");
   if (flags.resolution) {
     std::smatch m;

@@ -2,6 +2,8 @@
 // the TOML parse of their KEY=VALUE record is the independent path. A bad value is named by its flag.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "app/scene/input_error.h"
 #include "app/scene/scene_file.h"
 #include "app/scene/scene_flags.h"
@@ -49,11 +51,11 @@ TEST_F(SceneFlagsTest, FlagsReadAsTheirKeysWould) {
   flags.add(renderFlagSettings(
       {.render = "png,exr", .quality = "preview", .samples_per_pixel = 8, .denoise = "off", .resolution = "64x36"}));
   const std::vector<std::string> record = flags.record();
-  EXPECT_EQ(record,
-            (std::vector<std::string>{"simulation.integrator=\"midpoint\"", "simulation.dt=0.0025000000000000001",
-                                      "output.pc2=true", "render.png=true", "render.exr=true",
-                                      "render.quality=\"preview\"", "render.samples=8", "render.denoise=false",
-                                      "camera.resolution=[64,36]"}));
+  EXPECT_EQ(record, (std::vector<std::string>{"simulation.integrator=\"midpoint\"",
+                                              "simulation.dt=0.0025000000000000001", "output.pc2=true",
+                                              "render.png=true", "render.exr=true", "render.quality=\"preview\"",
+                                              "render.samples=8", "render.noise_threshold=\"auto\"",
+                                              "render.denoise=false", "camera.resolution=[64,36]"}));
 
   const fs::path file = write("flags.toml", kScene);
   const SceneFile typed = loadScene(file, {"jelly.ks=2800"}, flags);
@@ -68,7 +70,8 @@ TEST_F(SceneFlagsTest, FlagsReadAsTheirKeysWould) {
   const RenderOptionsConfig& o = typed.render.options;
   EXPECT_TRUE(o.png && o.exr);
   EXPECT_EQ(o.samples_per_pixel, 8);
-  EXPECT_EQ(o.min_samples, 1);  // the preview preset's, below --spp
+  EXPECT_EQ(o.min_samples, 1);            // the preview preset's, below --spp
+  EXPECT_EQ(o.noise_threshold, 1.0 / 8);  // "auto", set by --spp: Cycles' max(0.001, 1 / N)
   EXPECT_FALSE(o.denoise);
   EXPECT_EQ(typed.render.camera.resolution, (std::array<int, 2>{32, 18}));  // --resolution, halved by the preset
 }
@@ -79,6 +82,28 @@ TEST_F(SceneFlagsTest, ARenderFlagAsksForFrames) {
   EXPECT_FALSE(loadScene(file).render.options.png);
   EXPECT_TRUE(loadScene(file, {}, renderFlagSettings({.samples_per_pixel = 2})).render.options.png);
   EXPECT_FALSE(loadScene(file, {}, renderFlagSettings({.render = "none"})).render.options.png);
+}
+
+// --spp N gives a converging still: the noise threshold follows the budget (Cycles' automatic threshold,
+// max(0.001, 1 / N)) instead of the scene's, which was chosen for the scene's own budget (jelly_slope: 0.3 at 2).
+// The scene's threshold stands without --spp, and --set render.samples keeps it (the way to choose both).
+TEST_F(SceneFlagsTest, SppBringsAThresholdThatFollowsTheBudget) {
+  const fs::path file = write("flags.toml", kScene + "\n[render]\nsamples = 2\nnoise_threshold = 0.3\n");
+  EXPECT_EQ(loadScene(file).render.options.noise_threshold, 0.3);
+  for (const int spp : {4, 64, 1024, 4096}) {
+    const RenderOptionsConfig o = loadScene(file, {}, renderFlagSettings({.samples_per_pixel = spp})).render.options;
+    EXPECT_EQ(o.samples_per_pixel, spp);
+    EXPECT_EQ(o.noise_threshold, std::max(0.001, 1.0 / spp)) << spp;
+  }
+  const RenderOptionsConfig set = loadScene(file, {"render.samples=64", "render.noise_threshold=0.05"}).render.options;
+  EXPECT_EQ(set.noise_threshold, 0.05);
+  EXPECT_EQ(loadScene(file, {"render.samples=64", "render.noise_threshold=\"auto\""}).render.options.noise_threshold,
+            1.0 / 64);
+  // With --spp, a threshold of one's own is refused rather than silently replaced.
+  expectAll(errorFor({"render.noise_threshold=0.05"}, renderFlagSettings({.samples_per_pixel = 64})),
+            {"--set render.noise_threshold=0.05: --spp sets render.noise_threshold", "--set render.samples=N"});
+  expectAll(errorFor({"render.noise_threshold=\"low\""}, {}),
+            {"(--set): render.noise_threshold = \"low\"", "a number in [0, 1] or \"auto\""});
 }
 
 TEST_F(SceneFlagsTest, ErrorsNameTheFlag) {

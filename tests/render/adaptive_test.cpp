@@ -143,6 +143,14 @@ TEST(Adaptive, SameBytesWithOneAndTwoThreads) {
   EXPECT_EQ(std::memcmp(one.color.data(), two.color.data(), one.color.size() * sizeof(Color)), 0);
 }
 
+// 512 samples a pixel, another frame (so independent noise).
+image::Film referenceFilm(const Scene& scene, const Camera& cam) {
+  RenderSettings s;
+  s.samples_per_pixel = 512;
+  s.frame = 1000;
+  return render(scene, cam, s);
+}
+
 // Against a 512-sample reference (another frame, so independent noise), the adaptive image is closer than a fixed-count
 // image taking at least as many samples in total: adaptive sampling moves samples from the sky to the noisy sphere
 // and floor. (When written: RMSE 0.0045 to 0.0052 against 0.0061 to 0.0071 over frames 0 to 3, thresholds 0.01 to
@@ -150,10 +158,7 @@ TEST(Adaptive, SameBytesWithOneAndTwoThreads) {
 TEST(Adaptive, BeatsAFixedCountWithTheSameBudget) {
   const Scene scene = backlitSphere();
   const Camera cam = camera();
-  RenderSettings reference_settings;
-  reference_settings.samples_per_pixel = 512;
-  reference_settings.frame = 1000;
-  const image::Film reference = render(scene, cam, reference_settings);
+  const image::Film reference = referenceFilm(scene, cam);
 
   const image::Film adaptive_film = render(scene, cam, adaptive());
   std::uint64_t taken = 0;
@@ -169,6 +174,26 @@ TEST(Adaptive, BeatsAFixedCountWithTheSameBudget) {
   const image::ImageError fixed_error = image::imageError(cam.width(), cam.height(), fixed.color, reference.color);
   EXPECT_LT(adaptive_error.rmse, fixed_error.rmse) << "fixed at " << fixed_settings.samples_per_pixel << " spp";
   EXPECT_LT(adaptive_error.relmse, fixed_error.relmse) << "fixed at " << fixed_settings.samples_per_pixel << " spp";
+}
+
+// A fixed threshold stops sampling where it is met, whatever the budget; one that follows the budget (Cycles'
+// automatic threshold, max(0.001, 1 / N), what `--spp N` sets: app/scene/render_config.h) lets more samples buy a
+// lower error, so a high budget converges.
+TEST(Adaptive, AThresholdThatFollowsTheBudgetConverges) {
+  const Scene scene = backlitSphere();
+  const Camera cam = camera();
+  const image::Film reference = referenceFilm(scene, cam);
+  const auto error = [&](int spp, float threshold) {
+    RenderSettings s;
+    s.samples_per_pixel = spp;
+    s.min_samples = 1;
+    s.noise_threshold = threshold;
+    return image::imageError(cam.width(), cam.height(), render(scene, cam, s).color, reference.color).rmse;
+  };
+  const double fixed_low = error(8, 0.3f), fixed_high = error(128, 0.3f);
+  const double follows_low = error(8, 1.0f / 8), follows_high = error(128, 1.0f / 128);
+  EXPECT_LT(follows_high, 0.6 * follows_low);
+  EXPECT_LT(follows_high, 0.6 * fixed_high) << "fixed: " << fixed_low << " at 8 spp, " << fixed_high << " at 128";
 }
 
 }  // namespace
