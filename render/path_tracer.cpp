@@ -145,16 +145,31 @@ class Path {
                             const Eigen::Vector3f& ng);
   void sampleSkyAtSurface(int vertex, int light_index, const SurfaceHit& hit, const SurfaceVertex& v,
                           const Eigen::Vector3f& origin, const Eigen::Vector3f& ng);
-  void reflect(const SurfaceVertex& v, const Eigen::Vector3f& wi, const Color& incoming);
+  void reflect(int vertex, const SurfaceVertex& v, const Eigen::Vector3f& wi, const Color& incoming);
 
   // The path's throughput and the light it has gathered.
   void weigh(const Color& w) {
     t_diffuse_ = t_diffuse_.cwiseProduct(w);
     t_other_ = t_other_.cwiseProduct(w);
   }
-  void arrive(const Color& light) {  // light arriving along the path's current ray
-    diffuse_ += t_diffuse_.cwiseProduct(light);
-    other_ += t_other_.cwiseProduct(light);
+  // Light arriving along the path's current ray; `indirect` as in add().
+  void arrive(const Color& light, bool indirect) {
+    add(t_diffuse_.cwiseProduct(light), t_other_.cwiseProduct(light), indirect);
+  }
+  // A contribution to the two parts: `diffuse` before the first non-specular vertex's base colour multiplies it.
+  // Indirect light (found after the path's first scattering vertex, as Cycles counts bounces) is clamped: the
+  // contribution to the pixel is scaled down, hue kept, until its mean over R, G, B is at most clamp_indirect.
+  void add(Color diffuse, Color other, bool indirect) {
+    const float limit = context_.settings.clamp_indirect;
+    if (indirect && limit > 0) {
+      const float mean = (first_base_.cwiseProduct(diffuse) + other).cwiseAbs().sum() / 3.0f;
+      if (mean > limit) {
+        diffuse *= limit / mean;
+        other *= limit / mean;
+      }
+    }
+    diffuse_ += diffuse;
+    other_ += other;
   }
   bool dark() const { return t_diffuse_.isZero() && t_other_.isZero(); }
   // Every ray of the path is traced at the camera ray's instant (motion blur).
@@ -280,7 +295,7 @@ void Path::addLightsPassed(int vertex, const std::optional<SurfaceHit>& hit) {
   const float tmax = hit ? hit->t : ray_.tfar;
   for (const RectLight& rect : lights_.rects) {
     const LightHit h = rectAlongRay(rect, ray_.origin, ray_.direction, tmax);
-    if (h.pdf > 0) arrive(h.radiance * (lights_weighed ? powerHeuristic(previous_pdf_, h.pdf) : 1.0f));
+    if (h.pdf > 0) arrive(h.radiance * (lights_weighed ? powerHeuristic(previous_pdf_, h.pdf) : 1.0f), vertex > 1);
   }
 }
 
@@ -298,7 +313,7 @@ void Path::addEscapedLight(int vertex) {
         light += h.radiance * (lights_weighed ? powerHeuristic(previous_pdf_, h.pdf) : 1.0f);
     }
   }
-  arrive(light);
+  arrive(light, vertex > 1);  // found by the ray leaving vertex - 1
 }
 
 // Gelatine's clear interface: reflect or refract (the branch asked for at the camera ray, else one drawn), entering
@@ -443,7 +458,7 @@ void Path::sampleLightsAtInterface(int vertex, const SurfaceHit& hit, const Diel
     if (!unoccluded(scene_, atTime(s.shadow), hit.shape)) return;
     const bool combined = continues && s.pdf > 0 && context_.settings.mis;
     const float weight = combined ? powerHeuristic(s.pdf, bsdf.pdf(s.wi)) : 1.0f;
-    arrive(s.value * (f * std::abs(n.dot(s.wi)) * weight));
+    arrive(s.value * (f * std::abs(n.dot(s.wi)) * weight), vertex > 0);
   });
 }
 
@@ -457,7 +472,7 @@ int Path::sampleLightsAtSurface(int vertex, const SurfaceHit& hit, const Surface
     if (!unoccluded(scene_, atTime(s.shadow), hit.shape)) return;
     const bool combined = v.continues && s.pdf > 0 && context_.settings.mis;
     const float weight = combined ? powerHeuristic(s.pdf, v.q * v.bsdf.pdf(s.wi)) : 1.0f;
-    reflect(v, s.wi, s.value * weight);
+    reflect(vertex, v, s.wi, s.value * weight);
   });
 }
 
@@ -470,18 +485,18 @@ void Path::sampleSkyAtSurface(int vertex, int light_index, const SurfaceHit& hit
   if (!(pdf > 0 && wi.dot(ng) > 0 && v.ns.dot(wi) > 0)) return;
   ++result_.rays;
   if (unoccluded(scene_, atTime(Ray{origin, wi}), hit.shape))
-    reflect(v, wi, context_.background.eval(wi) * (powerHeuristic(pdf, v.q * v.bsdf.pdf(wi)) / pdf));
+    reflect(vertex, v, wi, context_.background.eval(wi) * (powerHeuristic(pdf, v.q * v.bsdf.pdf(wi)) / pdf));
 }
 
-// Light arriving at a surface vertex from direction wi, already divided by its sampling density and weighted.
-void Path::reflect(const SurfaceVertex& v, const Eigen::Vector3f& wi, const Color& incoming) {
+// Light arriving at a surface vertex from direction wi, already divided by its sampling density and weighted
+// (a light sample: indirect beyond the path's first vertex).
+void Path::reflect(int vertex, const SurfaceVertex& v, const Eigen::Vector3f& wi, const Color& incoming) {
   const BsdfLobes f = v.bsdf.evalLobes(wi);
   const float cos_i = v.ns.dot(wi);
   if (v.first) {
-    diffuse_ += (f.diffuse * cos_i) * incoming;
-    other_ += v.prefix.cwiseProduct((f.specular * cos_i) * incoming);
+    add((f.diffuse * cos_i) * incoming, v.prefix.cwiseProduct((f.specular * cos_i) * incoming), vertex > 0);
   } else {
-    arrive(((f.diffuse * cos_i) * v.base.array() + f.specular * cos_i).matrix().cwiseProduct(incoming));
+    arrive(((f.diffuse * cos_i) * v.base.array() + f.specular * cos_i).matrix().cwiseProduct(incoming), vertex > 0);
   }
 }
 

@@ -45,6 +45,11 @@ struct PathSettings {
   // Russian roulette from the second continuation on: a path goes on with its throughput as probability (at least
   // 0.05) and is weighted by its inverse (unbiased), so dim indirect light costs fewer rays.
   bool roulette = false;
+  // Cycles' clamp_indirect: light found after the path's first scattering vertex (counting every surface and
+  // interface the path scattered at, as Cycles counts bounces) adds at most this much to a sample, as the mean of its
+  // R, G and B (scaled down, hue kept); 0: no clamp. Biased (it removes energy) but cuts the rare bright samples
+  // (fireflies) of caustic paths such as sunlight through gelatine found by a floor's BSDF sample.
+  float clamp_indirect = 0;
 };
 
 // What the first hit's texture filter needs of the camera ray. The first surface's texture is averaged over the

@@ -96,7 +96,7 @@ image::Film render(const Scene& scene, const Camera& camera, const RenderSetting
   const bool adaptive = settings.noise_threshold > 0;
   int target = adaptive ? std::min(spp, settings.min_samples > 0 ? settings.min_samples : 4) : spp;
   const PathContext context(scene, PathSettings{settings.max_bounces, settings.sample_sky, settings.mis,
-                                                settings.light_samples, settings.roulette});
+                                                settings.light_samples, settings.roulette, settings.clamp_indirect});
   const int w = camera.width(), h = camera.height(), ts = settings.tile_size;
   const int tiles_x = (w + ts - 1) / ts, tiles_y = (h + ts - 1) / ts;
   // One sample per pixel (the default): a single pass, no moments to keep (a variance needs two samples: -1) and

@@ -18,6 +18,7 @@
 //   mis                multiple importance sampling of suns and area lights (path_tracer.h); off only for comparisons
 //   light_samples      false: suns and area lights by BSDF sampling alone (path_tracer.h); for tests of MIS only
 //   roulette           Russian roulette from the second path continuation on, by throughput (path_tracer.h)
+//   clamp_indirect     the most indirect light one sample may add, 0 = no clamp (PathSettings, path_tracer.h)
 //   tile_size          tiles of tile_size^2 pixels are the units of parallel work (tbb::parallel_for)
 //   motion_blur        trace each sample at its own instant of the shutter (Ray::time, drawn from the sampler's kTime
 //                      slot, sampler.h), so shapes with several poses and a moving camera blur (scene.h, camera.h);
@@ -50,6 +51,7 @@ struct RenderSettings {
   bool mis = true;
   bool light_samples = true;
   bool roulette = false;
+  float clamp_indirect = 0;
   int tile_size = 16;
   bool motion_blur = false;
   std::uint32_t frame = 0;

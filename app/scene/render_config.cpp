@@ -62,6 +62,7 @@ render::RenderSettings renderSettings(const RenderOptionsConfig& o, int frame) {
   render::parseSamplerKind(o.sampler, s.sampler);  // checked when read
   s.sample_sky = o.sky_sampling;
   s.roulette = o.russian_roulette;
+  s.clamp_indirect = static_cast<float>(o.clamp_indirect);
   s.frame = static_cast<std::uint32_t>(frame);  // the noise seed: the same frame is the same image
   return s;
 }
@@ -151,6 +152,7 @@ void readRenderTables(TableReader& root, SceneFile& scene) {
   o.environment = readEnvironment(r, scene);  // sampled by default: an HDR map's sun is found by light samples
   o.sky_sampling = r.boolean("sky_sampling", o.environment.named());
   o.russian_roulette = r.boolean("russian_roulette", o.russian_roulette);
+  o.clamp_indirect = r.number("clamp_indirect", o.clamp_indirect, Range{0, 1e6});
   o.bounces = r.integer("bounces", o.bounces, Range{0, 16});
   o.exposure = r.number("exposure", o.exposure, Range{-20, 20});
   o.sun_direction = r.vec3("sun_direction", o.sun_direction);

@@ -60,6 +60,7 @@ struct RenderOptionsConfig {
   std::string sampler = "sobol";  // "sobol" or "independent" (render/sampler.h)
   bool sky_sampling = false;
   bool russian_roulette = false;  // from the second bounce on, by throughput (render/path_tracer.h)
+  double clamp_indirect = 10;     // Cycles' default (render/path_tracer.h); 0: off
   int bounces = 2;
   double exposure = -0.5;                // stops: the sun and sky on a light surface need a little less than 0
   Vec3 sun_direction{-0.35, 1.0, 0.55};  // towards the sun

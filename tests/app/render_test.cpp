@@ -191,7 +191,8 @@ TEST_F(Render, QualityAndDenoiseFlags) {
   EXPECT_EQ(slurp(dir() / "noisy/exr/small_0003.exr").find("noisy.R"), std::string::npos);
   for (const char* flags :
        {"--quality best", "--denoise maybe", "--set render.quality=fast", "--set render.min_samples=8",
-        "--set render.noise_threshold=2", "--set render.noise_threshold=\"often\"", "--set render.sampler=halton"}) {
+        "--set render.noise_threshold=2", "--set render.noise_threshold=\"often\"", "--set render.sampler=halton",
+        "--set render.clamp_indirect=-1", "--set render.clamp_indirect=2e6"}) {
     EXPECT_EQ(wobble(run + out().string() + " " + flags), 2) << flags << "\n" << log();
     EXPECT_FALSE(fs::exists(out())) << flags;
   }

@@ -239,5 +239,63 @@ TEST(Dielectric, SplittingTheFirstBranchKeepsTheMeanAndCutsTheNoise) {
   EXPECT_LT(var_b, 0.8 * var_a);
 }
 
+// clamp_indirect (Cycles' clamp): a clear gelatine ball over a grey floor, the sun straight above, no sky. The floor
+// under the ball is in its shadow: light reaches it only by paths that find the sun through the ball (a caustic,
+// here focused near the floor), so every sample there is indirect light, and a few carry hundreds of times the mean
+// (the sparkles). Clamped, no sample adds more than the clamp per indirect contribution (at most one per vertex
+// after the first: three with two bounces), no sample gains, and the rare bright ones are cut. Beside the shadow the
+// floor's direct sunlight (the first vertex's light sample) is not clamped: the clamped mean there is still the
+// sun's E a / pi.
+TEST(Dielectric, ClampIndirectBoundsCausticSamplesAndKeepsDirectLight) {
+  Scene scene;
+  scene.addSphere("ball", Sphere{Vector3f(0, 1.5f, 0), 1},
+                  scene.addMaterial(Material::gelatine("clear", 1.4f, 0, Color::Constant(0.05f))));
+  const float albedo = 0.5f;
+  scene.addQuad("floor", Quad{{0, 0, 0}, {0, 1, 0}, 40, 1},
+                scene.addMaterial(Material::diffuse("floor", Color::Constant(albedo))));
+  SunLight sun;
+  sun.direction = Vector3f::UnitY();
+  scene.lights.suns = {sun};
+  scene.lights.sky = uniformSky(0);
+  scene.commit();
+  const PathContext free_context(scene, PathSettings{});
+  const auto look = [](const Vector3f& at) {
+    const Vector3f from(at.x(), 0.3f, 4);
+    return Ray{from, (at - from).normalized()};
+  };
+  struct Means {
+    double free = 0, clamped = 0;
+    float free_max = 0, clamped_max = 0;
+  };
+  const auto trace = [&](const Ray& ray, float limit) {
+    PathSettings clamped_settings;
+    clamped_settings.clamp_indirect = limit;
+    const PathContext clamped_context(scene, clamped_settings);
+    Means m;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {
+      const PixelSampler sampler(SamplerKind::Independent, std::uint64_t(i), 0);
+      const Color a = tracePath(free_context, ray, CameraSample{}, sampler, 0).radiance;
+      const Color b = tracePath(clamped_context, ray, CameraSample{}, sampler, 0).radiance;
+      EXPECT_TRUE((b.array() <= a.array() * 1.0001f + 1e-6f).all()) << i;  // a clamp only takes away
+      m.free += a.mean(), m.clamped += b.mean();
+      m.free_max = std::max(m.free_max, a.mean()), m.clamped_max = std::max(m.clamped_max, b.mean());
+    }
+    m.free /= n, m.clamped /= n;
+    return m;
+  };
+  const float limit = 0.5f;
+  const Means shadow = trace(look(Vector3f::Zero()), limit);
+  EXPECT_GT(shadow.free_max, 20 * limit);              // the sparkles are there without the clamp
+  EXPECT_LE(shadow.clamped_max, 3 * limit * 1.0001f);  // and bounded with it
+  EXPECT_GT(shadow.clamped, 0);
+  EXPECT_LT(shadow.clamped, shadow.free);
+  // A clamp far below the direct light's samples (about E a / pi each): they stay whole.
+  const double direct = sun.irradiance.mean() * albedo / std::numbers::pi;
+  const Means lit = trace(look(Vector3f(4, 0, 0)), float(0.1 * direct));
+  EXPECT_NEAR(lit.clamped, direct, 0.02 * direct);  // the ball's caustic does not reach here; its reflection little
+  EXPECT_LE(lit.clamped, lit.free);
+}
+
 }  // namespace
 }  // namespace wobble::render
