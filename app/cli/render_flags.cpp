@@ -15,8 +15,7 @@ void addRenderFlags(CLI::App& cmd, RenderFlags& flags) {
   cmd.add_option("--spp", flags.samples_per_pixel,
                  "Samples per pixel, the most with adaptive sampling: sets render.samples = N and "
                  "render.noise_threshold = \"auto\" (max(0.001, 1/N), Cycles' automatic threshold), so a higher N "
-                 "converges further; for another threshold give --set render.samples=N --set "
-                 "render.noise_threshold=X instead")
+                 "converges further; --set render.noise_threshold=X chooses another")
       ->check(CLI::Range(1, 65536));
   cmd.add_option("--denoise", flags.denoise, "Denoise the PNG frames and video: on or off (overrides render.denoise)")
       ->check(CLI::IsMember({"on", "off"}));

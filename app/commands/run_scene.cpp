@@ -19,7 +19,7 @@ SceneFile loadRunScene(const RunOptions& options, std::vector<std::string>* over
   SceneFile scene = loadScene(options.scene, options.sets, flags);
   if (overrides) {
     *overrides = options.sets;
-    for (const std::string& o : flags.record()) overrides->push_back(o);
+    for (const std::string& o : flags.yieldingTo(options.sets).record()) overrides->push_back(o);
   }
   return scene;
 }

@@ -195,20 +195,13 @@ SceneFile loadScene(const fs::path& file, const std::vector<std::string>& overri
     checkNesting(o, "--set " + o.substr(0, 40) + ": line ");
     applyOverride(table, o);
   }
-  // --spp's threshold ("auto", render_config.h) would silently replace a threshold given with --set.
-  const FlagSetting* threshold = flags.find("render.noise_threshold");
-  for (const std::string& o : overrides)
-    if (threshold && o.substr(0, o.find('=')).find("render.noise_threshold") != std::string::npos)
-      throw InputError("--set " + o + ": " + threshold->flag +
-                       " sets render.noise_threshold = \"auto\" (the threshold follows the budget); for a "
-                       "threshold of your own give --set render.samples=N instead of " +
-                       threshold->flag);
-  applyFlags(table, flags);
+  const SceneFlags used = flags.yieldingTo(overrides);  // --set render.noise_threshold wins over --spp's
+  applyFlags(table, used);
   std::ostringstream text;
   text << table;
   scene.text = text.str();
 
-  TableReader root(table, file, "", &flags, &scene.files);
+  TableReader root(table, file, "", &used, &scene.files);
   Vec3 gravity;
   readSimulation(root.child("simulation"), scene, gravity);
   scene.system = std::make_unique<MassSpringSystem>(gravity);

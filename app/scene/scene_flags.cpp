@@ -1,5 +1,6 @@
 #include "app/scene/scene_flags.h"
 
+#include <algorithm>
 #include <regex>
 #include <sstream>
 
@@ -48,6 +49,19 @@ const FlagSetting* SceneFlags::find(const std::string& key) const {
   return nullptr;
 }
 
+SceneFlags SceneFlags::yieldingTo(const std::vector<std::string>& sets) const {
+  SceneFlags kept;
+  for (const FlagSetting& s : settings) {
+    const bool named = std::any_of(sets.begin(), sets.end(), [&](const std::string& set) {
+      const std::string key = set.substr(0, set.find('='));
+      return key.substr(key.find_first_not_of(' '), key.find_last_not_of(' ') - key.find_first_not_of(' ') + 1) ==
+             s.key;
+    });
+    if (!(s.yields && named)) kept.settings.push_back(s);
+  }
+  return kept;
+}
+
 std::vector<std::string> SceneFlags::record() const {
   std::vector<std::string> texts;
   for (const FlagSetting& s : settings) texts.push_back(s.text());
@@ -76,6 +90,7 @@ SceneFlags renderFlagSettings(const RenderFlags& flags) {
   if (flags.samples_per_pixel) {  // the noise threshold follows the budget (render_config.h)
     o.set("render.samples", "--spp", std::int64_t{*flags.samples_per_pixel});
     o.set("render.noise_threshold", "--spp", std::string("auto"));
+    o.settings.back().yields = true;  // --set render.noise_threshold=X chooses another
   }
   if (flags.denoise) o.set("render.denoise", "--denoise", *flags.denoise == "on");
   if (flags.resolution) {

@@ -28,6 +28,7 @@ struct FlagSetting {
   std::string key;   // dotted, e.g. "render.samples"
   std::string flag;  // "--spp"
   std::variant<bool, std::int64_t, double, std::string, std::array<std::int64_t, 2>> value;
+  bool yields = false;  // a value the flag brings along (--spp's threshold): a --set of the same key wins
 
   std::string text() const;  // "render.samples=32": TOML, read back as the same value
 };
@@ -40,6 +41,8 @@ struct SceneFlags {
   // The flag that set a dotted key last, or nothing.
   const FlagSetting* find(const std::string& key) const;
   std::vector<std::string> record() const;  // KEY=VALUE each, for run.json
+  // Without the yielding settings whose key one of these --set KEY=VALUE texts names.
+  SceneFlags yieldingTo(const std::vector<std::string>& sets) const;
 };
 
 // The rendering flags' settings: --render png,exr sets render.png and render.exr (and render.video = false without
