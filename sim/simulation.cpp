@@ -90,11 +90,6 @@ Simulation::Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> int
     max_speed_squared_ = std::max(max_speed_squared_, particle(v_, i).squaredNorm());
   energy_start_ = system.energy(x_, v_);
   lift_margin_ = system.liftEnergy();
-  // An implicit integrator's step costs several force evaluations, against which the energy at its end is cheap; an
-  // explicit one's small steps are checked at the frames alone (an integrator from outside the table has no traits).
-  const auto names = integratorNames();
-  energy_retakes_ = std::find(names.begin(), names.end(), integrator_->name()) != names.end() &&
-                    integratorTraits(integrator_->name()).implicit;
 }
 
 Simulation::~Simulation() = default;
@@ -114,7 +109,7 @@ std::optional<BlowUp> Simulation::advanceTo(double t_end) {
     const bool last = k == count;
     ++steps_;
     if (auto blow_up = step(t_, last ? t_end - t_ : dt_, last ? t_end : start + double(k) * dt_,
-                            collisions_ || energy_retakes_ ? system_.contactSettings().split_steps : 0))
+                            collisions_ ? system_.contactSettings().split_steps : 0))
       return blow_up;
   }
   checkEnergy();
@@ -123,14 +118,25 @@ std::optional<BlowUp> Simulation::advanceTo(double t_end) {
 
 std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int splits) {
   const bool colliders = !system_.colliders().empty();
-  if (collisions_ || colliders || energy_retakes_) x_before_ = x_, v_before_ = v_;
+  if (collisions_ || colliders) x_before_ = x_, v_before_ = v_;
   integrator_->step(stepped(), t0, h, x_, v_);
   system_.resolveCollisions(t1, x_, v_);
   if (collisions_)
     if (auto failure = collisions_->resolve(x_before_, x_, v_, h, !integrator_->solvesBodyContact())) {
       if (splits > 0) {
+        // The same step again as two halves, from its start state (kept above). What the integrator and the pass
+        // carry from step to step (backward Euler's pressed pairs, the pass's kept candidates) comes from the failed
+        // attempt as from any step before: guesses that each checks again. Static friction's stick time follows the
+        // halves' size, and is set back after them.
         ++split_steps_;
-        return retakeInHalves(t0, h, t1, splits);
+        x_ = x_before_, v_ = v_before_;
+        const double size = system_.stepSize();
+        system_.setStepSize(h / 2);
+        const double mid = t0 + h / 2;
+        auto blow_up = step(t0, h / 2, mid, splits - 1);
+        if (!blow_up) blow_up = step(mid, t1 - mid, t1, splits - 1);
+        system_.setStepSize(size);
+        return blow_up;
       }
       t_ = t1;
       std::ostringstream reason;
@@ -147,66 +153,34 @@ std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int split
                     failure->fix.empty() ? contactFix() : failure->fix};
     }
   t_ = t1;
-  const double work = colliders ? system_.colliderWork(t0, h, x_before_, v_before_, x_, v_) : 0;
-  // The run's energy check at this step's end (checkEnergy's rule, with this step's work counted): a step that fails
-  // it is taken again in halves, as one the pass between bodies fails on; the smallest part that still fails is the
-  // run's failed check (docs/energy.md, "A step that gains is taken again").
-  if (energy_retakes_ && energyGained(system_.energy(x_, v_), work)) {
-    if (splits > 0) {
-      ++energy_retakes_count_;
-      return retakeInHalves(t0, h, t1, splits);
-    }
-    energy_retakes_exhausted_ = true;
-  }
   if (auto blow_up = check()) return blow_up;
-  collider_work_ += work;
-  collider_work_unsigned_ += std::abs(work);
-  if (energy_retakes_exhausted_) checkEnergy();
+  if (colliders) {
+    const double work = system_.colliderWork(t0, h, x_before_, v_before_, x_, v_);
+    collider_work_ += work;
+    collider_work_unsigned_ += std::abs(work);
+  }
   if (step_observer_) step_observer_(t_, x_);
   return std::nullopt;
-}
-
-// The same step again as two halves, from its start state (kept by step). What the integrator and the pass carry from
-// step to step (backward Euler's pressed pairs, the pass's kept candidates) comes from the failed attempt as from any
-// step before: guesses that each checks again. Static friction's stick time follows the halves' size, and is set back
-// after them.
-std::optional<BlowUp> Simulation::retakeInHalves(double t0, double h, double t1, int splits) {
-  x_ = x_before_, v_ = v_before_;
-  const double size = system_.stepSize();
-  system_.setStepSize(h / 2);
-  const double mid = t0 + h / 2;
-  auto blow_up = step(t0, h / 2, mid, splits - 1);
-  if (!blow_up) blow_up = step(mid, t1 - mid, t1, splits - 1);
-  system_.setStepSize(size);
-  return blow_up;
-}
-
-double Simulation::energyMargin(double step_work) const {
-  return std::max(kEnergyGainRelative * (std::abs(energy_start_) + collider_work_unsigned_ + std::abs(step_work)),
-                  lift_margin_);
-}
-
-bool Simulation::energyGained(double energy, double step_work) const {
-  return energy - energy_start_ - (collider_work_ + step_work) > energyMargin(step_work);
 }
 
 void Simulation::checkEnergy() {
   if (energy_gain_) return;  // the first one is the news
   const double energy = system_.energy(x_, v_);
-  if (energyGained(energy, 0))
+  const double margin =
+      std::max(kEnergyGainRelative * (std::abs(energy_start_) + collider_work_unsigned_), lift_margin_);
+  if (energy - energy_start_ - collider_work_ > margin)
     energy_gain_ = EnergyGain{std::string(integrator_->name()),
                               steps_,
                               t_,
                               energy_start_,
                               energy,
                               collider_work_,
-                              energyMargin(0),
+                              margin,
                               collisions_ && contactSolveOff(),
                               integrator_->linearizesItsStep(),
                               std::any_of(system_.colliders().begin(), system_.colliders().end(),
                                           [](const auto& c) { return c->contact().restitution > 0; }),
-                              collider_work_unsigned_ > 0,
-                              energy_retakes_ ? system_.contactSettings().split_steps : -1};
+                              collider_work_unsigned_ > 0};
 }
 
 std::string EnergyGain::message(double dt) const {
@@ -227,10 +201,6 @@ std::string EnergyGain::message(double dt) const {
   if (linearized) out << ", the exact step instead of its linearization ([simulation] newton = true)";
   if (bouncing) out << ", or a lower restitution";
   out << ".";
-  if (halvings > 0)
-    out << " Every step that gained was taken again in halves, down to a 1/" << (1L << halvings)
-        << " part of the step ([contact] split_steps = " << halvings << "), and the smallest part still gained.";
-  else if (halvings == 0) out << " A step that gains is not taken again in halves: [contact] split_steps = 0.";
   // A moving collider's count misses one case (docs/energy.md, "Limits"), which no step size or integrator mends.
   if (moving_colliders)
     out << " Moving colliders did work here: a platform that stops dead while it presses a body gives it energy that "

@@ -47,12 +47,7 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
                             {"render", r.seconds_render}};
   j["frames_rendered"] = r.frames_rendered;
   j["frames_skipped"] = r.frames_skipped;  // --skip-existing: already rendered with the same settings
-  // split_steps: the steps (or parts of one) whose end failed the energy check and were taken again in halves
-  // (backward Euler's; docs/energy.md).
-  j["energy"] = {{"start", r.energy_start},
-                 {"end", r.energy_end},
-                 {"collider_work", r.collider_work},
-                 {"split_steps", sim.energyRetakes()}};
+  j["energy"] = {{"start", r.energy_start}, {"end", r.energy_end}, {"collider_work", r.collider_work}};
   j["max_speed"] = r.max_speed;
   // The end state: over the steps of the last frame simulated (whether the scene has come to rest).
   j["end_state"] = {{"max_speed", sim.lastIntervalMaxSpeed()}, {"max_kinetic_energy", sim.lastIntervalMaxKinetic()}};

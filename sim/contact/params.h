@@ -8,9 +8,8 @@ namespace wobble::collision {
 struct Settings {
   int ccd_iterations = 8;    // rounds of collision impulses before impact zones
   int zone_iterations = 64;  // rounds of impact zones before the pass gives up
-  // Halvings of a step the pass failed on (or, under backward Euler, whose end failed the run's energy check:
-  // Simulation): the step is taken again from its start as two halves, each of them so again if it fails, down to
-  // a 2^-split_steps part of the step; only then the run stops.
+  // Halvings of a step the pass failed on: the step is taken again from its start as two halves, each of them so
+  // again if the pass fails on it, down to a 2^-split_steps part of the step; only then the run stops.
   int split_steps = 4;
   // Not scene keys: the most candidate pairs a step's broad phase may list, the larger of candidates_per_vertex per
   // surface vertex (about 40 where a cloth lies in four layers on itself) and min_candidates (8 million: about 1 GB,
