@@ -31,9 +31,11 @@ environment(nodes, links, env): wobble's environment map (render/environment.h) 
 sun(scene, name, s): a Sun light: strength = the irradiance's largest channel (Blender's sun strength is irradiance,
     W/m^2), colour = irradiance / strength, angle = 2 x the angular radius, shining along -s["direction"], unseen by
     camera rays (wobble's camera rays see only the sky).
-light_paths(scene, bounces, dielectric): Cycles' integrator as wobble's path tracer: `bounces` diffuse and glossy
-    bounces (gelatine's interfaces and scattering events get their own budget: 64 transmission, 128 volume, as wobble's
-    caps), caustics on (wobble filters none), no clamping, no light threshold, no glossy blur, a 1-pixel box filter.
+light_paths(scene, bounces, dielectric, clamp_indirect): Cycles' integrator as wobble's path tracer: `bounces`
+    diffuse and glossy bounces (gelatine's interfaces and scattering events get their own budget: 64 transmission, 128
+    volume, as wobble's caps), caustics on (wobble filters none), indirect light clamped at wobble's
+    render.clamp_indirect (0, the bench's setting, clamps nothing), no direct clamp, no light threshold, no glossy blur,
+    a 1-pixel box filter.
 tone_map(scene, exposure): wobble's display transform (render/color.h): 2^exposure, Narkowicz's ACES fit x (2.51 x +
     0.03) / (x (2.43 x + 0.59) + 0.14) per channel, clamped to [0, 1], as compositor nodes; then the "Standard" view
     transform (the sRGB encoding, no look, exposure 0, gamma 1) and no dither, as wobble's PNG frames.
@@ -258,7 +260,7 @@ def sun(scene, name, s):
     return obj
 
 
-def light_paths(scene, bounces, dielectric):
+def light_paths(scene, bounces, dielectric, clamp_indirect=0.0):
     c = scene.cycles
     c.max_bounces = bounces
     c.diffuse_bounces = bounces
@@ -274,7 +276,7 @@ def light_paths(scene, bounces, dielectric):
     c.caustics_refractive = bool(dielectric)
     c.blur_glossy = 0.0
     c.sample_clamp_direct = 0.0
-    c.sample_clamp_indirect = 0.0  # Cycles' default clamps indirect light at 10: biased; wobble does not clamp
+    c.sample_clamp_indirect = clamp_indirect  # wobble's render.clamp_indirect (0: off), as in its own picture
     c.light_sampling_threshold = 0.0
     c.filter_type = "BOX"  # wobble's pixel filter is a 1-pixel box
     c.filter_width = 1.0

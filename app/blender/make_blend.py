@@ -232,7 +232,8 @@ def main():
     for i, sun in enumerate(m["suns"]):  # none with an environment map: it holds its own sun
         cycles_nodes.sun(scene, "sun" if i == 0 else "sun.%d" % i, sun)
     cycles_nodes.world(scene, m["sky"], m.get("environment"), m["bounces"])
-    cycles_nodes.light_paths(scene, m["bounces"], any(mat.get("dielectric") for mat in m["materials"]))
+    cycles_nodes.light_paths(scene, m["bounces"], any(mat.get("dielectric") for mat in m["materials"]),
+                             m["clamp_indirect"])
     cycles_nodes.tone_map(scene, m["exposure"])
     if m["pack"]:
         bpy.ops.file.pack_all()

@@ -291,6 +291,7 @@ BlendReport makeBlend(const BlendOptions& options) {
                      {"ground", vec(lights.sky.ground)},
                      {"up", vec(lights.sky.up)}}},
                    {"bounces", o.bounces},
+                   {"clamp_indirect", o.clamp_indirect},
                    {"exposure", o.exposure},
                    {"pack", options.pack}};
   manifest["materials"] = materials(scene, drawn.scene(), rects, out, files);
