@@ -19,6 +19,38 @@ fs::path defaultOut(const std::string& study, const fs::path& scene) {
   return fs::path("out") / ("study-" + study + "-" + scene.stem().string());
 }
 
+// --piece I/N and --gather, which every study takes (app/study/farm_pieces.h). items: what a study's work items are.
+struct PieceFlags {
+  std::string piece;
+  bool gather = false;
+};
+
+void addPieceOptions(CLI::App& cmd, PieceFlags& flags, const std::string& items) {
+  cmd.add_option("--piece", flags.piece,
+                 "I/N: run only piece I of N of the study's " + items +
+                     " into OUT/pieces (a farm's task; resumes what it finished); then --gather");
+  cmd.add_flag("--gather", flags.gather,
+               "Run nothing: write the report from every --piece's " + items + " in OUT/pieces");
+}
+
+// The piece asked for (none with --gather or neither); both is exit 2.
+std::optional<Piece> pieceOf(const PieceFlags& flags) {
+  if (!flags.piece.empty() && flags.gather)
+    throw InputError("--piece and --gather: one or the other (a piece, or the report)");
+  if (flags.piece.empty()) return std::nullopt;
+  return parsePiece(flags.piece);
+}
+
+// A piece's line on screen: what it ran, and what comes next.
+void printPiece(const std::string& study, const std::string& scene, const PieceFlags& flags, const char* items,
+                const PieceRun& run, const fs::path& out, const std::string& sweep) {
+  std::printf(
+      "%s study of %s, piece %s: %s %zu to %zu of %zu (%zu kept from an earlier run) in %s/pieces/%s; when "
+      "every piece is done: --gather\n",
+      study.c_str(), scene.c_str(), flags.piece.c_str(), items, run.first + 1, run.last, run.items, run.kept,
+      out.c_str(), sweep.c_str());
+}
+
 void addAccuracy(CLI::App& study, int& status) {
   auto o = std::make_shared<AccuracyOptions>();
   CLI::App* cmd = study.add_subcommand("accuracy",
@@ -42,12 +74,22 @@ void addAccuracy(CLI::App& study, int& status) {
                   "colliders)")
       ->capture_default_str();
   cmd->add_option("--set", o->sets, "Override a scene key, KEY=VALUE (repeatable), as for `wobble run`");
+  auto pieces = std::make_shared<PieceFlags>();
+  addPieceOptions(*cmd, *pieces, "runs (the reference, its twin, every point)");
   addMaxMemoryOption(*cmd);
   cmd->add_option("--gnuplot", o->gnuplot, "The gnuplot program (name on PATH or a path)")->capture_default_str();
   cmd->footer("Example:\n  wobble study accuracy scenes/cloth_swing.toml --integrators rk4,midpoint --duration 0.5");
-  cmd->callback([o, &status] {
+  cmd->callback([o, pieces, &status] {
+    o->piece = pieceOf(*pieces);
+    o->gather = pieces->gather;
+    if (o->out.empty()) o->out = defaultOut("accuracy", o->scene);
     const AccuracyResult r = runAccuracyStudy(*o);
-    const fs::path out = o->out.empty() ? defaultOut("accuracy", o->scene) : o->out;
+    const fs::path out = o->out;
+    if (o->piece) {
+      printPiece("accuracy", r.scene_name, *pieces, "runs", r.piece, out, "accuracy");
+      status = kExitOk;
+      return;
+    }
     const PlotResult plot = writeAccuracyOutputs(r, out, o->gnuplot);
     std::printf("accuracy study of %s over T = %g s (reference: %s)\n", r.scene_name.c_str(), r.duration,
                 r.reference.c_str());
@@ -96,11 +138,8 @@ void addStability(CLI::App& study, int& status) {
   cmd->add_flag("--no-contact", *no_contact, "Leave the contact case out");
   cmd->add_option("--jobs", o->jobs, "Threads (0: one per hardware thread; results do not depend on it)")
       ->capture_default_str();
-  auto piece = std::make_shared<std::string>();
-  cmd->add_option("--piece", *piece,
-                  "I/N: run only piece I of N of the study's rows into OUT/pieces (a farm's task; resumes what it "
-                  "finished); then --gather");
-  cmd->add_flag("--gather", o->gather, "Run nothing: write the report from every --piece's rows in OUT/pieces");
+  auto pieces = std::make_shared<PieceFlags>();
+  addPieceOptions(*cmd, *pieces, "rows");
   cmd->add_option("--set", o->sets, "Override a scene key, KEY=VALUE (repeatable), as for `wobble run`");
   addMaxMemoryOption(*cmd);
   cmd->add_option("--gnuplot", o->gnuplot, "The gnuplot program (name on PATH or a path)")->capture_default_str();
@@ -110,23 +149,20 @@ void addStability(CLI::App& study, int& status) {
       "  wobble study stability --integrators explicit-euler,rk4 --duration 0.3\n"
       "  wobble study stability --fine --out out/map --piece 3/8    # one task of a farm (scripts/slurm/)\n"
       "  wobble study stability --fine --out out/map --gather       # when all 8 are done");
-  cmd->callback([o, fine, no_infer, no_contact, piece, &status] {
+  cmd->callback([o, fine, no_infer, no_contact, pieces, &status] {
     if (*no_contact) o->contact_scene.clear();
     if (*fine) {
       o->ks_points = 13;
       o->dt_points = 12;
     }
     o->infer = !*no_infer;
-    if (!piece->empty()) o->piece = parsePiece(*piece);
-    if (o->piece && o->gather) throw InputError("--piece and --gather: one or the other (a piece, or the report)");
+    o->piece = pieceOf(*pieces);
+    o->gather = pieces->gather;
     if (o->out.empty()) o->out = defaultOut("stability", o->scene);
     const StabilityResult r = runStabilityStudy(*o);
     const fs::path out = o->out;
     if (o->piece) {
-      std::printf(
-          "stability study of %s, piece %s: rows %zu to %zu of %zu (%zu kept from an earlier run) in "
-          "%s/pieces/stability; when every piece is done: --gather\n",
-          r.scene_name.c_str(), piece->c_str(), r.piece_first + 1, r.piece_last, r.items, r.items_resumed, out.c_str());
+      printPiece("stability", r.scene_name, *pieces, "rows", r.piece, out, "stability");
       status = kExitOk;
       return;
     }
@@ -172,10 +208,20 @@ void addRender(CLI::App& study, int& status) {
   cmd->add_option("--set", o->sets, "Override a scene key, KEY=VALUE (repeatable), as for `wobble run`");
   addMaxMemoryOption(*cmd);
   cmd->add_option("--gnuplot", o->gnuplot, "The gnuplot program (name on PATH or a path)")->capture_default_str();
+  auto pieces = std::make_shared<PieceFlags>();
+  addPieceOptions(*cmd, *pieces, "renders (the reference's two halves, every point)");
   cmd->footer("Example:\n  wobble study render scenes/cloth_sphere.toml --frame 60 --variants sobol,sobol+denoise");
-  cmd->callback([o, &status] {
+  cmd->callback([o, pieces, &status] {
+    o->piece = pieceOf(*pieces);
+    o->gather = pieces->gather;
+    if (o->out.empty()) o->out = defaultOut("render", o->scene);
     const RenderStudyResult r = runRenderStudy(*o);
-    const fs::path out = o->out.empty() ? defaultOut("render", o->scene) : o->out;
+    const fs::path out = o->out;
+    if (o->piece) {
+      printPiece("render", r.scene_name, *pieces, "renders", r.piece, out, "render");
+      status = kExitOk;
+      return;
+    }
     const PlotResult plot = writeRenderStudyOutputs(r, out, o->gnuplot);
     std::printf("render study of %s, frame %d at %dx%d; reference %d spp (%s), its own RMSE ~%s\n",
                 r.scene_name.c_str(), r.frame, r.width, r.height, r.reference_spp,

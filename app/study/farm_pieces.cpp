@@ -7,6 +7,7 @@
 
 #include "app/scene/input_error.h"
 #include "io/atomic_file.h"
+#include "io/content_hash.h"
 #include "io/text_file.h"
 
 namespace fs = std::filesystem;
@@ -79,9 +80,9 @@ FarmPieces::FarmPieces(fs::path out, std::string sweep, std::string key, std::si
   if (!earlier) io::writeFileAtomically(manifest_, json{{"pieces", count_}, {"key", key_}}.dump(2) + "\n");
 }
 
-fs::path FarmPieces::itemFile(std::size_t item) const {
-  char name[32];
-  std::snprintf(name, sizeof name, "item-%04zu.json", item + 1);
+fs::path FarmPieces::itemFile(std::size_t item, const char* ending) const {
+  char name[40];
+  std::snprintf(name, sizeof name, "item-%04zu%s", item + 1, ending);
   return folder_ / name;
 }
 
@@ -91,14 +92,37 @@ std::optional<json> FarmPieces::load(std::size_t item) const {
   try {
     json j = json::parse(io::readTextFile(file));
     if (j.at("key") != key_) return std::nullopt;
+    std::error_code error;
+    if (j.contains("data") &&
+        fs::file_size(itemFile(item, ".bin"), error) != j.at("data").at("bytes").get<std::size_t>())
+      return std::nullopt;  // its data lost or cut short: run the item again
     return j.at("item");
   } catch (const json::exception&) {
     return std::nullopt;  // not ours, or not whole: run the item again
   }
 }
 
-void FarmPieces::store(std::size_t item, const json& result) const {
-  io::writeFileAtomically(itemFile(item), json{{"key", key_}, {"item", result}}.dump(1) + "\n");
+void FarmPieces::store(std::size_t item, const json& result, std::string_view data) const {
+  json j{{"key", key_}, {"item", result}};
+  if (!data.empty()) {
+    io::writeFileAtomically(itemFile(item, ".bin"), data);  // before the .json that says the item is done
+    j["data"] = {{"bytes", data.size()}, {"xxh3", io::hashOf(data)}};
+  }
+  io::writeFileAtomically(itemFile(item), j.dump(1) + "\n");
+}
+
+std::string FarmPieces::data(std::size_t item) const {
+  const fs::path file = itemFile(item, ".bin");
+  std::string bytes, recorded;
+  try {
+    recorded = json::parse(io::readTextFile(itemFile(item))).at("data").at("xxh3").get<std::string>();
+    bytes = io::readTextFile(file);
+  } catch (const std::exception&) {
+  }
+  if (recorded.empty() || io::hashOf(bytes) != recorded)
+    throw InputError(file.string() + ": missing or altered since its piece wrote it (" + itemFile(item).string() +
+                     " holds its hash); run that piece again after removing both files");
+  return bytes;
 }
 
 std::vector<json> FarmPieces::gather() const {

@@ -9,6 +9,8 @@
 //                             else it is refused (exit 2) naming --piece and what is allowed
 //   item-NNNN.json            {"key": K, "item": ...}: written atomically when the item is done; a piece run again
 //                             (re-queued, preempted) keeps the items it finished and runs the rest (resumable)
+//   item-NNNN.bin             the item's bulk result where it has one (an accuracy run's trajectory, a render study's
+//                             image, exact floats), written before its .json, which holds its size and hash
 //
 // Each item is deterministic on its own (one thread per item), so its result is the bytes of the same item in a
 // one-machine run, whichever piece, node or thread count ran it.
@@ -16,6 +18,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 
 #include <nlohmann/json.hpp>
@@ -24,6 +27,11 @@ namespace wobble {
 
 struct Piece {
   int index = 1, count = 1;  // 1-based: piece index of count
+};
+
+// What a piece ran: its work items [first, last) of `items`, and how many of them an earlier run had finished.
+struct PieceRun {
+  std::size_t first = 0, last = 0, items = 0, kept = 0;
 };
 
 // "I/N" -> Piece. Throws InputError naming --piece for anything else (or I outside 1..N).
@@ -39,14 +47,18 @@ class FarmPieces {
 
   // The items [first, last) of the piece (all of them for gather).
   std::pair<std::size_t, std::size_t> range() const { return range_; }
-  // A finished item's result, if the folder holds it for this sweep.
+  // A finished item's result, if the folder holds it for this sweep (and its data file, of the size recorded).
   std::optional<nlohmann::json> load(std::size_t item) const;
-  void store(std::size_t item, const nlohmann::json& result) const;
+  // data: the item's bulk result, if any, kept in item-NNNN.bin.
+  void store(std::size_t item, const nlohmann::json& result, std::string_view data = {}) const;
+  // The data stored with a finished item. Throws InputError naming the file when it is missing or not the bytes
+  // stored (altered since).
+  std::string data(std::size_t item) const;
   // Gather: every item's result, in order. Throws InputError naming the pieces whose items are missing.
   std::vector<nlohmann::json> gather() const;
 
  private:
-  std::filesystem::path itemFile(std::size_t item) const;
+  std::filesystem::path itemFile(std::size_t item, const char* ending = ".json") const;
   std::filesystem::path folder_, manifest_;
   std::string sweep_, key_;
   std::size_t items_;

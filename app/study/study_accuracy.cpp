@@ -3,14 +3,19 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
+#include <functional>
 #include <limits>
 #include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "app/output/progress.h"
 #include "app/scene/input_error.h"
 #include "app/scene/scene_file.h"
 #include "app/study/order_fit.h"
 #include "app/study/study_report.h"
+#include "io/content_hash.h"
 #include "io/text_table.h"
 #include "sim/simulation.h"
 
@@ -99,6 +104,88 @@ void validate(const AccuracyOptions& o) {
         "--reference " + o.reference + ": must be auto, rk45 or rk4");
 }
 
+// A work item: the reference, its twin, or a point of the sweep (rtol: rk45's, else 0).
+struct Item {
+  RunSpec spec;
+  double rtol = 0;
+  bool point = false;
+};
+
+// An item's run: the trajectory of its first (warm-up) run, and its time: a point's the minimum of `repeats` timed
+// runs after it (the warm-up's when none), the reference's and twin's their one run.
+struct Ran {
+  Trajectory run;
+  double seconds = 0;
+};
+
+// tick(n): n runs done.
+Ran runItem(MassSpringSystem& system, const Item& item, const std::vector<double>& times, int repeats,
+            const std::function<void(int)>& tick) {
+  Ran r{simulate(system, item.spec, times), 0};
+  tick(1);
+  r.seconds = r.run.seconds;
+  if (!r.run.failure.empty()) {
+    tick(repeats);
+    return r;
+  }
+  for (int k = 0; k < repeats; ++k) {
+    const double seconds = simulate(system, item.spec, times).seconds;
+    r.seconds = k == 0 ? seconds : std::min(r.seconds, seconds);
+    tick(1);
+  }
+  return r;
+}
+
+// What a farm piece keeps of an item (farm_pieces.h): the counts and times in its .json, the trajectory's positions
+// at the sample times reached, exact doubles, as its data.
+nlohmann::json ranJson(const Ran& r) {
+  return {{"seconds", r.seconds},       {"run_seconds", r.run.seconds},
+          {"steps", r.run.steps},       {"evaluations", r.run.evaluations},
+          {"accepted", r.run.accepted}, {"failure", r.run.failure},
+          {"samples", r.run.x.size()}};
+}
+
+std::string ranData(const Ran& r) {
+  std::string bytes;
+  for (const VecX& x : r.run.x) bytes.append(reinterpret_cast<const char*>(x.data()), sizeof(double) * x.size());
+  return bytes;
+}
+
+Ran ranOf(const nlohmann::json& j, const std::string& data, std::size_t state_size) {
+  Ran r;
+  r.seconds = j.at("seconds").get<double>();
+  r.run.seconds = j.at("run_seconds").get<double>();
+  r.run.steps = j.at("steps").get<long>();
+  r.run.evaluations = j.at("evaluations").get<long>();
+  r.run.accepted = j.at("accepted").get<long>();
+  r.run.failure = j.at("failure").get<std::string>();
+  const std::size_t samples = j.at("samples").get<std::size_t>(), bytes = sizeof(double) * state_size;
+  if (data.size() != samples * bytes)
+    throw InputError("accuracy study pieces: a kept trajectory holds " + std::to_string(data.size()) +
+                     " bytes, not the " + std::to_string(samples * bytes) + " of " + std::to_string(samples) +
+                     " samples of this scene; run its piece again");
+  for (std::size_t s = 0; s < samples; ++s) {
+    VecX x(static_cast<Eigen::Index>(state_size));
+    std::memcpy(x.data(), data.data() + s * bytes, bytes);
+    r.run.x.push_back(std::move(x));
+  }
+  return r;
+}
+
+// Everything the items' results depend on, hashed: the pieces of one study share it.
+std::string studyKey(const AccuracyOptions& o, const std::string& scene_text, const std::vector<Item>& items) {
+  io::ContentHash h;
+  h.add(std::string_view("wobble study accuracy 1"));
+  h.add(std::string_view(scene_text));
+  h.add(o.duration), h.add(o.samples), h.add(o.repeats);
+  for (const Item& item : items) {
+    h.add(std::string_view(item.spec.integrator));
+    h.add(item.spec.dt), h.add(item.rtol), h.add(item.spec.options.rtol), h.add(item.spec.options.atol);
+    h.add(item.spec.options.max_substeps);
+  }
+  return h.hex();
+}
+
 }  // namespace
 
 std::string accuracyStepLabel(double duration, double dt) {
@@ -153,19 +240,9 @@ AccuracyResult runAccuracyStudy(const AccuracyOptions& o) {
   for (int j = 1; j <= o.samples; ++j) times.push_back(o.duration * j / o.samples);
   const double finest = o.duration / double(1L << o.k_max);
 
-  int total_runs = 2;
-  for (const std::string& name : integrators)
-    total_runs +=
-        (integratorTraits(name).adaptive ? o.tol_max - o.tol_min + 1 : o.k_max - o.k_min + 1) * (1 + o.repeats);
-  Progress progress("accuracy " + scene.name, total_runs, "run");
-  int done = 0;
-  const auto tick = [&] {
-    if (o.progress) progress.update(++done);
-  };
-
-  // The reference and a looser twin whose difference from it bounds the reference's own error.
-  // rk45's largest step: a sample interval on a smooth scene; with colliders the scene's dt, since collisions are
-  // resolved only between steps.
+  // The work items: the reference and a looser twin whose difference from it bounds the reference's own error, then
+  // every point. rk45's largest step: a sample interval on a smooth scene; with colliders the scene's dt, since
+  // collisions are resolved only between steps.
   const double rk45_largest =
       result.has_colliders ? std::min(scene.dt, o.duration / o.samples) : o.duration / o.samples;
   const bool use_rk45 = o.reference == "rk45" || (o.reference == "auto" && !result.has_colliders);
@@ -183,56 +260,93 @@ AccuracyResult runAccuracyStudy(const AccuracyOptions& o) {
                        " (finest swept dt / 16); its error estimated "
                        "against rk4 at twice that step";
   }
-  const Trajectory reference = simulate(system, ref, times);
-  tick();
-  if (!reference.failure.empty())
-    throw std::runtime_error("the reference solution (" + result.reference + ") failed: " + reference.failure);
-  result.reference_seconds = reference.seconds;
-  const Trajectory loose = simulate(system, twin, times);
-  tick();
-  result.reference_error = loose.failure.empty() ? errors(loose, reference, moving).first : kNaN;
-  const double floor = 10 * result.reference_error;
-
+  std::vector<Item> items = {{ref, 0, false}, {twin, 0, false}};
   for (const std::string& name : integrators) {
     const bool adaptive = integratorTraits(name).adaptive;
     const int first = adaptive ? o.tol_min : o.k_min, last = adaptive ? o.tol_max : o.k_max;
     for (int k = first; k <= last; ++k) {
-      RunSpec spec{name, adaptive ? rk45_largest : o.duration / double(1L << k), scene.integrator_options};
-      AccuracyPoint p;
-      p.integrator = name;
-      p.dt = spec.dt;
-      if (adaptive) p.rtol = spec.options.rtol = spec.options.atol = std::pow(10.0, -k);
+      Item item{{name, adaptive ? rk45_largest : o.duration / double(1L << k), scene.integrator_options}, 0, true};
+      if (adaptive) item.rtol = item.spec.options.rtol = item.spec.options.atol = std::pow(10.0, -k);
       // With contacts, tight tolerances make DOPRI5 crawl through every contact switch (substeps of nanoseconds):
       // a run needing more than kAccuracyContactSubsteps substeps in one scene step gives up, and is listed as left
       // out.
-      if (adaptive && result.has_colliders) spec.options.max_substeps = kAccuracyContactSubsteps;
-      const Trajectory warm = simulate(system, spec, times);
-      tick();
-      p.steps = warm.steps;
-      p.evaluations = warm.evaluations;
-      p.mean_step = o.duration / double(std::max(1L, adaptive ? warm.accepted : warm.steps));
-      if (!warm.failure.empty()) {
-        p.diverged = true;
-        p.failure = warm.failure;
-        p.final_error = p.rms_error = p.seconds = kNaN;
-        done += o.repeats;
-        result.points.push_back(p);
-        continue;
-      }
-      std::tie(p.final_error, p.rms_error) = errors(warm, reference, moving);
-      if (!std::isfinite(p.final_error) || !std::isfinite(p.rms_error)) {
-        p.diverged = true;
-        p.failure = "non-finite error";
-      }
-      p.seconds = warm.seconds;
-      for (int r = 0; r < o.repeats; ++r) {
-        p.seconds =
-            r == 0 ? simulate(system, spec, times).seconds : std::min(p.seconds, simulate(system, spec, times).seconds);
-        tick();
-      }
-      p.in_fit = !p.diverged && !(p.final_error <= floor);  // a NaN floor (twin failed) excludes nothing
-      result.points.push_back(p);
+      if (adaptive && result.has_colliders) item.spec.options.max_substeps = kAccuracyContactSubsteps;
+      items.push_back(item);
     }
+  }
+  std::optional<FarmPieces> pieces;
+  if (o.piece || o.gather) {
+    if (o.out.empty()) throw InputError("--piece, --gather: need the study's folder (--out)");
+    pieces.emplace(o.out, "accuracy", studyKey(o, scene.text, items), items.size(), o.gather ? std::nullopt : o.piece);
+  }
+  std::tie(result.piece.first, result.piece.last) =
+      pieces ? pieces->range() : std::pair<std::size_t, std::size_t>{0, items.size()};
+  result.piece.items = items.size();
+  std::vector<nlohmann::json> gathered;
+  if (o.gather) gathered = pieces->gather();
+
+  int total_runs = 0;
+  for (std::size_t i = result.piece.first; i < result.piece.last && !o.gather; ++i)
+    total_runs += items[i].point ? 1 + o.repeats : 1;
+  Progress progress("accuracy " + scene.name, total_runs, "run");
+  int done = 0;
+  const auto tick = [&](int runs) {
+    done += runs;
+    if (o.progress && runs) progress.update(done);
+  };
+  const std::size_t state_size = std::size_t(system.particleCount()) * 3;
+  // Item i's run: made here (one machine, or this piece's), kept by a piece, or gathered.
+  const auto ran = [&](std::size_t i) -> Ran {
+    if (o.gather) return ranOf(gathered[i], pieces->data(i), state_size);
+    if (pieces && pieces->load(i)) {  // a piece's own item, done by an earlier run of it
+      ++result.piece.kept;
+      tick(items[i].point ? 1 + o.repeats : 1);
+      return {};
+    }
+    Ran r = runItem(system, items[i], times, items[i].point ? o.repeats : 0, tick);
+    if (pieces) pieces->store(i, ranJson(r), ranData(r));
+    return r;
+  };
+  if (o.piece) {  // its own items, kept for the gathering; no errors without the reference
+    for (std::size_t i = result.piece.first; i < result.piece.last; ++i) ran(i);
+    progress.finish();
+    return result;
+  }
+
+  const Ran reference = ran(0);
+  if (!reference.run.failure.empty())
+    throw std::runtime_error("the reference solution (" + result.reference + ") failed: " + reference.run.failure);
+  result.reference_seconds = reference.seconds;
+  {
+    const Ran loose = ran(1);
+    result.reference_error = loose.run.failure.empty() ? errors(loose.run, reference.run, moving).first : kNaN;
+  }
+  const double floor = 10 * result.reference_error;
+  for (std::size_t i = 2; i < items.size(); ++i) {
+    const Item& item = items[i];
+    const Ran r = ran(i);
+    AccuracyPoint p;
+    p.integrator = item.spec.integrator;
+    p.dt = item.spec.dt;
+    p.rtol = item.rtol;
+    p.steps = r.run.steps;
+    p.evaluations = r.run.evaluations;
+    p.mean_step = o.duration / double(std::max(1L, item.rtol > 0 ? r.run.accepted : r.run.steps));
+    if (!r.run.failure.empty()) {
+      p.diverged = true;
+      p.failure = r.run.failure;
+      p.final_error = p.rms_error = p.seconds = kNaN;
+      result.points.push_back(p);
+      continue;
+    }
+    std::tie(p.final_error, p.rms_error) = errors(r.run, reference.run, moving);
+    if (!std::isfinite(p.final_error) || !std::isfinite(p.rms_error)) {
+      p.diverged = true;
+      p.failure = "non-finite error";
+    }
+    p.seconds = r.seconds;
+    p.in_fit = !p.diverged && !(p.final_error <= floor);  // a NaN floor (twin failed) excludes nothing
+    result.points.push_back(p);
   }
   progress.finish();
   result.fits = fitAccuracy(result.points);

@@ -12,10 +12,17 @@
 // with a second reference 10x looser (rk45) or at twice its step (rk4); errors below 10x that floor are shown but
 // left out of the order fit. Fitted order: least-squares slope of log error against log dt (rk45: against the mean
 // accepted substep T / accepted). With colliders, rk45 may take at most 64 substeps per scene step (else left out).
+// On a farm (farm_pieces.h): the work items are the reference, its looser twin, then every point in the order above;
+// `piece` runs only its own, keeping each run's trajectory at the sample times (exact doubles) and times in
+// OUT/pieces/accuracy/, so no piece needs the reference; `gather` runs none and takes the errors from the kept
+// trajectories: the errors, steps and fits of a one-machine run (run times are each run's where its piece ran).
 #pragma once
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "app/study/farm_pieces.h"
 
 namespace wobble {
 
@@ -34,7 +41,9 @@ struct AccuracyOptions {
   int repeats = 3;                       // timed runs after the warm-up
   std::string reference = "auto";        // auto, rk45, rk4
   std::string gnuplot = "gnuplot";
-  bool progress = true;  // on a terminal only (app/progress.h)
+  bool progress = true;        // on a terminal only (app/progress.h)
+  std::optional<Piece> piece;  // run only this piece's work items, kept in out/pieces (out must be set)
+  bool gather = false;         // run nothing: the result from every piece's items in out/pieces
 };
 
 struct AccuracyPoint {
@@ -67,6 +76,7 @@ struct AccuracyResult {
   double reference_error = 0;    // its estimated final error (floor of meaningful errors)
   std::vector<AccuracyPoint> points;
   std::vector<AccuracyFit> fits;
+  PieceRun piece;  // with --piece: what it ran (points and fits are then empty)
 };
 
 // Throws InputError for bad options or scene input.

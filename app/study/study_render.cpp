@@ -4,8 +4,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
+#include <optional>
 #include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "app/output/progress.h"
 #include "app/scene/input_error.h"
@@ -54,6 +58,31 @@ render::RenderSettings settingsFor(const RenderVariant& v, int spp, double thres
 
 void check(bool ok, const std::string& message) {
   if (!ok) throw InputError(message);
+}
+
+// The frame the study renders, simulated to (built in place: FrameView holds the render scene).
+struct Framed {
+  Framed(const SceneFile& scene, int frame) : view(simulateTo(scene, frame)), camera(view.camera) {}
+  FrameView view;
+  render::Camera camera;
+};
+
+// A work item's result: its image (float, linear) and what the report needs of its render (farm_pieces.h keeps
+// both: the numbers in its .json, the image's floats as its data).
+struct Rendered {
+  nlohmann::json meta;
+  std::vector<image::Color> pixels;
+};
+
+std::vector<image::Color> pixelsOf(const std::string& data, int w, int h) {
+  const std::size_t count = std::size_t(w) * std::size_t(h);
+  if (data.size() != count * sizeof(float) * 3)
+    throw InputError("render study pieces: a kept image holds " + std::to_string(data.size()) + " bytes, not the " +
+                     std::to_string(count * sizeof(float) * 3) + " of " + std::to_string(w) + " x " +
+                     std::to_string(h) + " pixels; run its piece again");
+  std::vector<image::Color> pixels(count);
+  for (std::size_t i = 0; i < count; ++i) std::memcpy(pixels[i].data(), data.data() + i * sizeof(float) * 3, 12);
+  return pixels;
 }
 
 }  // namespace
@@ -129,24 +158,12 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
   result.reference_spp = o.reference_spp;
   const fs::path out = o.out.empty() ? fs::path("out") / ("study-render-" + scene.name) : o.out;
   fs::create_directories(out / "images");
-
-  const FrameView view = simulateTo(scene, frame);
-  const render::Camera camera(view.camera);
-  render::exportScene(view.scene.scene(), camera, out / "frame");
   image::ToneMap tone;
   tone.exposure = static_cast<float>(scene.render.options.exposure);
   const int w = result.width, h = result.height;
+  const bool scene_sky = scene.render.options.sky_sampling;
 
-  int total = 2;
-  for (const RenderVariant& v : variants)
-    total += v.adaptive ? int(o.thresholds.size()) : int(std::log2(o.max_spp)) + 1;
-  Progress progress("render study " + scene.name, total, "render");
-  int done = 0;
-  const auto tick = [&] {
-    if (o.progress) progress.update(++done);
-  };
-
-  // The reference: two halves with independent seeds; cached.
+  // The reference's cache key; the reference is cached as its two halves, the first file holding half a.
   std::ostringstream key;
   key << scene.text << "\nframe " << frame << " bounces " << result.bounces << " spp " << o.reference_spp << " version "
       << kRendererVersion;
@@ -155,82 +172,139 @@ RenderStudyResult runRenderStudy(const RenderStudyOptions& o) {
     file.addFile(env.file);
     key << " environment " << file.hex();
   }
-  const bool scene_sky = scene.render.options.sky_sampling;
   const std::string hex = io::hashOf(key.str());  // stable across builds, unlike std::hash
   result.reference_file = out / ("reference-" + hex + ".pfm");
-  const fs::path second_half = out / ("reference-" + hex + "-b.pfm");
-  std::vector<image::Color> reference, half_b;
-  if (fs::exists(result.reference_file) && fs::exists(second_half)) {
-    image::FloatImage a = image::readPfm(result.reference_file), b = image::readPfm(second_half);
-    if (a.width == w && a.height == h && b.width == w && b.height == h) {
-      reference = std::move(a.pixels);
-      half_b = std::move(b.pixels);
-      result.reference_cached = true;
-      done += 2;
+  const fs::path half_files[2] = {result.reference_file, out / ("reference-" + hex + "-b.pfm")};
+
+  // The work items: the reference's two halves (the first also exports the frame), then every point of the sweep.
+  struct Shot {
+    RenderVariant variant;
+    int spp;
+    double threshold;
+  };
+  std::vector<Shot> shots;
+  for (const RenderVariant& v : variants)
+    if (v.adaptive)
+      for (double t : o.thresholds) shots.push_back({v, o.max_spp, t});
+    else
+      for (int spp = 1; spp <= o.max_spp; spp *= 2) shots.push_back({v, spp, 0.0});
+  std::optional<FarmPieces> pieces;
+  if (o.piece || o.gather) {
+    std::ostringstream sweep;  // everything a point's image and time depend on, beside the reference's key
+    sweep << "wobble study render 1\n" << key.str() << "\nrepeats " << o.repeats;
+    for (const Shot& shot : shots) sweep << "\n" << shot.variant.name << " " << shot.spp << " " << shot.threshold;
+    pieces.emplace(out, "render", io::hashOf(sweep.str()), 2 + shots.size(), o.gather ? std::nullopt : o.piece);
+  }
+  std::tie(result.piece.first, result.piece.last) =
+      pieces ? pieces->range() : std::pair<std::size_t, std::size_t>{0, 2 + shots.size()};
+  result.piece.items = 2 + shots.size();
+  std::vector<nlohmann::json> gathered;
+  if (o.gather) gathered = pieces->gather();
+
+  Progress progress("render study " + scene.name, o.gather ? 0 : int(result.piece.last - result.piece.first), "render");
+  int done = 0;
+  std::optional<Framed> framed;  // simulated once, when this command renders something
+  const auto view = [&]() -> const Framed& {
+    if (!framed) framed.emplace(scene, frame);
+    return *framed;
+  };
+  // Item i rendered: a reference half (from the cache when there) or a point, timed.
+  const auto render = [&](std::size_t i) -> Rendered {
+    Rendered r;
+    if (i < 2) {
+      if (i == 0) render::exportScene(view().view.scene.scene(), view().camera, out / "frame");
+      if (fs::exists(half_files[i])) {
+        image::FloatImage cached = image::readPfm(half_files[i]);
+        if (cached.width == w && cached.height == h) {
+          r.meta = {{"seconds", 0.0}, {"cached", true}};
+          r.pixels = std::move(cached.pixels);
+          return r;
+        }
+      }
+      const RenderVariant sobol{"reference", "", "sobol"};
+      const auto start = Clock::now();
+      const std::uint32_t seed = i == 0 ? std::uint32_t(frame) : std::uint32_t(frame) ^ kSecondHalfSeed;
+      image::Film film = render::render(view().view.scene.scene(), view().camera,
+                                        settingsFor(sobol, o.reference_spp / 2, 0, result.bounces, int(seed),
+                                                    view().view.motion_blur, scene_sky));
+      r.meta = {{"seconds", std::chrono::duration<double>(Clock::now() - start).count()}, {"cached", false}};
+      r.pixels = std::move(film.color);
+      image::writePfm(half_files[i], w, h, r.pixels);
+      return r;
     }
+    const Shot& shot = shots[i - 2];
+    double seconds = std::numeric_limits<double>::infinity(), denoise_seconds = seconds;
+    render::RenderStats stats;
+    for (int k = 0; k < o.repeats; ++k) {
+      const auto start = Clock::now();
+      image::Film film = render::render(view().view.scene.scene(), view().camera,
+                                        settingsFor(shot.variant, shot.spp, shot.threshold, result.bounces, frame,
+                                                    view().view.motion_blur, scene_sky),
+                                        &stats);
+      const auto rendered = Clock::now();
+      r.pixels = shot.variant.denoise ? render::denoise(film) : std::move(film.color);
+      const auto end = Clock::now();
+      seconds = std::min(seconds, std::chrono::duration<double>(end - start).count());
+      denoise_seconds = std::min(denoise_seconds, std::chrono::duration<double>(end - rendered).count());
+    }
+    r.meta = {{"seconds", seconds},
+              {"denoise_seconds", shot.variant.denoise ? denoise_seconds : 0.0},
+              {"mean_spp", double(stats.camera_rays) / double(std::size_t(w) * h)},
+              {"rays_per_sample", double(stats.rays) / double(stats.camera_rays)}};
+    return r;
+  };
+  // Item i: rendered here (one machine, or this piece's), kept by a piece, or gathered.
+  const auto item = [&](std::size_t i) -> std::optional<Rendered> {
+    if (o.gather) return Rendered{gathered[i], pixelsOf(pieces->data(i), w, h)};
+    if (pieces && pieces->load(i)) {
+      ++result.piece.kept;
+      return std::nullopt;  // a piece's own item, done by an earlier run of it
+    }
+    Rendered r = render(i);
+    if (o.progress) progress.update(++done);
+    if (pieces)
+      pieces->store(i, r.meta,
+                    std::string_view(reinterpret_cast<const char*>(r.pixels.data()),
+                                     sizeof(float) * 3 * r.pixels.size()));
+    return r;
+  };
+  if (o.piece) {  // its own items, kept for the gathering; no errors without the reference
+    for (std::size_t i = result.piece.first; i < result.piece.last; ++i) item(i);
+    progress.finish();
+    return result;
   }
-  if (!result.reference_cached) {
-    const RenderVariant sobol{"reference", "", "sobol"};
-    const auto start = Clock::now();
-    image::Film a =
-        render::render(view.scene.scene(), camera,
-                       settingsFor(sobol, o.reference_spp / 2, 0, result.bounces, frame, view.motion_blur, scene_sky));
-    tick();
-    image::Film b = render::render(view.scene.scene(), camera,
-                                   settingsFor(sobol, o.reference_spp / 2, 0, result.bounces, frame ^ kSecondHalfSeed,
-                                               view.motion_blur, scene_sky));
-    tick();
-    result.reference_seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    reference = std::move(a.color);
-    half_b = std::move(b.color);
-    // Stored as its two halves: the first file holds half a, completed below to the mean before use.
-    image::writePfm(second_half, w, h, half_b);
-    image::writePfm(result.reference_file, w, h, reference);
-  }
-  const image::ImageError halves = image::imageError(w, h, reference, half_b, tone);
-  for (std::size_t i = 0; i < reference.size(); ++i) reference[i] = 0.5f * (reference[i] + half_b[i]);
+
+  // The reference: the mean of its halves; their difference estimates its own error.
+  Rendered a = *item(0), b = *item(1);
+  result.reference_cached = a.meta.at("cached").get<bool>() && b.meta.at("cached").get<bool>();
+  result.reference_seconds = a.meta.at("seconds").get<double>() + b.meta.at("seconds").get<double>();
+  std::vector<image::Color>& reference = a.pixels;
+  const image::ImageError halves = image::imageError(w, h, reference, b.pixels, tone);
+  for (std::size_t i = 0; i < reference.size(); ++i) reference[i] = 0.5f * (reference[i] + b.pixels[i]);
   result.reference_rmse = halves.rmse / 2;
   image::writePng(out / "reference.png", image::develop(w, h, reference, tone));
 
-  for (const RenderVariant& v : variants) {
-    std::vector<std::pair<int, double>> sweep;  // (spp, threshold)
-    if (v.adaptive)
-      for (double t : o.thresholds) sweep.emplace_back(o.max_spp, t);
-    else
-      for (int spp = 1; spp <= o.max_spp; spp *= 2) sweep.emplace_back(spp, 0.0);
-    for (const auto& [spp, threshold] : sweep) {
-      RenderPoint p;
-      p.variant = v.name;
-      p.spp = spp;
-      p.threshold = threshold;
-      p.seconds = p.denoise_seconds = std::numeric_limits<double>::infinity();
-      std::vector<image::Color> image;
-      render::RenderStats stats;
-      for (int r = 0; r < o.repeats; ++r) {
-        const auto start = Clock::now();
-        image::Film film =
-            render::render(view.scene.scene(), camera,
-                           settingsFor(v, spp, threshold, result.bounces, frame, view.motion_blur, scene_sky), &stats);
-        const auto rendered = Clock::now();
-        image = v.denoise ? render::denoise(film) : std::move(film.color);
-        const auto end = Clock::now();
-        p.seconds = std::min(p.seconds, std::chrono::duration<double>(end - start).count());
-        p.denoise_seconds = std::min(p.denoise_seconds, std::chrono::duration<double>(end - rendered).count());
-      }
-      if (!v.denoise) p.denoise_seconds = 0;
-      p.mean_spp = double(stats.camera_rays) / double(std::size_t(w) * h);
-      p.rays_per_sample = double(stats.rays) / double(stats.camera_rays);
-      const image::ImageError e = image::imageError(w, h, image, reference, tone);
-      p.rmse = e.rmse, p.relmse = e.relmse, p.worst_tile_rmse = e.worst_tile_rmse,
-      p.worst_tile_relmse = e.worst_tile_relmse;
-      std::string file = v.name + "_" +
-                         (v.adaptive ? std::string("t") + io::formatNumber(threshold, 3) : std::to_string(spp)) +
-                         ".png";
-      std::replace(file.begin(), file.end(), '+', '-');
-      image::writePng(out / "images" / file, image::develop(w, h, image, tone));
-      result.points.push_back(p);
-      tick();
-    }
+  for (std::size_t i = 0; i < shots.size(); ++i) {
+    const Shot& shot = shots[i];
+    const Rendered r = *item(2 + i);
+    RenderPoint p;
+    p.variant = shot.variant.name;
+    p.spp = shot.spp;
+    p.threshold = shot.threshold;
+    p.seconds = r.meta.at("seconds").get<double>();
+    p.denoise_seconds = r.meta.at("denoise_seconds").get<double>();
+    p.mean_spp = r.meta.at("mean_spp").get<double>();
+    p.rays_per_sample = r.meta.at("rays_per_sample").get<double>();
+    const image::ImageError e = image::imageError(w, h, r.pixels, reference, tone);
+    p.rmse = e.rmse, p.relmse = e.relmse, p.worst_tile_rmse = e.worst_tile_rmse,
+    p.worst_tile_relmse = e.worst_tile_relmse;
+    std::string file =
+        shot.variant.name + "_" +
+        (shot.variant.adaptive ? std::string("t") + io::formatNumber(shot.threshold, 3) : std::to_string(shot.spp)) +
+        ".png";
+    std::replace(file.begin(), file.end(), '+', '-');
+    image::writePng(out / "images" / file, image::develop(w, h, r.pixels, tone));
+    result.points.push_back(p);
   }
   progress.finish();
   result.fits = fitRenderStudy(result.points, result.reference_rmse);

@@ -17,10 +17,17 @@
 // (render/scene_export.h: OBJ, JSON, baked textures; bench/cycles_compare.sh). This file runs the study into a plain
 // RenderStudyResult, writing as it goes only what the renders make (the reference and its cache, images/, frame/);
 // study_render_report.h writes the tables and the plot from the result.
+// On a farm (farm_pieces.h): the work items are the reference's two halves (the first also exporting frame/), then
+// every point in the order above; `piece` renders only its own (each piece simulates to the frame), keeping each
+// image's floats and times in OUT/pieces/render/; `gather` renders nothing and measures every kept image against the
+// reference: the images, errors and fits of a one-machine run (render times are each's where its piece ran).
 #pragma once
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "app/study/farm_pieces.h"
 
 namespace wobble {
 
@@ -37,6 +44,8 @@ struct RenderStudyOptions {
   std::filesystem::path out;  // empty: out/study-render-<scene name>
   std::string gnuplot = "gnuplot";
   bool progress = true;
+  std::optional<Piece> piece;  // render only this piece's work items, kept in out/pieces (out must be set)
+  bool gather = false;         // render nothing: the result from every piece's items in out/pieces
 };
 
 // A named renderer setting the study sweeps.
@@ -80,6 +89,7 @@ struct RenderStudyResult {
   double reference_rmse = 0;  // estimated RMSE of the reference itself (the floor of meaningful errors)
   std::vector<RenderPoint> points;
   std::vector<RenderVariantFit> fits;
+  PieceRun piece;  // with --piece: what it rendered (points and fits are then empty)
 };
 
 // Throws InputError for bad options or scene input; writes the reference and images into OUT.

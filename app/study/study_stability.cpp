@@ -270,7 +270,7 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
                    o.gather ? std::nullopt : o.piece);
   }
   const auto [first, last] = pieces ? pieces->range() : std::pair<std::size_t, std::size_t>{0, items.size()};
-  result.items = items.size(), result.piece_first = first, result.piece_last = last;
+  result.piece = {first, last, items.size(), 0};
   if (o.gather) {
     const std::vector<nlohmann::json> gathered = pieces->gather();
     for (std::size_t i = 0; i < items.size(); ++i) items[i].cells = cellsOf(gathered[i]);
@@ -280,7 +280,7 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
     if (pieces)
       if (const auto kept = pieces->load(i)) {
         item.cells = cellsOf(*kept);
-        ++result.items_resumed;
+        ++result.piece.kept;
         continue;
       }
     item.system = item.contact_case ? systemAt(o.contact_scene, {}, contact_bodies, item.ks)

@@ -88,8 +88,7 @@ struct StabilityResult {
   std::vector<StabilityCell> cells;
   std::vector<StabilityTheory> theory;  // per grid ks, then per user-case ks
   std::vector<std::string> notes;
-  // A piece: its work items [first, last) of items, and how many of them an earlier run of the piece had finished.
-  std::size_t piece_first = 0, piece_last = 0, items = 0, items_resumed = 0;
+  PieceRun piece;  // with --piece: what it ran (cells then holds its own rows only)
 };
 
 // One cell on a system already built at that ks, the integrator with the scene's options (its [simulation] solver keys

@@ -1,7 +1,7 @@
 #!/bin/bash
 # The machinery of study_array.sbatch and compare_array.sbatch (sourced by them; not a job script itself): a sweep of
-# `wobble study stability` or `wobble compare` cut into PIECES with --piece I/N, one array task each, then one job
-# that gathers them (--gather) into the report, plots and video a one-machine run writes.
+# `wobble study KIND` or `wobble compare` cut into PIECES with --piece I/N, one array task each, then one job that
+# gathers them (--gather) into the report, plots and video a one-machine run writes.
 #
 #   1. wobble-<sweep>        an array of PIECES tasks: wobble <COMMAND...> --out OUT --piece i/PIECES. Re-queued (a
 #                            node failure, preemption, `scontrol requeue`), a task resumes: the rows or variants it
@@ -9,7 +9,8 @@
 #   2. wobble-<sweep>-gather one job, after every task of 1 succeeded: wobble <COMMAND...> --out OUT --gather
 # Prints the two job ids (also in OUT/slurm/jobs). Logs: OUT/slurm/<job name>-<job id>[_<task>].out.
 # Environment: WOBBLE (the binary; default `wobble` on PATH, else build/wobble), CPUS_PER_TASK (default 4: a piece
-# runs its rows or variants on as many threads), and sbatch's own (SBATCH_PARTITION, SBATCH_TIMELIMIT, ...).
+# runs its rows or variants on as many threads (--jobs), a render study's renders on them; an accuracy study's runs
+# are timed one at a time), and sbatch's own (SBATCH_PARTITION, SBATCH_TIMELIMIT, ...).
 set -euo pipefail
 
 sweep_stage() {  # inside a job: sweep_stage piece|gather OUT PIECES COMMAND...
@@ -17,8 +18,10 @@ sweep_stage() {  # inside a job: sweep_stage piece|gather OUT PIECES COMMAND...
   shift 3
   case $stage in
     piece)
-      echo "wobble $1 piece $SLURM_ARRAY_TASK_ID of $pieces on $(hostname), $(nproc) CPU(s)"
-      exec "$WOBBLE" "$@" --out "$out" --jobs "$(nproc)" --piece "$SLURM_ARRAY_TASK_ID/$pieces" ;;
+      local jobs=(--jobs "$(nproc)")  # the commands that run several items at once
+      [[ "$1 ${2:-}" == "study accuracy" || "$1 ${2:-}" == "study render" ]] && jobs=()
+      echo "wobble $1 ${2:-} piece $SLURM_ARRAY_TASK_ID of $pieces on $(hostname), $(nproc) CPU(s)"
+      exec "$WOBBLE" "$@" --out "$out" "${jobs[@]}" --piece "$SLURM_ARRAY_TASK_ID/$pieces" ;;
     gather)
       exec "$WOBBLE" "$@" --out "$out" --gather ;;
   esac

@@ -182,7 +182,7 @@ echo "requeue: piece 1 (frames $first_piece) was re-queued after some frames; it
 study=(scenes/jelly_impact.toml --integrators explicit-euler,midpoint,rk4 --ks-points 3 --dt-points 3 --duration 0.2
   --no-contact)
 "$wobble" study stability "${study[@]}" --out "$tmp/study_one" >/dev/null
-CPUS_PER_TASK=1 WOBBLE=$wobble scripts/slurm/study_array.sbatch "$tmp/study_split" 3 "${study[@]}" >&2
+CPUS_PER_TASK=1 WOBBLE=$wobble scripts/slurm/study_array.sbatch "$tmp/study_split" 3 stability "${study[@]}" >&2
 wait_last_job "$tmp/study_split"
 for file in "$tmp/study_one/"stability*; do
   cmp -s "$file" "$tmp/study_split/$(basename "$file")" ||

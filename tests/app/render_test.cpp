@@ -47,15 +47,7 @@ class Render : public testing::ScratchDir {
 type = "sphere"
 center = [-1.5, 0.5, 0]
 radius = 0.5
-
-[camera]
-position = [1, 2, 4]
-look_at = [0, 0.5, 0]
-follow = "jelly"
-
-[render]
-samples = 2
-)"}));
+)" + testing::kFollowCamera}));
   }
   fs::path out() const { return dir() / "out"; }
 };
