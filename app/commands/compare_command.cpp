@@ -378,11 +378,16 @@ void renderGrid(std::vector<Planned>& plans, const std::vector<Tracker>& tracker
   if (video && !interrupted()) report.video = video->finish();
 }
 
+int hardwareThreads() { return int(std::max(1u, std::thread::hardware_concurrency())); }
+
 // What the pictures and compare.md need of a variant that ran, as a farm piece keeps it (farm_pieces.h): doubles
 // exact, the camera of every frame.
-nlohmann::json variantJson(const CompareVariant& v, const Tracker& t) {
+// jobs: the runs at once in the piece that ran it (with its machine's hardware threads, for compare.md's times).
+nlohmann::json variantJson(const CompareVariant& v, const Tracker& t, int jobs) {
   const RunReport& r = v.report;
-  nlohmann::json j = {{"first_frame", r.first_frame},
+  nlohmann::json j = {{"jobs", jobs},
+                      {"threads", hardwareThreads()},
+                      {"first_frame", r.first_frame},
                       {"frames_written", r.frames_written},
                       {"steps", r.steps},
                       {"simulated_time", r.simulated_time},
@@ -407,7 +412,8 @@ nlohmann::json variantJson(const CompareVariant& v, const Tracker& t) {
   return j;
 }
 
-void readVariantJson(const nlohmann::json& j, CompareVariant& v, Tracker& t) {
+// Returns the runs at once and hardware threads of the piece that ran it.
+std::pair<int, int> readVariantJson(const nlohmann::json& j, CompareVariant& v, Tracker& t) {
   RunReport& r = v.report;
   r.first_frame = j.at("first_frame").get<int>();
   r.frames_written = j.at("frames_written").get<int>();
@@ -439,6 +445,7 @@ void readVariantJson(const nlohmann::json& j, CompareVariant& v, Tracker& t) {
     c.height = values.at(k++).get<int>();
     t.cameras.push_back(c);
   }
+  return {j.value("jobs", 1), j.value("threads", 1)};
 }
 
 // Everything the variants' results depend on, hashed: the pieces of one comparison share it.
@@ -466,7 +473,8 @@ CompareSummary summarize(const CompareOptions& o, const std::vector<Planned>& pl
   s.strain_bound = o.strain_bound;
   s.estimate_error = o.run.estimate_error;
   s.jobs = report.jobs;
-  s.threads = int(std::max(1u, std::thread::hardware_concurrency()));
+  s.threads = report.threads;
+  s.pieces = report.pieces;
   if (report.grid) {
     const GridLayout& g = *report.grid;
     s.video = report.video ? "`compare.mp4`" : "no video (ffmpeg missing)";
@@ -549,7 +557,12 @@ CompareReport runCompare(const CompareOptions& o) {
   std::vector<std::size_t> which;  // the variants this command runs
   if (o.gather) {
     const std::vector<nlohmann::json> gathered = pieces->gather();
-    for (std::size_t i = 0; i < plans.size(); ++i) readVariantJson(gathered[i], plans[i].variant, trackers[i]);
+    report.pieces = pieces->count();
+    report.jobs = report.threads = 1;  // the most in any piece
+    for (std::size_t i = 0; i < plans.size(); ++i) {
+      const auto [jobs, threads] = readVariantJson(gathered[i], plans[i].variant, trackers[i]);
+      report.jobs = std::max(report.jobs, jobs), report.threads = std::max(report.threads, threads);
+    }
   }
   for (std::size_t i = report.piece_first; i < report.piece_last && !o.gather; ++i) {
     if (pieces)
@@ -560,11 +573,13 @@ CompareReport runCompare(const CompareOptions& o) {
       }
     which.push_back(i);
   }
-  report.jobs = std::clamp(o.jobs > 0 ? o.jobs : int(std::thread::hardware_concurrency()), 1,
-                           int(std::max<std::size_t>(1, which.size())));
+  if (!o.gather) {
+    report.jobs = std::clamp(o.jobs > 0 ? o.jobs : hardwareThreads(), 1, int(std::max<std::size_t>(1, which.size())));
+    report.threads = hardwareThreads();
+  }
   auto start = Clock::now();
   runVariants(plans, trackers, report.jobs, which, [&](std::size_t i) {
-    if (pieces) pieces->store(i, variantJson(plans[i].variant, trackers[i]));
+    if (pieces) pieces->store(i, variantJson(plans[i].variant, trackers[i], report.jobs));
   });
   report.seconds_runs = secondsSince(start);
   for (std::size_t i = 0; i < plans.size(); ++i) {

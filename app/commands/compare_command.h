@@ -54,7 +54,9 @@ struct CompareReport {
   int first_frame = 0, last_frame = 0, frames_rendered = 0;
   std::optional<std::filesystem::path> video;
   double seconds_runs = 0, seconds_render = 0;
-  int jobs = 1;
+  int jobs = 1;              // runs at once (gathered: the most in any piece)
+  int threads = 1;           // hardware threads (gathered: the most of any piece's machine)
+  int pieces = 0;            // gathered from this many pieces (--gather), else 0
   bool interrupted = false;  // SIGINT/SIGTERM: stopped after the runs or a frame; no compare.md
   std::size_t piece_first = 0, piece_last = 0, variants_resumed = 0;  // a piece: its variants [first, last)
   std::size_t variant_count = 0;                                      // of the whole comparison

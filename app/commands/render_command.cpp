@@ -37,7 +37,12 @@ RenderCommandReport renderSequence(const RenderCommandOptions& given) {
       out = out.parent_path();
     else options.mesh_dir = out / "mesh";
     const RunRecord run = readRunRecord(out, "; name the scene the sequence was made from with --scene FILE");
-    return loadRecordedScene(out, run, options.sets, renderFlagSettings(options.render));
+    SceneFile recorded = loadRecordedScene(out, run, options.sets, renderFlagSettings(options.render));
+    if (!options.render.render && !FrameOutput::wanted(recorded)) {  // a run that only simulated (--render none)
+      options.render.render = "png";                                 // is rendered to its PNGs unless --render says
+      recorded = loadRecordedScene(out, run, options.sets, renderFlagSettings(options.render));
+    }
+    return recorded;
   }();
   RenderCommandReport report;
   // A piece (--frames) makes no video of its own unless --video asks: the pieces of a split render would each write

@@ -86,10 +86,10 @@ VideoReport encodeFrames(const VideoOptions& options) {
   const int count = report.last_frame - report.first_frame + 1;
   if (!missing.empty())
     throw InputError(frames_dir.string() + ": " + std::to_string(missing.size()) + " of " + std::to_string(count) +
-                     " frame(s) of " + name + " missing or unreadable (" + name +
-                     "_NNNN.png), as --frames: " + rangesText(missing) +
-                     "; render them (wobble render OUT/mesh --scene SCENE --frames A:B "
-                     "--skip-existing), then run wobble video again");
+                     " frame(s) of " + name + " missing or unreadable (" + name + "_NNNN.png), as --frames: " +
+                     rangesText(missing) + "; render them (wobble render " + out.string() +
+                     " --frames A:B --skip-existing), then run "
+                     "wobble video again");
   if (sizes.size() > 1)
     throw InputError(frames_dir.string() + ": the frames of " + name +
                      " differ in size (rendered with another "

@@ -67,9 +67,12 @@ std::string compareMarkdown(const CompareSummary& s) {
      << io::formatNumber(s.strain_bound)
      << " at a frame, **stable** neither; max strain is over the frames reached.\n\n";
   md << "Times: *simulate* is each run's simulation time (its run.json), *wall* from its start to its run.json "
-        "(meshes and point cache written); "
-     << s.jobs << " run(s) at a time on " << s.threads
-     << " hardware thread(s), so runs that shared the machine are slower than alone (`--jobs 1` for timings).\n\n";
+        "(meshes and point cache written); ";
+  if (s.pieces > 0)
+    md << "gathered from " << s.pieces << " pieces run apart (`--piece I/" << s.pieces
+       << "`, then `--gather`): each variant's times are those it took in its piece, up to ";
+  md << s.jobs << " run(s) at a time on " << (s.pieces > 0 ? "up to " : "") << s.threads
+     << " hardware thread(s), so runs that shared a machine are slower than alone (`--jobs 1` for timings).\n\n";
   md << "Each variant is the plain run:\n\n```sh\n";
   for (const CompareRow& r : s.rows) md << r.command << "\n";
   md << "```\n";

@@ -36,6 +36,7 @@ struct CompareSummary {
   bool estimate_error = false;
   int jobs = 1;     // variants run at once
   int threads = 1;  // hardware threads
+  int pieces = 0;   // gathered from farm pieces: their count (jobs and threads are then the most in any piece)
   // Pictures: empty when not rendered.
   std::string video;   // "compare.mp4 (1280 x 720, 300 frames at 30 fps)" or why there is none
   std::string layout;  // "2 x 2 tiles of 640 x 360"

@@ -45,6 +45,7 @@ class FarmPieces {
   FarmPieces(std::filesystem::path out, std::string sweep, std::string key, std::size_t items,
              std::optional<Piece> piece);
 
+  int count() const { return count_; }  // N: the folder's pieces
   // The items [first, last) of the piece (all of them for gather).
   std::pair<std::size_t, std::size_t> range() const { return range_; }
   // A finished item's result, if the folder holds it for this sweep (and its data file, of the size recorded).

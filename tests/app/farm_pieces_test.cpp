@@ -145,6 +145,8 @@ TEST_F(FarmPieces, CompareInPiecesIsTheOneMachineComparison) {
   const std::string gathered =
       std::regex_replace(slurpFile(split / "compare.md"), std::regex(split.string()), one.string());
   EXPECT_EQ(withoutTimes(gathered), withoutTimes(slurpFile(one / "compare.md")));
+  EXPECT_NE(gathered.find("gathered from 2 pieces run apart"), std::string::npos) << gathered;
+  EXPECT_EQ(gathered.find("written); 1 run(s) at a time"), std::string::npos) << gathered;
 
   expectRefused(compare + split.string() + " --piece 3/2", {"--piece 3/2", "I must be 1 to 2"});
   expectRefused(compare + split.string() + " --piece 1/4", {"--piece 1/4", "N must be 1 to 3"});

@@ -196,6 +196,18 @@ void SplitRender::piecesAreOneRender(const fs::path& s, const std::string& extra
 
 TEST_F(SplitRender, PiecesRenderedAtOnceAreOneRendersBytes) { piecesAreOneRender(scene(), ""); }
 
+// The farm's recipe: a run that only simulated (--render none) is rendered from its folder alone, with no --scene or
+// --render, to the PNGs the scene file renders: the same settings' hash, so the scene file's render keeps them all.
+TEST_F(SplitRender, AFolderThatOnlySimulatedRendersItsPngs) {
+  const fs::path s = scene();
+  simulate(s);
+  ASSERT_EQ(wobble("render " + out().string() + " --resolution 32x18 --frames 1:3"), 0) << said();
+  EXPECT_EQ(counts(), std::make_pair(3, 0));
+  EXPECT_TRUE(fs::exists(frame(out(), 3)));
+  ASSERT_EQ(wobble(render(s, "--frames 1:3 --skip-existing")), 0) << said();
+  EXPECT_EQ(counts(), std::make_pair(0, 3));
+}
+
 TEST_F(SplitRender, BlurredPiecesAreOneRendersBytes) {
   const fs::path s = scene(true);
   piecesAreOneRender(s, " --set camera.shutter=0.5");
