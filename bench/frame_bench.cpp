@@ -17,9 +17,9 @@
 
 #include <benchmark/benchmark.h>
 
+#include "app/pictures/frame_view.h"
 #include "app/scene/render_config.h"
 #include "app/scene/scene_file.h"
-#include "app/view/frame_view.h"
 #include "image/png_io.h"
 #include "render/denoiser.h"
 #include "render/renderer.h"

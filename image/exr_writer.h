@@ -7,7 +7,7 @@
 //   normal.X, normal.Y, normal.Z  half float, world space
 //   depth.Z                       32-bit float: half float has only 11 bits of mantissa, too coarse for distances
 // Text attributes (name -> string) go into the header: wobble's frames record the settings they were rendered with
-// there (app/view/picture_key.h), read back by readExrText without reading the pixels.
+// there (app/output/picture_key.h), read back by readExrText without reading the pixels.
 // Errors throw std::runtime_error naming the file.
 #pragma once
 #include <array>

@@ -1,5 +1,5 @@
 // The most bytes the picture writers write for a picture of a given size, whatever its pixels: what a command that
-// will write many frames can promise before it renders any (app/view/disk_budget.h). Pictures compress to less, by
+// will write many frames can promise before it renders any (app/output/disk_budget.h). Pictures compress to less, by
 // how much depends on what they show; no tighter bound exists before rendering.
 //   pngSizeBound  writePng (png_io.h): the image data as deflate's worst case (stored blocks, a little above the
 //                 uncompressed size: libdeflate_zlib_compress_bound) and every chunk, text chunks included

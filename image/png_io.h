@@ -3,7 +3,7 @@
 // Frames are written with the Sub filter and libdeflate at level 1, several times faster and smaller than stb's
 // encoder or zlib through libpng (docs/performance.md). A PNG may carry
 // text chunks (keyword and text): wobble's frames record the settings they were rendered with there
-// (app/view/picture_key.h), read back by readPngText without decoding the pixels. Errors throw std::runtime_error
+// (app/output/picture_key.h), read back by readPngText without decoding the pixels. Errors throw std::runtime_error
 // naming the file and stb's reason.
 #pragma once
 #include <filesystem>

@@ -1,6 +1,6 @@
 // ContentHash: a 128-bit digest of bytes fed in pieces (xxHash's XXH3, Debian's libxxhash), as 32 hex digits. A
 // stable key for "is this the same input as before": cached study references, and the settings a frame was rendered
-// with (app/view/picture_key.h). Not cryptographic: it guards against accidents, not against an adversary.
+// with (app/output/picture_key.h). Not cryptographic: it guards against accidents, not against an adversary.
 #pragma once
 #include <cstdint>
 #include <filesystem>

@@ -8,6 +8,12 @@
 #   sim/system.*  the model: colliders and their response, never contact between bodies (sim/contact/collisions/,
 #                 which Simulation joins to it)
 #   render/  image/ and io/, never sim/ or app/
+#   app/output/   what a run leaves on disk: app/output/, app/scene/, sim/, image/, io/ and of render/ only the camera
+#                 (the picture key hashes it)
+#   app/run/      the run driver, shutter and camera rig: app/run/, app/scene/, sim/, io/ and of render/ only the
+#                 camera: it knows nothing of pictures or files
+#   app/pictures/ never app/study/, app/commands/, app/compare/ or app/cli/
+#   app/study/    never app/commands/, app/compare/ or app/cli/
 #   app/compare/  never render/, app/commands/ or app/cli/ (compare_command.cpp uses it; its grid is pictures)
 # Run: cmake -DROOT=<source dir> -P tests/layers.cmake (ctest runs it as the test "layers").
 set(rules
@@ -20,10 +26,14 @@ set(rules
   "sim/bodies|sim/contact/"
   "sim/system.h|sim/contact/collisions/"
   "sim/system.cpp|sim/contact/collisions/"
+  "app/pictures|app/study/|app/commands/|app/compare/|app/cli/"
+  "app/study|app/commands/|app/compare/|app/cli/"
   "app/compare|app/commands/|app/cli/|render/")
 # Folders that may include only what is listed (prefixes), besides the standard library and the packages.
 set(only_rules
-  "sim/solver|sim/solver/,sim/types.h")
+  "sim/solver|sim/solver/,sim/types.h"
+  "app/output|app/output/,app/scene/,sim/,image/,io/,render/camera.h"
+  "app/run|app/run/,app/scene/,sim/,io/,render/camera.h")
 set(broken "")
 foreach(rule IN LISTS rules)
   string(REPLACE "|" ";" parts "${rule}")
@@ -81,4 +91,4 @@ endforeach()
 if(broken)
   message(FATAL_ERROR "layering broken (ARCHITECTURE.md):\n${broken}")
 endif()
-message(STATUS "layers kept: io/ includes nothing of the project, image/ only io/, sim/ nothing of render/, image/, app/ or io/, sim/solver/ nothing of the model, sim/contact/ nothing of the system, the simulation or the integrators, the bodies and the system nothing of contact between bodies, render/ nothing of sim/ or app/, app/compare/ nothing of render/, app/commands/ or app/cli/")
+message(STATUS "layers kept: io/ includes nothing of the project, image/ only io/, sim/ nothing of render/, image/, app/ or io/, sim/solver/ nothing of the model, sim/contact/ nothing of the system, the simulation or the integrators, the bodies and the system nothing of contact between bodies, render/ nothing of sim/ or app/, app/output/ and app/run/ nothing of the app above them and of render/ only the camera, app/pictures/ and app/study/ nothing of the commands, app/compare/ nothing of render/, app/commands/ or app/cli/")

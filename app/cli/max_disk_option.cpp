@@ -2,7 +2,7 @@
 
 #include <cstdint>
 
-#include "app/view/disk_budget.h"
+#include "app/output/disk_budget.h"
 
 namespace wobble {
 

@@ -19,11 +19,11 @@
 #include "app/output/pc2.h"
 #include "app/output/pc2_writer.h"
 #include "app/output/run_record.h"
+#include "app/pictures/render_scene.h"
+#include "app/run/camera_rig.h"
 #include "app/scene/collider_kinds.h"
 #include "app/scene/input_error.h"
 #include "app/scene/scene_file.h"
-#include "app/view/camera_rig.h"
-#include "app/view/render_scene.h"
 #include "image/png_io.h"
 #include "io/atomic_file.h"
 #include "io/text_file.h"
@@ -125,7 +125,7 @@ struct UvRect {
 };
 constexpr int kTexelsPerTile = 256, kMaxTexels = 4096;
 
-// Each collider as wobble draws it (collider_kinds.h, app/view/render_scene.cpp): a sphere, or the renderer's own
+// Each collider as wobble draws it (collider_kinds.h, app/pictures/render_scene.cpp): a sphere, or the renderer's own
 // triangles with their UVs (a plane's square, a box, a mesh), placed relative to the drawn centre; the centre at
 // every frame for a moving one, else once. rects: each collider material's UV rectangle.
 json colliders(const SceneFile& scene, const RunRecord& run, const render::Scene& drawn, std::map<int, UvRect>& rects) {
@@ -222,7 +222,7 @@ BlendReport makeBlend(const BlendOptions& options) {
   }();
   const SceneFile scene = loadRecordedScene(out, run);
   const fs::path mesh = out / "mesh";
-  // What wobble's renderer draws (app/view/render_scene.h): its materials, shapes, sun and sky, or environment map.
+  // What wobble's renderer draws (app/pictures/render_scene.h): its materials, shapes, sun and sky, or environment map.
   const RenderScene drawn(scene);
 
   // The inputs, checked before Blender starts: every body's base mesh and a point cache of the run's frames.

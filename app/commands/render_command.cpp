@@ -4,6 +4,7 @@
 
 #include "app/commands/frame_range.h"
 #include "app/commands/wall_clock.h"
+#include "app/output/disk_budget.h"
 #include "app/output/frame_name.h"
 #include "app/output/interrupt.h"
 #include "app/output/obj_sequence.h"
@@ -11,10 +12,10 @@
 #include "app/output/output_folder.h"
 #include "app/output/progress.h"
 #include "app/output/run_record.h"
+#include "app/pictures/frame_output.h"
+#include "app/run/sequence_poser.h"
 #include "app/scene/input_error.h"
 #include "app/scene/scene_file.h"
-#include "app/view/disk_budget.h"
-#include "app/view/frame_output.h"
 #include "io/writable_place.h"
 
 namespace fs = std::filesystem;
@@ -89,6 +90,7 @@ RenderCommandReport renderSequence(const RenderCommandOptions& given) {
   const OutputFolder folder(report.out, OutputFolder::Access::shared);
   const auto start = Clock::now();
   FrameOutput pictures(scene, report.out, options.skip_existing);
+  SequencePoser poser(scene);
 
   // The follow camera's smoothing runs over the frames before the range too, as in the run (camera_rig.h). Motion
   // blur blends the first frame's poses from the one before it, when the sequence has it (shutter.h).
@@ -105,16 +107,17 @@ RenderCommandReport renderSequence(const RenderCommandOptions& given) {
     }
   };
   int history = report.first_frame;
-  if (const int followed = pictures.followedBody(); followed >= 0) {
+  if (const int followed = poser.followedBody(); followed >= 0) {
     while (history > 1 && fs::exists(objPath(options.mesh_dir, bodies[followed].body, history - 1))) --history;
-    for (int k = history; k < report.first_frame; ++k) pictures.frame(k, previous(k, followed), false);
+    for (int k = history; k < report.first_frame; ++k) poser.observe(k, previous(k, followed));
   } else if (blur_from_before) {
-    pictures.frame(before, previous(before, -1), false);
+    poser.observe(before, previous(before, -1));
   }
 
   Progress progress(scene.name + " (render)", report.last_frame - report.first_frame + 1);
   for (int k = report.first_frame; k <= report.last_frame && !interrupted(); ++k) {
-    pictures.frame(k, k == report.first_frame ? first : readObjFrame(options.mesh_dir, scene, k), true);
+    poser.observe(k, k == report.first_frame ? first : readObjFrame(options.mesh_dir, scene, k));
+    pictures.frame(poser.posed());
     progress.update(k - report.first_frame + 1);
   }
   progress.finish();

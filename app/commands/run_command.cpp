@@ -10,16 +10,16 @@
 #include "app/commands/frame_range.h"
 #include "app/commands/wall_clock.h"
 #include "app/output/carried_scene.h"
+#include "app/output/disk_budget.h"
 #include "app/output/interrupt.h"
 #include "app/output/obj_sequence.h"
 #include "app/output/output_folder.h"
 #include "app/output/pc2_writer.h"
 #include "app/output/progress.h"
+#include "app/pictures/frame_output.h"
+#include "app/run/run_driver.h"
 #include "app/scene/input_error.h"
 #include "app/scene/scene_file.h"
-#include "app/view/disk_budget.h"
-#include "app/view/frame_output.h"
-#include "app/view/shutter.h"
 #include "io/text_file.h"
 #include "io/writable_place.h"
 
@@ -152,8 +152,11 @@ RunReport runScene(const RunOptions& options) {
   io::checkWritable(report.out);  // the OS's reason first: the budget speaks only for a writable place
   checkDiskBudget(estimateRunOutput(scene, report.first_frame, report.last_frame), report.out);
 
-  MassSpringSystem& system = *scene.system;
-  Simulation sim(system, makeIntegrator(scene.integrator, scene.integrator_options), scene.dt);
+  // Watched when it renders while simulating (no second simulation): the camera sees every frame, the shutter's
+  // poses come from the steps.
+  RunDriver run(scene, FrameOutput::wanted(scene));
+  const Simulation& sim = run.simulation();
+  const MassSpringSystem& system = run.system();
   report.energy_start = system.energy(sim.x(), sim.v());
 
   const OutputFolder folder(report.out);
@@ -176,13 +179,8 @@ RunReport runScene(const RunOptions& options) {
                                                      writers.back().order(), report.first_frame));
     }
 
-  std::optional<FrameOutput> pictures;  // renders while simulating: no second simulation
+  std::optional<FrameOutput> pictures;
   if (FrameOutput::wanted(scene)) pictures.emplace(scene, report.out, options.skip_existing);
-  std::optional<ShutterRecorder> shutter;  // motion blur: the poses inside each frame's shutter, from the steps
-  if (pictures && scene.render.camera.shutter > 0) {
-    shutter.emplace(scene, sim.x());
-    sim.observeSteps([&shutter](double t, const VecX& x) { shutter->step(t, x); });
-  }
 
   std::optional<ErrorEstimator> estimator;
   if (options.estimate_error)
@@ -190,12 +188,12 @@ RunReport runScene(const RunOptions& options) {
 
   std::optional<Progress> progress;
   if (options.progress) progress.emplace(scene.name, report.last_frame);
-  for (int frame = 1; frame <= report.last_frame && !interrupted(); ++frame) {
+  while (run.frame() < report.last_frame && !interrupted()) {
     auto start = Clock::now();
-    if (shutter) shutter->begin(frame);
-    report.blow_up = sim.advanceTo(scene.frameTime(frame));
+    report.blow_up = run.next();
     report.seconds_simulate += secondsSince(start);
     if (report.blow_up) break;
+    const int frame = run.frame();
     if (!report.energy_gain && (report.energy_gain = sim.energyGain())) {
       report.energy_gain_message = report.energy_gain->message(scene.dt);
       if (options.stop_on_energy_gain) {
@@ -206,25 +204,20 @@ RunReport runScene(const RunOptions& options) {
     }
     if (options.on_frame) options.on_frame(frame, sim.x());
     if (estimator) estimator->compare(scene.frameTime(frame), sim.x());
+    if (frame < report.first_frame) continue;  // simulated only: the camera has seen it
     start = Clock::now();
-    std::vector<SurfaceFrame> surfaces;  // of every body, for this frame's OBJ files and picture
-    if (frame >= report.first_frame) {
-      for (const BodySlot& slot : system.bodies())
-        surfaces.push_back(evaluateSurface(slot.body.surface, sim.x(), slot.first));
-      for (std::size_t b = 0; b < writers.size(); ++b) {
-        if (scene.write_obj) writers[b].write(frame, surfaces[b]);
-        if (caches.empty()) continue;
-        if (frame == report.first_frame) writers[b].writeBase(surfaces[b]);
-        caches[b]->append(surfaces[b]);
-      }
-      ++report.frames_written;
+    const std::vector<SurfaceFrame>& surfaces = run.surfaces();  // of every body, for the OBJ files and the picture
+    for (std::size_t b = 0; b < writers.size(); ++b) {
+      if (scene.write_obj) writers[b].write(frame, surfaces[b]);
+      if (caches.empty()) continue;
+      if (frame == report.first_frame) writers[b].writeBase(surfaces[b]);
+      caches[b]->append(surfaces[b]);
     }
+    ++report.frames_written;
     report.seconds_export += secondsSince(start);
     if (pictures) {
       start = Clock::now();
-      if (surfaces.empty()) pictures->observe(frame, sim.x());
-      else if (!shutter) pictures->frame(frame, surfaces, true);
-      else pictures->frame(frame, surfaces, true, surfacesOf(scene, shutter->states(sim.x())));
+      pictures->frame(run.posed());
       report.seconds_render += secondsSince(start);
     }
     if (progress) progress->update(frame);

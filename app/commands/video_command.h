@@ -2,7 +2,7 @@
 // several machines), without rendering again. Encodes OUT/frames/<scene>_NNNN.png into OUT/<scene>.mp4 with the
 // encoder `run --video` uses (app/output/video.h), after checking every frame of the range: all there (else the
 // missing ones, as --frames ranges), of one size, and rendered with one setting (the settings key each PNG carries,
-// app/view/picture_key.h), unless allow_mixed. The scene's name, frame rate and range come from OUT/run.json, or
+// app/output/picture_key.h), unless allow_mixed. The scene's name, frame rate and range come from OUT/run.json, or
 // from a scene file.
 #pragma once
 #include <filesystem>

@@ -35,7 +35,7 @@ struct SceneFile {
   std::string text;  // the file after --set and flags, as TOML (keys sorted): what a cache of results may be keyed by
   // The same without the keys that choose which files are written, not what a frame shows (render.png, .exr, .video,
   // output.*, simulation.duration), and with each file key's value (`files`) replaced by the file's content hash: what
-  // a frame's picture key hashes (app/view/picture_key.h), the same wherever the files are.
+  // a frame's picture key hashes (app/output/picture_key.h), the same wherever the files are.
   std::string picture_text;
   RenderConfig render;              // camera, render settings and the look of bodies and colliders (render_config.h)
   std::uint64_t memory_budget = 0;  // bytes the scene's estimate may reach (scene_limits.h)

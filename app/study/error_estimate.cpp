@@ -18,14 +18,14 @@ ErrorEstimator::ErrorEstimator(SceneFile scene, const std::string& integrator, c
   }
   e_.order = traits.order;  // at least 1: checked where the method table is compiled
   e_.factor = std::ldexp(1.0, e_.order) / (std::ldexp(1.0, e_.order) - 1);
-  sim_ = std::make_unique<Simulation>(*scene_.system, makeIntegrator(integrator, half), adaptive ? dt : dt / 2);
+  run_ = std::make_unique<RunDriver>(*scene_.system, integrator, half, adaptive ? dt : dt / 2);
 }
 
 void ErrorEstimator::compare(double t, const VecX& x) {
   if (!e_.failure.empty()) return;
   const auto start = std::chrono::steady_clock::now();
   try {
-    if (const auto blow_up = sim_->advanceTo(t)) {
+    if (const auto blow_up = run_->advanceTo(t)) {
       std::ostringstream m;
       m << "the half-step run blew up at t = " << blow_up->time << " s";
       e_.failure = m.str();
@@ -39,7 +39,7 @@ void ErrorEstimator::compare(double t, const VecX& x) {
   double frame_max = 0;
   for (int i = 0; i < system.particleCount(); ++i) {
     if (system.inverseMass()[i] == 0) continue;
-    const double d = e_.factor * (particle(x, i) - particle(sim_->x(), i)).norm();
+    const double d = e_.factor * (particle(x, i) - particle(run_->x(), i)).norm();
     frame_max = std::max(frame_max, d);
     sum_squares_ += d * d;
     ++count_;

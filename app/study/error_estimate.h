@@ -10,8 +10,8 @@
 #include <memory>
 #include <string>
 
+#include "app/run/run_driver.h"
 #include "app/scene/scene_file.h"
-#include "sim/simulation.h"
 
 namespace wobble {
 
@@ -34,7 +34,7 @@ class ErrorEstimator {
 
  private:
   SceneFile scene_;
-  std::unique_ptr<Simulation> sim_;
+  std::unique_ptr<RunDriver> run_;  // the half-step run
   ErrorEstimate e_;
   double sum_squares_ = 0;
   long count_ = 0;

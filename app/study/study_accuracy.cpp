@@ -11,13 +11,13 @@
 #include <nlohmann/json.hpp>
 
 #include "app/output/progress.h"
+#include "app/run/run_driver.h"
 #include "app/scene/input_error.h"
 #include "app/scene/scene_file.h"
 #include "app/study/order_fit.h"
 #include "app/study/study_report.h"
 #include "io/content_hash.h"
 #include "io/text_table.h"
-#include "sim/simulation.h"
 
 namespace fs = std::filesystem;
 
@@ -41,28 +41,28 @@ struct Trajectory {
 };
 
 // One run of the system from its initial state through the sample times. The system is shared between runs: a
-// Simulation keeps the state; the system only takes the step size (for static friction), set anew per run.
+// RunDriver keeps the state; the system only takes the step size (for static friction), set anew per run.
 Trajectory simulate(MassSpringSystem& system, const RunSpec& spec, const std::vector<double>& times) {
   Trajectory r;
   r.x.reserve(times.size());
-  Simulation sim(system, makeIntegrator(spec.integrator, spec.options), spec.dt);
+  RunDriver run(system, spec.integrator, spec.options, spec.dt);
   const auto start = Clock::now();
   try {
     for (double t : times) {
-      if (const auto blow_up = sim.advanceTo(t)) {
+      if (const auto blow_up = run.advanceTo(t)) {
         std::ostringstream m;
         m << "blew up at t = " << blow_up->time << " s (step " << blow_up->step << ")";
         r.failure = m.str();
         break;
       }
-      r.x.push_back(sim.x());
+      r.x.push_back(run.x());
     }
   } catch (const std::exception& e) {
     r.failure = e.what();
   }
   r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  const IntegratorStats& s = sim.integrator().stats();
-  r.steps = sim.steps();
+  const IntegratorStats& s = run.simulation().integrator().stats();
+  r.steps = run.simulation().steps();
   r.evaluations = s.evaluations;
   r.accepted = s.accepted;
   return r;

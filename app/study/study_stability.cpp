@@ -13,13 +13,13 @@
 #include <nlohmann/json.hpp>
 
 #include "app/output/progress.h"
+#include "app/run/run_driver.h"
 #include "app/scene/input_error.h"
 #include "app/scene/scene_file.h"
 #include "app/study/stability_theory.h"
 #include "app/study/study_report.h"
 #include "io/content_hash.h"
 #include "io/text_table.h"
-#include "sim/simulation.h"
 
 namespace fs = std::filesystem;
 
@@ -153,12 +153,13 @@ StabilityCell classifyCell(MassSpringSystem& system, const std::string& integrat
   StabilityCell c;
   c.integrator = integrator;
   c.dt = dt;
-  Simulation sim(system, makeIntegrator(integrator, options), dt);
+  RunDriver run(system, integrator, options, dt);
+  const Simulation& sim = run.simulation();
   const long per_check = std::max(1L, std::lround(0.01 / dt));  // strain every ~0.01 s: it costs a force evaluation
   try {
     for (long k = 1;; ++k) {
       const double t = std::min(duration, double(k * per_check) * dt);
-      if (const auto blow_up = sim.advanceTo(t)) {
+      if (const auto blow_up = run.advanceTo(t)) {
         c.outcome = Outcome::BlewUp;
         std::ostringstream m;
         m << "blew up at t = " << blow_up->time << " s, step " << blow_up->step;
@@ -240,7 +241,7 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
   }
 
   // Work items: one grid row (integrator, ks) each, plus one item per user case and contact case; each with its own
-  // system (a Simulation sets the system's step size, so systems are not shared between threads), built only for the
+  // system (a run sets the system's step size, so systems are not shared between threads), built only for the
   // items this command runs.
   struct Item {
     std::string integrator;

@@ -2,10 +2,10 @@
 // and refused with a message naming the key when its size is not positive.
 #include <gtest/gtest.h>
 
+#include "app/pictures/render_scene.h"
+#include "app/run/camera_rig.h"
 #include "app/scene/input_error.h"
 #include "app/scene/scene_file.h"
-#include "app/view/camera_rig.h"
-#include "app/view/render_scene.h"
 #include "tests/app/scratch_dir.h"
 
 namespace wobble {

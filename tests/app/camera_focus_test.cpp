@@ -5,8 +5,8 @@
 // |l - p| for the body's centre c, the eye p and the look_at point l.
 #include <gtest/gtest.h>
 
+#include "app/run/camera_rig.h"
 #include "app/scene/scene_file.h"
-#include "app/view/camera_rig.h"
 #include "tests/app/scratch_dir.h"
 
 namespace wobble {

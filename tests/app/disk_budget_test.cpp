@@ -1,4 +1,4 @@
-// The disk budget (app/view/disk_budget.h): the per-file bounds hold for incompressible pictures; the estimate of a
+// The disk budget (app/output/disk_budget.h): the per-file bounds hold for incompressible pictures; the estimate of a
 // small run is not below the bytes it really wrote and, for meshes and point caches, at most 3 times them (pictures
 // are bounded by their uncompressed size only); the free space is what df says; and runs that would flood the disk
 // (fps = 1e6, a 16384 x 10 cloth at fps 65536) are refused at once with exit 2 and nothing written, by --max-disk so
@@ -10,8 +10,8 @@
 #include <random>
 
 #include "app/commands/run_command.h"
-#include "app/view/disk_budget.h"
-#include "app/view/picture_key.h"
+#include "app/output/disk_budget.h"
+#include "app/output/picture_key.h"
 #include "image/exr_writer.h"
 #include "image/file_size_bound.h"
 #include "image/png_io.h"

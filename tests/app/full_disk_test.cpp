@@ -84,10 +84,10 @@ TEST_F(FullDisk, InjectedShortWriteAndFailingCloseAtEveryKindOfFile) {
     for (int n : {1, 2, 3, 4, 5, 9, 13, 17, 18}) expectCleanFailure(file, clean, n, how);
 }
 
-// A real full file system: a small tmpfs (2 MB, or 64 MB with room for 40 files). Mounted by the test where it may (root outside a restricted container);
-// elsewhere by the run's own shell in a user and mount namespace of its own (unshare(1): an unprivileged user may
-// mount a tmpfs there where the kernel allows user namespaces), which copies the output out before the namespace and
-// its tmpfs go. Skipped, saying why, only where neither is allowed.
+// A real full file system: a small tmpfs (2 MB, or 64 MB with room for 40 files). Mounted by the test where it may
+// (root outside a restricted container); elsewhere by the run's own shell in a user and mount namespace of its own
+// (unshare(1): an unprivileged user may mount a tmpfs there where the kernel allows user namespaces), which copies the
+// output out before the namespace and its tmpfs go. Skipped, saying why, only where neither is allowed.
 class SmallTmpfs : public FullDisk {
  protected:
   void TearDown() override {
@@ -107,9 +107,10 @@ class SmallTmpfs : public FullDisk {
   int runInNamespace(const std::string& arguments, const fs::path& log, const fs::path& out, const fs::path& copy,
                      const std::string& options) {
     const fs::path mounted = dir() / "mounted", said = dir() / "unshare.txt";
-    const std::string script = "mount -t tmpfs -o " + options + " tmpfs " + mount_.string() + " && touch " + mounted.string() +
-                               " || exit 99; " + WOBBLE_BINARY + " " + arguments + " > " + log.string() +
-                               " 2>&1; status=$?; cp -a " + out.string() + " " + copy.string() + "; exit $status";
+    const std::string script = "mount -t tmpfs -o " + options + " tmpfs " + mount_.string() + " && touch " +
+                               mounted.string() + " || exit 99; " + WOBBLE_BINARY + " " + arguments + " > " +
+                               log.string() + " 2>&1; status=$?; cp -a " + out.string() + " " + copy.string() +
+                               "; exit $status";
     const int status =
         std::system(("unshare --user --map-root-user --mount sh -c '" + script + "' 2> " + said.string()).c_str());
     if (!fs::exists(mounted)) {
@@ -123,7 +124,7 @@ class SmallTmpfs : public FullDisk {
   std::string reason_;
 };
 
-// The disk budget (app/view/disk_budget.h) refuses a run estimated above the free space before it writes, so the disk
+// The disk budget (app/output/disk_budget.h) refuses a run estimated above the free space before it writes, so the disk
 // here fills with files, not bytes: 64 MB but room for 40 files (ENOSPC all the same).
 TEST_F(SmallTmpfs, RunFailsCleanlyWhenTheDiskFills) {
   // About 40 frames of an OBJ, MTL, PNG and EXR each: more than 40 files.

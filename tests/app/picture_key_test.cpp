@@ -1,6 +1,6 @@
-// The picture key a frame records (app/view/picture_key.h): every input that changes a picture changes it, and the
+// The picture key a frame records (app/output/picture_key.h): every input that changes a picture changes it, and the
 // inputs that only choose which files are written do not.
-#include "app/view/picture_key.h"
+#include "app/output/picture_key.h"
 
 #include <gtest/gtest.h>
 

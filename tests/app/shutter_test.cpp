@@ -1,13 +1,14 @@
-// The shutter's poses (app/view/shutter.h) against free fall, where every particle is at x0 + g t^2 / 2 exactly (RK4
+// The shutter's poses (app/run/shutter.h) against free fall, where every particle is at x0 + g t^2 / 2 exactly (RK4
 // integrates a quadratic exactly): the instants span the stated fraction of the frame interval and close at the
 // frame; the recorder's states, blended from the simulation's own steps, are the analytic ones within linear
 // interpolation's error (g dt^2 / 8); observing the steps changes nothing in the run; frames blended from an OBJ
 // sequence lie on the line between the two frames.
-#include "app/view/shutter.h"
+#include "app/run/shutter.h"
 
 #include <gtest/gtest.h>
 
 #include "sim/simulation.h"
+#include "tests/app/free_fall_scene.h"
 #include "tests/app/scratch_dir.h"
 
 namespace wobble {
@@ -16,20 +17,7 @@ namespace {
 class Shutter : public testing::ScratchDir {
  protected:
   SceneFile scene(double shutter) {
-    write("fall.toml", R"([simulation]
-integrator = "rk4"
-dt = 0.003
-duration = 1
-fps = 25
-
-[bodies.jelly]
-type = "jelly"
-n = 3
-center = [0, 5, 0]
-
-[camera]
-shutter = )" + std::to_string(shutter) +
-                           "\n");
+    write("fall.toml", testing::freeFallSceneText(shutter));
     return loadScene(dir() / "fall.toml");
   }
 };

@@ -1,4 +1,4 @@
-#include "app/view/render_scene.h"
+#include "app/pictures/render_scene.h"
 
 #include <memory>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-#include "app/view/camera_rig.h"
+#include "app/run/camera_rig.h"
 
 #include <cmath>
 #include <stdexcept>

@@ -11,14 +11,13 @@
 #include <future>
 #include <memory>
 #include <optional>
-#include <span>
 #include <vector>
 
+#include "app/output/picture_key.h"
 #include "app/output/video.h"
+#include "app/pictures/render_scene.h"
+#include "app/run/posed_frame.h"
 #include "app/scene/scene_file.h"
-#include "app/view/camera_rig.h"
-#include "app/view/picture_key.h"
-#include "app/view/render_scene.h"
 
 namespace wobble {
 
@@ -29,24 +28,14 @@ class FrameOutput {
   // Creates OUT/frames and/or OUT/exr; loads the textures.
   FrameOutput(const SceneFile& scene, std::filesystem::path out, bool skip_existing = false);
 
-  // Call for every frame from 1 in order (the follow camera needs each one), with every body's surface (scene body
-  // order); renders and writes only when `write` (a frame not written needs only the followed body's surface).
-  // Motion blur (camera.shutter > 0, shutter.h): `shutter` holds the scene's poses at the frame's shutter instants
-  // (a run's, from its steps; the last is `surfaces`); left empty, they are blended from the frame before, when it
-  // was given with every body's surface (an OBJ sequence), else the frame is drawn still. A follow camera moves over
-  // the shutter from its place at the frame before to this frame's, in a straight line.
-  void frame(int frame, std::span<const SurfaceFrame> surfaces, bool write,
-             std::span<const std::vector<SurfaceFrame>> shutter = {});
-  // A frame that is not drawn, from the simulation's flat state: only the follow camera sees it.
-  void observe(int frame, const VecX& x);
+  // Renders a posed frame (a run's, RunDriver::posed; a sequence's, SequencePoser::posed) and writes its files.
+  void frame(const PosedFrame& posed);
 
   // After the last frame: waits for the last files and for OUT/<scene>.mp4, encoded (when render.video is set) from
   // the frames as they were written (video.h: VideoStream). Returns the video's path, or nothing (not asked, no
   // frame, interrupted, or ffmpeg is missing: then it was said).
   std::optional<std::filesystem::path> finish();
 
-  // Index of the body the camera follows in scene.system->bodies(), or -1 for a fixed camera.
-  int followedBody() const { return rig_.followedBody(); }
   int framesRendered() const { return rendered_; }
   int framesSkipped() const { return skipped_; }  // kept: there already, with this frame's picture key
   static std::filesystem::path pngPath(const std::filesystem::path& out, const std::string& scene, int frame);
@@ -61,7 +50,6 @@ class FrameOutput {
   const SceneFile& scene_;
   std::filesystem::path out_;
   RenderScene render_scene_;
-  CameraRig rig_;
   PictureKey key_;
   bool skip_existing_;
   int rendered_ = 0, skipped_ = 0;
@@ -70,9 +58,6 @@ class FrameOutput {
   std::future<void> writing_;
   std::unique_ptr<VideoStream> video_;  // opened with the first PNG written (its size), fed by the writer
   bool video_opened_ = false;
-  // The last frame given with every body's surface, for the motion blur of the next (an OBJ sequence's).
-  std::vector<SurfaceFrame> previous_;
-  int previous_frame_ = -1;
 };
 
 }  // namespace wobble

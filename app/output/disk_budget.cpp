@@ -1,4 +1,4 @@
-#include "app/view/disk_budget.h"
+#include "app/output/disk_budget.h"
 
 #include <algorithm>
 #include <system_error>
@@ -6,8 +6,8 @@
 #include "app/output/carried_scene.h"
 #include "app/output/obj_sequence.h"
 #include "app/output/pc2.h"
+#include "app/output/picture_key.h"
 #include "app/scene/input_error.h"
-#include "app/view/picture_key.h"
 #include "image/file_size_bound.h"
 #include "io/content_hash.h"
 

@@ -23,7 +23,7 @@ class RenderScene {
   // Surfaces of every body, in scene.system->bodies() order, and the time for the moving colliders; commits.
   // Throws std::invalid_argument (from the renderer) on a non-finite vertex.
   void update(double t, std::span<const SurfaceFrame> surfaces);
-  // Motion blur: the scene posed at each of the shutter's instants (app/view/shutter.h), open to close: every body's
+  // Motion blur: the scene posed at each of the shutter's instants (app/run/shutter.h), open to close: every body's
   // surfaces at times[j] are poses[j], the moving colliders are drawn at those times. One instant: a still frame.
   void update(std::span<const double> times, std::span<const std::vector<SurfaceFrame>> poses);
 

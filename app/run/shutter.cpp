@@ -1,4 +1,4 @@
-#include "app/view/shutter.h"
+#include "app/run/shutter.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "app/view/frame_picture.h"
+#include "app/pictures/frame_picture.h"
 
 #include "render/denoiser.h"
 #include "render/renderer.h"

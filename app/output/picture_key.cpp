@@ -1,4 +1,4 @@
-#include "app/view/picture_key.h"
+#include "app/output/picture_key.h"
 
 #include "io/content_hash.h"
 

@@ -1,4 +1,4 @@
-#include "app/view/frame_output.h"
+#include "app/pictures/frame_output.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -7,8 +7,7 @@
 #include "app/output/interrupt.h"
 #include "app/output/obj_sequence.h"
 #include "app/output/video.h"
-#include "app/view/frame_picture.h"
-#include "app/view/shutter.h"
+#include "app/pictures/frame_picture.h"
 #include "image/exr_writer.h"
 #include "image/png_io.h"
 
@@ -27,48 +26,18 @@ fs::path FrameOutput::exrPath(const fs::path& out, const std::string& scene, int
 }
 
 FrameOutput::FrameOutput(const SceneFile& scene, fs::path out, bool skip_existing)
-    : scene_(scene),
-      out_(std::move(out)),
-      render_scene_(scene),
-      rig_(scene),
-      key_(scene),
-      skip_existing_(skip_existing) {
+    : scene_(scene), out_(std::move(out)), render_scene_(scene), key_(scene), skip_existing_(skip_existing) {
   if (scene.render.options.png) fs::create_directories(out_ / "frames");
   if (scene.render.options.exr) fs::create_directories(out_ / "exr");
 }
 
-void FrameOutput::observe(int frame, const VecX& x) { rig_.observe(frame, *scene_.system, x); }
-
-void FrameOutput::frame(int frame, std::span<const SurfaceFrame> surfaces, bool write,
-                        std::span<const std::vector<SurfaceFrame>> shutter) {
-  const render::CameraParams before = rig_.params();
-  if (rig_.followedBody() >= 0) rig_.observe(frame, surfaces[rig_.followedBody()]);
-  std::vector<double> times = shutterTimes(scene_, frame);
-  std::vector<std::vector<SurfaceFrame>> poses;
-  if (times.size() > 1 && write) {
-    if (!shutter.empty()) poses.assign(shutter.begin(), shutter.end());
-    else if (previous_frame_ == frame - 1) poses = blendSurfaces(scene_, frame, previous_, surfaces);
-  }
-  if (times.size() > 1 && shutter.empty()) {
-    const bool complete =
-        std::none_of(surfaces.begin(), surfaces.end(), [](const SurfaceFrame& s) { return s.positions.empty(); });
-    previous_.assign(surfaces.begin(), surfaces.end());
-    previous_frame_ = complete ? frame : -1;
-  }
-  if (!write) return;
-  render::CameraParams camera = rig_.params();
-  if (poses.empty()) {
-    times = {scene_.frameTime(frame)};
-    poses.emplace_back(surfaces.begin(), surfaces.end());
-  } else {
-    camera.shutter_motion = shutterMotion(scene_, before.position, camera.position);
-  }
+void FrameOutput::frame(const PosedFrame& posed) {
   std::vector<SurfaceFrame> keyed;  // every pose's surfaces
-  for (const auto& pose : poses) keyed.insert(keyed.end(), pose.begin(), pose.end());
-  const std::string key = key_.frame(frame, camera, keyed);
-  if (skip_existing_ && existing(frame, key)) return keep(frame);
-  render_scene_.update(times, poses);
-  render(frame, camera, key, times.size() > 1);
+  for (const auto& pose : posed.poses) keyed.insert(keyed.end(), pose.begin(), pose.end());
+  const std::string key = key_.frame(posed.frame, posed.camera, keyed);
+  if (skip_existing_ && existing(posed.frame, key)) return keep(posed.frame);
+  render_scene_.update(posed.times, posed.poses);
+  render(posed.frame, posed.camera, key, posed.motionBlur());
 }
 
 bool FrameOutput::existing(int frame, const std::string& key) const {
