@@ -172,18 +172,9 @@ TEST_F(Blender, GelatineLensShutterAndEnvironmentMapOntoCycles) {
       map.at(x, y, 2) = 0.5f;
     }
   image::writeExrImage(dir() / "sky.exr", map, {"R", "G", "B"}, false);
-  const fs::path scene = write("gel.toml", R"([simulation]
-dt = 0.002
-duration = 0.3
-fps = 20
-
-[bodies.jelly]
-type = "jelly"
-n = 3
-size = 1.0
-center = [0, 1.6, 0]
-texture = "textures/cat.png"
-material = "gelatine"
+  const fs::path scene = write("gel.toml", testing::smallSceneText({.duration = "0.3",
+                                                                    .center = "[0, 1.6, 0]",
+                                                                    .jelly = R"(material = "gelatine"
 ior = 1.35
 roughness = 0.1
 absorption_color = [0.9, 0.5, 0.6]
@@ -191,10 +182,8 @@ absorption_depth = 0.5
 scatter = 2.0
 scatter_albedo = [0.9, 0.8, 0.7]
 print = 0.4
-
-[colliders.floor]
-type = "plane"
-
+)",
+                                                                    .rest = R"(
 [camera]
 follow = "jelly"
 position = [2, 3, 6]
@@ -207,7 +196,7 @@ shutter = 0.4
 environment = "sky.exr"
 environment_rotation = 60
 environment_strength = 2
-)");
+)"}));
   const fs::path out = dir() / "out", log = dir() / "log.txt";
   ASSERT_EQ(runWobble("run " + scene.string() + " --render none --pc2 --out " + out.string(), log), 0)
       << slurpFile(log);
@@ -265,31 +254,21 @@ environment_strength = 2
 // Cycles from the .blend with 64 (no adaptive stop, seed 1); the mean CIE76 difference of the two PNGs must be at
 // most 2.5, the issue's bound for converged pictures. Measured with Blender 3.4.1: 1.44 (mostly both renderers' noise
 // at 64 samples); without the tone curve (Blender's default Filmic view) 5.65, with the compositor off (the Standard
-// view of the radiance) 4.0, the floor's UVs turned by 90 degrees 3.1, the old flat blue sky 5.7.
+// view of the radiance) 4.0, the floor's UVs turned by 90 degrees 3.1, a flat blue sky for wobble's 5.7.
 TEST_F(Blender, CyclesRendersTheBlendAsWobbleRendersTheScene) {
   if (!blender_)
     GTEST_SKIP() << "blender is not on PATH (./setup.sh tests installs it; plain setup.sh leaves it out: it is large)";
   copyCatTexture();
-  const fs::path scene = write("lookalike.toml", R"([simulation]
-dt = 0.002
-duration = 0.1
-fps = 20
-
-[bodies.jelly]
-type = "jelly"
-n = 3
-size = 1.0
-center = [0, 1.3, 0]
-texture = "textures/cat.png"
-color = [1.0, 0.9, 0.8]
-
-[colliders.slope]
-type = "plane"
-normal = [0.25, 1.0, 0.15]
+  const fs::path scene = write("lookalike.toml", testing::smallSceneText({.duration = "0.1",
+                                                                          .center = "[0, 1.3, 0]",
+                                                                          .jelly = "color = [1.0, 0.9, 0.8]\n",
+                                                                          .floor_name = "slope",
+                                                                          .floor = R"(normal = [0.25, 1.0, 0.15]
 size = 12
 texture = "wood"
 texture_scale = 3
-
+)",
+                                                                          .rest = R"(
 [colliders.ball]
 type = "sphere"
 center = [-1.8, 0.8, -0.5]
@@ -300,7 +279,7 @@ texture = "checker"
 position = [3, 3.5, 6]
 look_at = [0, 0.8, 0]
 resolution = [128, 72]
-)");
+)"}));
   const fs::path out = dir() / "out", log = dir() / "log.txt";
   ASSERT_EQ(runWobble("run " + scene.string() + " --pc2 --spp 64 --denoise off --set render.noise_threshold=0 --out " +
                           out.string(),

@@ -10,6 +10,7 @@ struct SmallScene {
   std::string duration = "0.2";        // simulated seconds: 4 frames a 0.2 s
   std::string center = "[0, 0.6, 0]";  // the jelly's
   std::string jelly;                   // more of the jelly's keys, one a line
+  std::string floor_name = "floor";    // the plane collider's name (a table [colliders.NAME])
   std::string floor;                   // more of the floor's keys, one a line
   std::string rest;                    // further tables: other bodies, colliders, [camera], [render]
 };
@@ -18,7 +19,8 @@ struct SmallScene {
 inline std::string smallSceneText(const SmallScene& s) {
   return "[simulation]\ndt = 0.002\nduration = " + s.duration +
          "\nfps = 20\n\n[bodies.jelly]\ntype = \"jelly\"\nn = 3\n" + "size = 1.0\ncenter = " + s.center +
-         "\ntexture = \"textures/cat.png\"\n" + s.jelly + "\n[colliders.floor]\ntype = \"plane\"\n" + s.floor + s.rest;
+         "\ntexture = \"textures/cat.png\"\n" + s.jelly + "\n[colliders." + s.floor_name + "]\ntype = \"plane\"\n" +
+         s.floor + s.rest;
 }
 
 // A camera following the jelly and a render of 2 samples: the pictures' tables of the tests that render it
