@@ -21,8 +21,7 @@ void SequencePoser::observe(int frame, std::span<const SurfaceFrame> surfaces) {
 
 PosedFrame SequencePoser::posed() const {
   PosedFrame p{frame_, shutterTimes(scene_, frame_), {}, rig_.params()};
-  // Blended only from a frame that was itself blurred (frame 2 onwards): frame 2 is drawn still.
-  if (p.motionBlur() && previous_frame_ == frame_ - 1 && previous_frame_ > 1) {
+  if (p.motionBlur() && previous_frame_ == frame_ - 1) {
     p.poses = blendSurfaces(scene_, frame_, previous_, current_);
     p.camera.shutter_motion = shutterMotion(scene_, camera_before_.position, p.camera.position);
   } else {

@@ -1,10 +1,13 @@
 // The run driver (app/run/run_driver.h) against free fall, where every particle is at x0 + g t^2 / 2 exactly (RK4
 // integrates a quadratic exactly): frames land on their times; watching a run (camera rig, shutter recorder) changes
 // nothing in it; a posed frame holds the surfaces at its shutter's instants, and a follow camera's move over the
-// shutter is the shutter's fraction of its move from the frame before.
+// shutter is the shutter's fraction of its move from the frame before. A sequence of the run's frames (an OBJ
+// sequence's, SequencePoser) is posed at the same instants with the same camera, its poses on the line between frames.
 #include "app/run/run_driver.h"
 
 #include <gtest/gtest.h>
+
+#include "app/run/sequence_poser.h"
 
 #include "tests/app/free_fall_scene.h"
 #include "tests/app/scratch_dir.h"
@@ -68,6 +71,33 @@ TEST_F(RunDriverTest, PosesAreTheFreeFallAtTheShutterInstants) {
     const Eigen::Vector3f fall = posed.camera.position - before.position;
     EXPECT_LT(fall.y(), 0);
     EXPECT_NEAR((posed.camera.shutter_motion - 0.5f * fall).norm(), 0, 1e-6f) << "frame " << k;
+  }
+}
+
+TEST_F(RunDriverTest, ASequenceIsPosedAsTheRunPosedIt) {
+  const SceneFile s = scene(0.5);
+  RunDriver run(s, true);
+  SequencePoser sequence(s);
+  std::vector<SurfaceFrame> before;
+  for (int k = 1; k <= 6; ++k) {
+    ASSERT_FALSE(run.next());
+    sequence.observe(k, run.surfaces());
+    const PosedFrame a = run.posed(), b = sequence.posed();
+    EXPECT_EQ(b.frame, k);
+    EXPECT_EQ(b.times, a.times) << "frame " << k;  // frame 2 too: blended from frame 1
+    EXPECT_EQ(b.camera.position, a.camera.position);
+    EXPECT_EQ(b.camera.shutter_motion, a.camera.shutter_motion) << "frame " << k;
+    ASSERT_EQ(b.poses.size(), b.times.size());
+    EXPECT_EQ(b.poses.back()[0].positions, run.surfaces()[0].positions);
+    for (std::size_t j = 0; j + 1 < b.poses.size(); ++j) {  // on the line from frame k - 1 to frame k
+      const float w = float((b.times[j] - s.frameTime(k - 1)) / (s.frameTime(k) - s.frameTime(k - 1)));
+      for (std::size_t v = 0; v < before[0].positions.size(); ++v)
+        EXPECT_NEAR((b.poses[j][0].positions[v] -
+                     ((1 - w) * before[0].positions[v] + w * run.surfaces()[0].positions[v]))
+                        .norm(),
+                    0, 1e-5f);
+    }
+    before = run.surfaces();
   }
 }
 
