@@ -83,6 +83,8 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
           sim.bodyContact()) {  // contact between bodies (sim/contact/collisions/body_collisions.h)
     auto& b = j["body_contact"];
     b = {{"steps_checked", c->passes},
+         // of them, those whose motion could not bring two surfaces within the thickness: no detection ran
+         {"passes_skipped", c->passes_skipped},
          {"contacts", c->contacts},
          {"ccd_hits", c->ccd_hits},
          {"failsafe_activations", c->zone_activations},

@@ -17,8 +17,13 @@ bool BodyCollisions::needed(const std::vector<Surface>& surfaces) {
 
 std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v1, double h, bool repulsion) {
   Impl& s = *impl_;
+  if (s.clearance.covers(x0, x1)) {  // (x1 finite: a blow-up is not covered)
+    ++stats_.passes, ++stats_.passes_skipped;
+    return std::nullopt;
+  }
   if (!x1.allFinite() || !v1.allFinite()) return std::nullopt;  // a blow-up: Simulation reports it next
   ++stats_.passes;
+  const Stats before = stats_;
   const Eigen::Index n = x0.size();
   s.motion.xs = x0;
   s.motion.xe = x1;
@@ -82,6 +87,8 @@ std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v
       particle(x1, i) = particle(s.motion.xe, i);
       particle(v1, i) += particle(s.motion.vbar, i) - particle(s.motion.vbar0, i);
     }
+  s.clearance.passed(stats_.contacts > before.contacts || stats_.ccd_hits > before.ccd_hits ||
+                     stats_.zone_activations > before.zone_activations || stats_.min_distance < before.min_distance);
   return failure;
 }
 

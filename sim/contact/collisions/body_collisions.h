@@ -13,7 +13,9 @@
 //      rigid bodies with their linear and angular momentum (a zone holding a pinned particle stands still), until a
 //      round finds no hit or zone_iterations rounds pass: then the pass fails.
 // Then x1 = x0 + h vbar and v1 += vbar - (x1 - x0) / h for the particles whose vbar changed; every other byte of x1 and
-// v1 is left as it was, so a step in which no two surfaces come within the thickness is unchanged.
+// v1 is left as it was, so a step in which no two surfaces come within the thickness is unchanged. A step that cannot
+// bring two elements within it (the particles' displacement since the clearance was measured cannot close it:
+// candidates/clearance.h) skips the pass altogether.
 // An implicit integrator that carries the contacts in its solve (backward Euler: nearPairs below, a penalty on each
 // pair's gap with its Jacobian) skips stage 1: its step ends with the pairs at the thickness already, and impulses on
 // the touching particles alone would compress the springs behind them (the energy gain of docs/body-contact.md).
@@ -76,6 +78,12 @@ class BodyCollisions {
 // start through an implicit step's solves and the pass after it (found once with a margin; see nearPairs). The pass
 // finds the same contacts in the same order either way, only slower without; tests compare the two.
 void setBroadPhaseCulls(bool on);
+
+// Whether a step that cannot bring two surface elements within the thickness skips detection, the pass and backward
+// Euler's searches (on by default; candidates/clearance.h: while the particles' displacement since the clearance was
+// measured cannot close it). Off, every step runs them: the same bytes, slower where nothing is near; tests compare
+// the two.
+void setSkipWhileApart(bool on);
 
 }  // namespace collision
 }  // namespace wobble

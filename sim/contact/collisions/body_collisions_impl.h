@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "sim/contact/candidates/candidates.h"
+#include "sim/contact/candidates/clearance.h"
 #include "sim/contact/candidates/search.h"
 #include "sim/contact/candidates/skins.h"
 #include "sim/contact/candidates/step_list.h"
@@ -29,7 +30,8 @@ struct BodyCollisions::Impl {
         steps(nodes, motion, search, skins, parallel, counters),
         repulsion(nodes, motion, inv_mass, skins, parallel),
         detection(nodes, motion, inv_mass, skins, parallel),
-        zones(nodes, motion, inv_mass) {
+        zones(nodes, motion, inv_mass),
+        clearance(nodes, search, parallel, counters) {
     motion.node_mark.assign(nodes.nodeCount(), 0);
   }
 
@@ -46,6 +48,7 @@ struct BodyCollisions::Impl {
   Detection detection;     // stage 2
   ImpactZones zones;       // stage 3
   ContactPairSet known;    // nearPairs: the pairs already in its list
+  Clearance clearance;     // whether a step may skip all of it
 };
 
 }  // namespace wobble::collision

@@ -1,0 +1,82 @@
+// When a step needs no detection at all: the pass between bodies (and backward Euler's searches) skipped while no two
+// surface elements can come within the thickness, a conservative version of the time-coherence schemes that
+// schedule detection by how far things can move (Mirtich 1996, "Impulse-based dynamic simulation of rigid body
+// systems", safe time steps; the Verlet skin of skins.h, taken to a whole pass).
+// The clearance is measured at a reference state: every node's position blended from x_ref, each element's box
+// there padded by pad (and its diagonals, element_bounds.h), the pairs whose padded bounds meet found as a broad
+// phase finds them (the same pairs the pass tests: not adjacent, not of pinned nodes only, of bodies that meet), and
+// per pair a lower bound of its distance (the gap between its two elements' projections on the direction of their
+// nearest points, which no direction exceeds). Every other pair is further apart than 2 pad. So the smallest distance
+// between any two elements the pass tests is at least G, the least of 2 pad and the pairs' bounds.
+// A later step moves the particles linearly from x0 to x1. Per body b, with u_k = x_k - x_ref,k and the shift s_b =
+// u_r of one particle r of the body (a common translation changes no distance within the body), each node moves from
+// its reference by s_b plus at most W_b D_b, where D_b is the largest |u_k - s_b| of the body's particles at either end
+// (the norm is convex: in between it is no larger) and W_b the largest sum of |weights| of a node (1 for a node that is
+// a particle). Two elements of body b come closer by at most 2 W_b D_b; of bodies a and b by at most W_a D_a + W_b D_b
+// + |s_a - s_b|. While the largest such closing over the pairs of bodies that meet stays below G less the largest
+// thickness (less a slack for rounding), every pair stays further apart than the thickness all through the step: the
+// pass would find no pair within it at the start, no collision along the step (those are within a thousandth of it)
+// and change no byte of x1 or v1, and backward Euler's searches would hand over no pair (they hand over only pairs
+// within the thickness at the end or colliding). Such a step skips them.
+// The clearance is measured at the start of a step that the last one no longer covers, unless the last pass that ran
+// found something near (a pair within the thickness, a collision): a scene in contact never pays for it. A measure
+// that served fewer than kPayoff steps makes the next wait for twice as many steps (up to kMostWait). Each body's
+// shift follows the particle that moved most like the middle of the body since the last measure (chooseShifts).
+#pragma once
+#include <vector>
+
+#include "sim/contact/broad_phase/element_bounds.h"
+#include "sim/contact/candidates/search.h"
+#include "sim/contact/stats.h"
+#include "sim/contact/surface_nodes.h"
+
+namespace wobble::collision {
+
+// Whether steps skip detection where they can (setSkipWhileApart, body_collisions.h).
+bool skipWhileApart();
+
+class Clearance {
+ public:
+  Clearance(const SurfaceNodes& nodes, CandidateSearch& search, bool parallel, Stats& counters);
+
+  // Whether no two elements the pass tests can come within the thickness over a step from x0 to x1 (particles'
+  // positions): detection would find nothing. Measures the clearance at x0 first where there is none that serves
+  // (and a measure may pay).
+  bool covers(const VecX& x0, const VecX& x1);
+  // After a pass that ran: whether it found a pair within the thickness or a collision.
+  void passed(bool near);
+
+  double clearance() const { return clearance_; }  // G of the last measure (0: none yet)
+
+ private:
+  void measure(const VecX& x);
+  void chooseShifts(const VecX& x);
+  // The largest closing of two elements over a step whose ends are x0 and x1, by the bound above; stops early (and
+  // returns at least limit) once it reaches limit.
+  double closing(const VecX& x0, const VecX& x1, double limit);
+
+  const SurfaceNodes& nodes_;
+  CandidateSearch& search_;
+  bool parallel_;
+  Stats& counters_;
+  struct Body {
+    std::vector<std::pair<int, int>> ranges;  // its nodes' particles, as runs [begin, end)
+    int reference_particle;                   // r: its shift
+    double weight;                            // W_b
+  };
+  std::vector<Body> bodies_;
+  std::vector<std::pair<int, int>> meeting_;  // the pairs of bodies a < b that meet
+  bool valid_ = false, near_ = false;
+  VecX reference_;                        // x_ref, per particle
+  double clearance_ = 0, allowance_ = 0;  // G, and the closing a step may have: G less the thickness and the slack
+  long served_ = 0;                       // steps skipped since the last measure
+  int wait_ = 0, backoff_ = 0;            // passes before the next measure; the wait after a measure that did not pay
+  VecX blended_;
+  ElementBoxes boxes_;
+  PairList vf_, ee_;
+  std::vector<double> partials_;
+  std::vector<double> drift_;  // closing's, per body: D_b
+  std::vector<Vec3> shift_;    // per body and end: s_b
+};
+
+}  // namespace wobble::collision

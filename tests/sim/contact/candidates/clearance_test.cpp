@@ -1,0 +1,181 @@
+// Detection skipped while nothing can come near (sim/contact/candidates/clearance.h): a step skips the pass only
+// where the pass would have found nothing. Each run is compared with the same run that detects at every step
+// (setSkipWhileApart(false)): the same bytes of every position and velocity, and the same contacts, collisions and
+// smallest distance; and checked by the independent triangle-triangle test (tests/sim/triangle_intersection.h). Where
+// nothing comes near, the skipped passes are counted.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <random>
+#include <string>
+#include <tuple>
+
+#include "sim/bodies/cloth.h"
+#include "sim/bodies/jelly.h"
+#include "sim/contact/candidates/clearance.h"
+#include "sim/contact/collisions/body_collisions.h"
+#include "sim/simulation.h"
+#include "tests/sim/cloth_on_sphere.h"
+#include "tests/sim/folded_cloth.h"
+#include "tests/sim/jelly_on_cloth.h"
+#include "tests/sim/jelly_stack.h"
+#include "tests/sim/triangle_intersection.h"
+
+namespace wobble {
+namespace {
+
+struct Outcome {
+  VecX x, v;
+  collision::Stats stats;
+  int most_intersecting = 0;  // the most intersecting triangle pairs at any checked step's end
+};
+
+testing::ParticleTriangles surfaces(const MassSpringSystem& system) {
+  testing::ParticleTriangles s;
+  for (std::size_t b = 0; b < system.bodies().size(); ++b)
+    testing::addSurface(s, system.bodies()[b].body.surface, system.bodies()[b].first, int(b));
+  return s;
+}
+
+// `system` run to `end` under `integrator` at dt, with skipping on or off; the independent test every `every` steps.
+Outcome run(const std::function<std::unique_ptr<MassSpringSystem>()>& make, const std::string& integrator, double dt,
+            double end, bool skip, int every = 10) {
+  collision::setSkipWhileApart(skip);
+  const auto system = make();
+  const testing::ParticleTriangles tris = surfaces(*system);
+  Simulation sim(*system, makeIntegrator(integrator), dt);
+  Outcome r;
+  int step = 0;
+  sim.observeSteps([&](double, const VecX& x) {
+    if (++step % every == 0) r.most_intersecting = std::max(r.most_intersecting, testing::intersectingPairs(tris, x));
+  });
+  EXPECT_FALSE(sim.advanceTo(end));
+  collision::setSkipWhileApart(true);
+  r.x = sim.x(), r.v = sim.v(), r.stats = *sim.bodyContact();
+  r.most_intersecting = std::max(r.most_intersecting, testing::intersectingPairs(tris, sim.x()));
+  return r;
+}
+
+void expectSame(const Outcome& skip, const Outcome& every) {
+  EXPECT_EQ(skip.stats.passes, every.stats.passes);
+  EXPECT_EQ(skip.stats.contacts, every.stats.contacts);
+  EXPECT_EQ(skip.stats.ccd_hits, every.stats.ccd_hits);
+  EXPECT_EQ(skip.stats.zone_activations, every.stats.zone_activations);
+  EXPECT_EQ(skip.stats.min_distance, every.stats.min_distance);
+  ASSERT_EQ(skip.x.size(), every.x.size());
+  EXPECT_EQ(std::memcmp(skip.x.data(), every.x.data(), sizeof(double) * skip.x.size()), 0) << "positions differ";
+  EXPECT_EQ(std::memcmp(skip.v.data(), every.v.data(), sizeof(double) * skip.v.size()), 0) << "velocities differ";
+  EXPECT_EQ(every.stats.passes_skipped + every.stats.searches_skipped + every.stats.clearance_measures, 0);
+}
+
+// The bound itself, against an independent witness: one body of three triangles, self-contact on, thickness 0.02: the
+// top one 0.06 above the origin, the bottom one 0.06 below it, the middle one (which holds the particle whose motion is
+// the body's shift) far aside. A step moves the top one down and the bottom one up by d each (the middle one stays:
+// the worst case of the bound's factor 2), all three by a common random translation, and each particle by a little
+// noise. Whenever points sampled on the two triangles at some instant of the step lie closer than the thickness (an
+// upper bound of their distance: a witness that they come within it), the clearance must not cover the step; it does
+// cover the steps that stay well apart.
+TEST(Clearance, NeverCoversAStepThatBringsTwoElementsWithinTheThickness) {
+  SurfaceMesh mesh;
+  for (int i = 0; i < 9; ++i) mesh.particle.push_back(i);
+  mesh.triangles = {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}};
+  const std::vector<collision::Surface> surfaces{{&mesh, 0, SurfaceContact{0.02, 0.3, true}, 1000.0}};
+  const VecX inverse_mass = VecX::Ones(9);
+  const std::array<Vec3, 3> corner{Vec3(0, 0, 0), Vec3(0.3, 0, 0), Vec3(0, 0, 0.3)};
+  VecX reference(27);
+  for (int t = 0; t < 3; ++t)
+    for (int k = 0; k < 3; ++k)
+      particle(reference, 3 * t + k) = corner[k] + (t == 0   ? Vec3(0, 0.06, 0)
+                                                    : t == 2 ? Vec3(0, -0.06, 0)
+                                                             : Vec3(5, 0, 0));
+  // The least distance between the top and bottom triangles' points sampled at step fraction s.
+  const auto sampled = [](const VecX& x0, const VecX& x1, double s) {
+    const VecX x = (1 - s) * x0 + s * x1;
+    std::vector<Vec3> top, bottom;
+    constexpr int kSteps = 16;
+    for (int i = 0; i <= kSteps; ++i)
+      for (int j = 0; i + j <= kSteps; ++j) {
+        const double u = double(i) / kSteps, v = double(j) / kSteps;
+        top.push_back((1 - u - v) * particle(x, 0) + u * particle(x, 1) + v * particle(x, 2));
+        bottom.push_back((1 - u - v) * particle(x, 6) + u * particle(x, 7) + v * particle(x, 8));
+      }
+    double least = std::numeric_limits<double>::infinity();
+    for (const Vec3& a : top)
+      for (const Vec3& b : bottom) least = std::min(least, (a - b).norm());
+    return least;
+  };
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> closing(0, 0.1), unit(-1, 1);
+  int covered = 0, within = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    collision::Stats stats;
+    collision::SurfaceNodes nodes(surfaces, inverse_mass);
+    collision::NodeMotion motion;
+    collision::Settings settings;
+    collision::CandidateSearch search(nodes, motion, settings, false, stats);
+    collision::Clearance clearance(nodes, search, false, stats);
+    ASSERT_TRUE(clearance.covers(reference, reference));  // measured there: the triangles are 0.12 apart
+    const double d = closing(random);
+    const Vec3 common(unit(random), unit(random), unit(random));
+    VecX x1 = reference;
+    for (int i = 0; i < 9; ++i)
+      particle(x1, i) += common +
+                         (i < 3    ? Vec3(0, -d, 0)
+                          : i >= 6 ? Vec3(0, d, 0)
+                                   : Vec3::Zero()) +
+                         1e-3 * Vec3(unit(random), unit(random), unit(random));
+    bool near = false;
+    for (int k = 0; k <= 8; ++k) near = near || sampled(reference, x1, k / 8.0) < 0.02;
+    const bool covers = clearance.covers(reference, x1);
+    EXPECT_FALSE(near && covers) << "covered a step whose triangles come within the thickness: d = " << d;
+    covered += covers;
+    within += near;
+  }
+  EXPECT_GT(covered, 50);
+  EXPECT_GT(within, 50);
+}
+
+// cloth_sphere's cloth (the course's scene, 25 x 25, corners pinned) draping over the sphere under explicit Euler at
+// 1e-4 s, its own self-contact on: no two of its elements come within the thickness, and nearly every pass is
+// skipped, with the same bytes as a run that detects at every step.
+TEST(Clearance, ADrapingClothWithNothingNearSkipsNearlyEveryPass) {
+  const auto make = [] { return testing::clothOnSphere(25, ClothParams{}.ks, true); };
+  const Outcome skip = run(make, "explicit-euler", 1e-4, 0.3, true, 500),
+                every = run(make, "explicit-euler", 1e-4, 0.3, false, 500);
+  EXPECT_EQ(every.stats.contacts + every.stats.ccd_hits, 0) << "something came near";
+  EXPECT_GT(skip.stats.passes_skipped, skip.stats.passes * 95 / 100)
+      << skip.stats.passes_skipped << " of " << skip.stats.passes << " passes skipped";
+  EXPECT_EQ(skip.most_intersecting, 0);
+  expectSame(skip, every);
+}
+
+// Runs that do come close, each the same bytes as with detection at every step, some passes skipped on the way, and
+// no triangle pair intersecting at any checked step's end: the folded 20 x 20 cloth (folded_cloth.h) falling onto
+// the floor and collapsing onto itself, under RK4 at 5e-4 s and backward Euler at 1/60 s (whose near-pair searches
+// skip too); jelly_stack's two jellies (the upper falls onto the lower: pairs of two bodies, each body's shift); and a
+// jelly thrown onto a pinned cloth with self-contact.
+TEST(Clearance, SkippingKeepsEveryContact) {
+  const auto folded = [] { return testing::foldedCloth(20, true); };
+  const auto stack = [] { return testing::jellyStack(); };
+  const auto trampoline = [] { return testing::jellyOnCloth(); };
+  using Make = std::function<std::unique_ptr<MassSpringSystem>()>;
+  for (const auto& [name, make, integrator, dt, end] :
+       {std::tuple{"folded cloth", Make(folded), "rk4", 5e-4, 0.6},
+        std::tuple{"folded cloth", Make(folded), "backward-euler", 1.0 / 60, 1.0},
+        std::tuple{"jelly stack", Make(stack), "rk4", 1e-3, 1.2},
+        std::tuple{"jelly stack", Make(stack), "backward-euler", 1.0 / 240, 1.2},
+        std::tuple{"jelly on a cloth", Make(trampoline), "rk4", 2.5e-4, 0.6}}) {
+    SCOPED_TRACE(std::string(name) + ", " + integrator);
+    const Outcome skip = run(make, integrator, dt, end, true), every = run(make, integrator, dt, end, false);
+    EXPECT_GT(every.stats.contacts + every.stats.ccd_hits, 0) << "nothing came near";
+    EXPECT_GT(skip.stats.passes_skipped, 0) << "no pass skipped";
+    EXPECT_EQ(skip.most_intersecting, 0);
+    expectSame(skip, every);
+  }
+}
+
+}  // namespace
+}  // namespace wobble
