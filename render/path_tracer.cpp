@@ -11,6 +11,7 @@
 
 #include "render/bsdf.h"
 #include "render/camera.h"
+#include "render/caustic_photons.h"
 #include "render/dielectric.h"
 #include "render/scene.h"
 
@@ -82,8 +83,8 @@ void blurFootprint(TextureFootprint& f, Eigen::Vector2f& centre, const Ray& ray,
 
 }  // namespace
 
-PathContext::PathContext(const Scene& scene_, const PathSettings& settings_)
-    : scene(scene_), settings(settings_), background(scene_.lights) {
+PathContext::PathContext(const Scene& scene_, const PathSettings& settings_, const CausticMaps* caustics_)
+    : scene(scene_), settings(settings_), background(scene_.lights), caustics(caustics_) {
   for (const SunLight& sun : scene.lights.suns) suns.emplace_back(sun);
   settings.sample_sky = settings.sample_sky && !background.empty();
   layout.lights = int(scene.lights.suns.size() + scene.lights.rects.size()) + (settings.sample_sky ? 1 : 0);
@@ -111,7 +112,8 @@ class Path {
         camera_ray_(ray),
         time_(ray.time),
         ray_(ray),
-        previous_sampled_sky_(context.settings.sample_sky) {}
+        previous_sampled_sky_(context.settings.sample_sky),
+        caustics_(context.caustics ? &context.caustics->forSample(sample) : nullptr) {}
 
   PathResult trace();
 
@@ -146,6 +148,7 @@ class Path {
   void sampleSkyAtSurface(int vertex, int light_index, const SurfaceHit& hit, const SurfaceVertex& v,
                           const Eigen::Vector3f& origin, const Eigen::Vector3f& ng);
   void reflect(int vertex, const SurfaceVertex& v, const Eigen::Vector3f& wi, const Color& incoming);
+  void gatherCaustics(int vertex, const SurfaceHit& hit, const SurfaceVertex& v, const Eigen::Vector3f& ng);
 
   // The path's throughput and the light it has gathered.
   void weigh(const Color& w) {
@@ -213,6 +216,11 @@ class Path {
   const Material* medium_ = nullptr;  // the gelatine the current ray travels through
   int bounce_ = 0;                    // continuations from surfaces (max_bounces counts them)
   int interface_events_ = 0, scatter_events_ = 0;
+  // Caustics: whether the last surface vertex read the caustic photon map, and how many smooth interfaces the path
+  // crossed since it with nothing else between: a sun found so is the map's light, not the path's.
+  const CausticMap* caustics_;  // this sample's map, or none
+  bool caustic_receiver_ = false;
+  int chain_interfaces_ = 0;
 };
 
 PathResult Path::trace() {
@@ -284,6 +292,7 @@ Path::Step Path::travelMedium(int vertex, const std::optional<SurfaceHit>& hit) 
   previous_pdf_ = 1.0f / (4.0f * std::numbers::pi_v<float>);
   previous_sampled_lights_ = previous_sampled_sky_ = false;  // lights are outside: a shadow ray from here is
   leaving_ = -1;                                             // always blocked by the body's own surface
+  caustic_receiver_ = false;                                 // not a specular chain: the path's own light
   return Step::Next;
 }
 
@@ -307,7 +316,10 @@ void Path::addEscapedLight(int vertex) {
   if (vertex > 0) {
     if (context_.settings.sample_sky && previous_sampled_sky_)
       light *= powerHeuristic(previous_pdf_, context_.background.pdf(ray_.direction));
+    // Through smooth gelatine alone from a surface that read the caustic map: the map's light.
+    const bool caustic = caustic_receiver_ && chain_interfaces_ > 0;
     for (const SunCone& sun : context_.suns) {
+      if (caustic) break;
       const LightHit h = sunInDirection(sun, ray_.direction);
       if (h.pdf > 0 && (context_.settings.mis || !lights_weighed))
         light += h.radiance * (lights_weighed ? powerHeuristic(previous_pdf_, h.pdf) : 1.0f);
@@ -334,6 +346,8 @@ Path::Step Path::crossInterface(int vertex, const SurfaceHit& hit, const Materia
   }
   const bool continues = ++interface_events_ <= kMaxInterfaceEvents;
   if (!bsdf.smooth()) sampleLightsAtInterface(vertex, hit, bsdf, n, continues);
+  if (bsdf.smooth()) ++chain_interfaces_;
+  else caustic_receiver_ = false;  // a rough interface: not a chain the photons follow
   if (!continues) return Step::Stop;
   // Reflect or refract.
   float u_lobe = sampler_.get1D(sample_, layout_.bsdfLobe(vertex));
@@ -391,6 +405,8 @@ Path::Step Path::scatterAtSurface(int vertex, SurfaceHit& hit, const Material& m
 
   // Light samples: suns and area lights; the sky only where a continuation follows (it is reached by them only).
   const int light_index = sampleLightsAtSurface(vertex, hit, v, origin, ng);
+  const bool receiver = caustics_ && !material.dielectric;
+  if (receiver) gatherCaustics(vertex, hit, v, ng);
   if (!continues) return Step::Stop;
   if (context_.settings.sample_sky) sampleSkyAtSurface(vertex, light_index, hit, v, origin, ng);
 
@@ -411,6 +427,8 @@ Path::Step Path::scatterAtSurface(int vertex, SurfaceHit& hit, const Material& m
   previous_pdf_ = q * s->pdf;
   previous_sampled_lights_ = context_.settings.light_samples;
   previous_sampled_sky_ = context_.settings.sample_sky;
+  caustic_receiver_ = receiver;
+  chain_interfaces_ = 0;
   ray_ = atTime(Ray{origin, s->wi});
   leaving_ = hit.shape;
   ++bounce_;
@@ -498,6 +516,15 @@ void Path::reflect(int vertex, const SurfaceVertex& v, const Eigen::Vector3f& wi
   } else {
     arrive(((f.diffuse * cos_i) * v.base.array() + f.specular * cos_i).matrix().cwiseProduct(incoming), vertex > 0);
   }
+}
+
+// The caustic photons around the vertex (caustic_photons.h), through its BSDF: sum f(wi) power kernel, light at this
+// vertex like its light samples'.
+void Path::gatherCaustics(int vertex, const SurfaceHit& hit, const SurfaceVertex& v, const Eigen::Vector3f& ng) {
+  caustics_->gather(hit.p, ng, [&](const Eigen::Vector3f& wi, const Color& irradiance) {
+    const float cos_i = v.ns.dot(wi);
+    if (cos_i > 0) reflect(vertex, v, wi, irradiance / cos_i);
+  });
 }
 
 }  // namespace

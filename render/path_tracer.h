@@ -1,7 +1,9 @@
 // tracePath: the light arriving along one camera ray, by a short path tracer.
 //
 // At every surface the path meets it samples each sun and area light (one shadow ray each) and, when the path goes
-// on, the sky (if PathSettings::sample_sky); then it continues in a direction drawn from the BSDF. A continuation
+// on, the sky (if PathSettings::sample_sky); with a caustic photon map (PathContext::caustics) it adds the suns'
+// light through gelatine from the map instead of finding it by chance; then it continues in a direction drawn from
+// the BSDF. A continuation
 // that escapes picks up the sky and any sun disc it points into; one that passes an area light picks that up. Light
 // and BSDF samples of the same light are weighted by the power heuristic (Veach 1995), so each light is counted once
 // and noise goes to whichever strategy does better. At the last vertex (no continuation) light samples count fully.
@@ -31,6 +33,8 @@
 namespace wobble::render {
 
 class Camera;
+class CausticMap;
+class CausticMaps;
 class Scene;
 
 struct PathSettings {
@@ -66,13 +70,16 @@ struct CameraSample {
 
 // What a path needs besides its ray, built once per frame (render()).
 struct PathContext {
-  PathContext(const Scene& scene, const PathSettings& settings);
+  PathContext(const Scene& scene, const PathSettings& settings, const CausticMaps* caustics = nullptr);
 
   const Scene& scene;
   PathSettings settings;
   SampleLayout layout;
   Background background;  // the sky or the environment map (lights.h)
   std::vector<SunCone> suns;
+  // The frame's caustic photon maps (caustic_photons.h), or none: at every surface that is not gelatine the path adds
+  // its sample's map's density estimate, and drops the suns its continuations find through smooth gelatine alone.
+  const CausticMaps* caustics = nullptr;
 };
 
 struct PathResult {

@@ -87,16 +87,21 @@ float neighbourhoodError(const std::vector<Color>& light, int w, int h, int x, i
 image::Film render(const Scene& scene, const Camera& camera, const RenderSettings& settings, RenderStats* stats) {
   if (!scene.committed()) throw std::logic_error("render: the scene changed since its last commit(); call commit()");
   if (settings.samples_per_pixel < 1 || settings.max_bounces < 0 || settings.tile_size < 1 ||
-      settings.min_samples < 0 || !(settings.noise_threshold >= 0))
+      settings.min_samples < 0 || !(settings.noise_threshold >= 0) || settings.caustics.photons < 0 ||
+      !(settings.caustics.radius > 0 && std::isfinite(settings.caustics.radius)))
     throw std::invalid_argument(
         "render: need samples_per_pixel >= 1, min_samples >= 0, noise_threshold >= 0, "
-        "max_bounces >= 0, tile_size >= 1");
+        "max_bounces >= 0, tile_size >= 1, caustic photons >= 0 and a caustic radius > 0");
   checkLights(scene.lights);  // lights are a plain member: they may have changed since commit()
   const int spp = settings.samples_per_pixel;
   const bool adaptive = settings.noise_threshold > 0;
   int target = adaptive ? std::min(spp, settings.min_samples > 0 ? settings.min_samples : 4) : spp;
-  const PathContext context(scene, PathSettings{settings.max_bounces, settings.sample_sky, settings.mis,
-                                                settings.light_samples, settings.roulette, settings.clamp_indirect});
+  const bool caustics = settings.caustics.photons > 0;
+  CausticMaps caustic_maps(scene, settings.caustics, settings.frame, settings.motion_blur);
+  const PathContext context(scene,
+                            PathSettings{settings.max_bounces, settings.sample_sky, settings.mis,
+                                         settings.light_samples, settings.roulette, settings.clamp_indirect},
+                            caustics ? &caustic_maps : nullptr);
   const int w = camera.width(), h = camera.height(), ts = settings.tile_size;
   const int tiles_x = (w + ts - 1) / ts, tiles_y = (h + ts - 1) / ts;
   // One sample per pixel (the default): a single pass, no moments to keep (a variance needs two samples: -1) and
@@ -113,6 +118,7 @@ image::Film render(const Scene& scene, const Camera& camera, const RenderSetting
   int passes = 0;
   for (;;) {
     ++passes;
+    if (caustics) caustic_maps.cover(target);  // the maps this pass's samples read (caustic_photons.h)
     tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& range) {
       const DenormalsAreZero fp_mode;
       for (int tile = range.begin(); tile != range.end(); ++tile) {

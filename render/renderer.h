@@ -19,6 +19,8 @@
 //   light_samples      false: suns and area lights by BSDF sampling alone (path_tracer.h); for tests of MIS only
 //   roulette           Russian roulette from the second path continuation on, by throughput (path_tracer.h)
 //   clamp_indirect     the most indirect light one sample may add, 0 = no clamp (PathSettings, path_tracer.h)
+//   caustics           the caustic photon map's photons per sun and kernel radius (caustic_photons.h), shot once
+//                      per frame before the pixels; 0 photons: no map (the path tracer finds caustics by chance)
 //   tile_size          tiles of tile_size^2 pixels are the units of parallel work (tbb::parallel_for)
 //   motion_blur        trace each sample at its own instant of the shutter (Ray::time, drawn from the sampler's kTime
 //                      slot, sampler.h), so shapes with several poses and a moving camera blur (scene.h, camera.h);
@@ -35,6 +37,7 @@
 
 #include "image/film.h"
 #include "render/camera.h"
+#include "render/caustic_photons.h"
 #include "render/sampler.h"
 
 namespace wobble::render {
@@ -52,6 +55,7 @@ struct RenderSettings {
   bool light_samples = true;
   bool roulette = false;
   float clamp_indirect = 0;
+  CausticSettings caustics;  // photons 0: none
   int tile_size = 16;
   bool motion_blur = false;
   std::uint32_t frame = 0;

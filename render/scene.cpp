@@ -119,6 +119,8 @@ MaterialId Scene::addMaterial(Material material) {
 
 const std::string& Scene::shapeName(ShapeId id) const { return shapes_.at(id)->name; }
 
+const Bounds& Scene::bounds(ShapeId id) const { return shapes_.at(id)->bounds; }
+
 Scene::ShapeView Scene::shapeView(ShapeId id) const {
   const Shape& s = *shapes_.at(id);
   const bool sphere = s.kind == Shape::Kind::Sphere;

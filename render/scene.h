@@ -94,6 +94,8 @@ class Scene {
   void uvDerivatives(SurfaceHit& hit) const;
 
   std::size_t shapeCount() const { return shapes_.size(); }
+  // The shape's box around every pose over the shutter, as of the last commit().
+  const Bounds& bounds(ShapeId id) const;
   const std::string& shapeName(ShapeId id) const;
   // What a shape is, for exporters (scene_export.h): a triangle mesh (simulator meshes, quads and boxes) or an
   // analytic sphere, and its material.

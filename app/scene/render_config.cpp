@@ -63,6 +63,8 @@ render::RenderSettings renderSettings(const RenderOptionsConfig& o, int frame) {
   s.sample_sky = o.sky_sampling;
   s.roulette = o.russian_roulette;
   s.clamp_indirect = static_cast<float>(o.clamp_indirect);
+  s.caustics.photons = o.caustics == "photons" ? o.caustic_photons : 0;
+  s.caustics.radius = static_cast<float>(o.caustic_radius);
   s.frame = static_cast<std::uint32_t>(frame);  // the noise seed: the same frame is the same image
   return s;
 }
@@ -153,6 +155,9 @@ void readRenderTables(TableReader& root, SceneFile& scene) {
   o.sky_sampling = r.boolean("sky_sampling", o.environment.named());
   o.russian_roulette = r.boolean("russian_roulette", o.russian_roulette);
   o.clamp_indirect = r.number("clamp_indirect", o.clamp_indirect, Range{0, 1e6});
+  o.caustics = r.string("caustics", o.caustics, {"photons", "off"});
+  o.caustic_photons = r.integer("caustic_photons", o.caustic_photons, Range{1000, 100000000});
+  o.caustic_radius = r.number("caustic_radius", o.caustic_radius, Range{0.001, 10});
   o.bounces = r.integer("bounces", o.bounces, Range{0, 16});
   o.exposure = r.number("exposure", o.exposure, Range{-20, 20});
   o.sun_direction = r.vec3("sun_direction", o.sun_direction);

@@ -59,8 +59,11 @@ struct RenderOptionsConfig {
   bool denoise = true;
   std::string sampler = "sobol";  // "sobol" or "independent" (render/sampler.h)
   bool sky_sampling = false;
-  bool russian_roulette = false;  // from the second bounce on, by throughput (render/path_tracer.h)
-  double clamp_indirect = 10;     // Cycles' default (render/path_tracer.h); 0: off
+  bool russian_roulette = false;     // from the second bounce on, by throughput (render/path_tracer.h)
+  double clamp_indirect = 10;        // Cycles' default (render/path_tracer.h); 0: off
+  std::string caustics = "photons";  // "photons": a caustic photon map (render/caustic_photons.h); "off"
+  int caustic_photons = 100000;      // per sun per map (render/caustic_photons.h)
+  double caustic_radius = 0.1;       // m: the density estimate's kernel
   int bounces = 2;
   double exposure = -0.5;                // stops: the sun and sky on a light surface need a little less than 0
   Vec3 sun_direction{-0.35, 1.0, 0.55};  // towards the sun

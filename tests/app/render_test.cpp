@@ -184,7 +184,9 @@ TEST_F(Render, QualityAndDenoiseFlags) {
   for (const char* flags :
        {"--quality best", "--denoise maybe", "--set render.quality=fast", "--set render.min_samples=8",
         "--set render.noise_threshold=2", "--set render.noise_threshold=\"often\"", "--set render.sampler=halton",
-        "--set render.clamp_indirect=-1", "--set render.clamp_indirect=2e6"}) {
+        "--set render.clamp_indirect=-1", "--set render.clamp_indirect=2e6", "--set render.caustics=\"mnee\"",
+        "--set render.caustic_photons=10", "--set render.caustic_photons=1.5e4", "--set render.caustic_radius=0",
+        "--set render.caustic_radius=20"}) {
     EXPECT_EQ(wobble(run + out().string() + " " + flags), 2) << flags << "\n" << log();
     EXPECT_FALSE(fs::exists(out())) << flags;
   }
