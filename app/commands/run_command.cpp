@@ -206,21 +206,22 @@ RunReport runScene(const RunOptions& options) {
     }
     if (options.on_frame) options.on_frame(frame, sim.x());
     if (estimator) estimator->compare(scene.frameTime(frame), sim.x());
-    if (frame < report.first_frame) continue;  // simulated only: the camera has seen it
-    start = Clock::now();
-    const std::vector<SurfaceFrame>& surfaces = run.surfaces();  // of every body, for the OBJ files and the picture
-    for (std::size_t b = 0; b < writers.size(); ++b) {
-      if (scene.write_obj) writers[b].write(frame, surfaces[b]);
-      if (caches.empty()) continue;
-      if (frame == report.first_frame) writers[b].writeBase(surfaces[b]);
-      caches[b]->append(surfaces[b]);
-    }
-    ++report.frames_written;
-    report.seconds_export += secondsSince(start);
-    if (pictures) {
+    if (frame >= report.first_frame) {  // before the range: simulated only (the camera has seen it)
       start = Clock::now();
-      pictures->frame(run.posed());
-      report.seconds_render += secondsSince(start);
+      const std::vector<SurfaceFrame>& surfaces = run.surfaces();  // every body's, for the OBJ files and the picture
+      for (std::size_t b = 0; b < writers.size(); ++b) {
+        if (scene.write_obj) writers[b].write(frame, surfaces[b]);
+        if (caches.empty()) continue;
+        if (frame == report.first_frame) writers[b].writeBase(surfaces[b]);
+        caches[b]->append(surfaces[b]);
+      }
+      ++report.frames_written;
+      report.seconds_export += secondsSince(start);
+      if (pictures) {
+        start = Clock::now();
+        pictures->frame(run.posed());
+        report.seconds_render += secondsSince(start);
+      }
     }
     if (progress) progress->update(frame);
   }
