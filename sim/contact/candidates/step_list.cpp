@@ -51,60 +51,95 @@ bool StepList::find(Candidates& round) {
   step.ee.swap(round.ee);
   round.step = &step;
   round.drift = 0;
-  const int n = round.count();
-  step.joined.assign(n, SIZE_MAX);
-  step.closest.resize(n);
-  auto& [closing, hitting, near] = scratch_;  // kept: fresh pages each step cost more than the work
-  closing.resize(n), hitting.resize(n), near.resize(n);
+  // Each candidate measured on threads, chunk by chunk, and only those sort would keep kept with their measures (most
+  // are dropped: arrays of every candidate's measures took most of a large cloth's memory at a landing).
+  const int n = round.count(), chunk = particleChunk(n), chunks = (n + chunk - 1) / chunk;
+  auto& parts = find_scratch_;
+  if (int(parts.size()) < chunks) parts.resize(chunks);
   forEachChunk(n, parallel_, [&](int begin, int end) {
-    for (int k = begin; k < end; ++k) measure(round, k);
+    auto& part = parts[begin / chunk];
+    part.clear();
+    for (int k = begin; k < end; ++k)
+      if (const Measure m = measured(round, k); kept(m)) part.push_back({k, m});
   });
+  std::size_t total = 0;
+  for (int c = 0; c < chunks; ++c) total += parts[c].size();
+  auto& [closing, hitting, near] = scratch_;
+  closing.resize(total), hitting.resize(total), near.resize(total);
+  step.closest.resize(total);
+  step.joined.assign(total, SIZE_MAX);
+  step.near.clear();
+  step.closing.clear();
+  step.hitting.clear();
   step.near_min = std::numeric_limits<double>::infinity();
-  sort(round);
+  const int vf_count = int(step.vf.size());
+  int j = 0, kept_vf = 0;
+  for (int c = 0; c < chunks; ++c)
+    for (const auto& [k, m] : parts[c]) {
+      if (k < vf_count) step.vf[kept_vf++] = step.vf[k];
+      else step.ee[j - kept_vf] = step.ee[k - vf_count];
+      step.closest[j] = m.closest, closing[j] = m.closing, hitting[j] = m.hitting, near[j] = m.near;
+      list(j++);
+    }
+  step.ee.resize(j - kept_vf), step.vf.resize(kept_vf);
   step.valid = true;
   return true;
 }
 
-void StepList::measure(const Candidates& round, int k) {
-  auto& [closing, hitting, near] = scratch_;
+StepList::Measure StepList::measured(const Candidates& round, int k) const {
   const PairInfo p = round.info(nodes_, k);
   const auto x = points(motion_.nxs, p.stencil);
-  const Closest c = nearest(p.kind, x);
-  step.closest[k] = c;
+  Measure m;
+  const Closest& c = m.closest = nearest(p.kind, x);
   double gap = -std::numeric_limits<double>::infinity();  // at the end along the start's direction
   if (c.distance > 0) {
     const double end_gap = gapAlong(c.delta / c.distance, step.end, p.stencil.vertex, p.first());
     if (std::isfinite(end_gap)) gap = end_gap;
   }
   const double eta2 = 2 * kEtaFraction * p.thickness;
-  closing[k] = c.distance > 0 ? gap - (1 + 1e-5) * p.thickness : std::numeric_limits<double>::infinity();
-  hitting[k] = c.distance > eta2 ? gap - eta2 : -std::numeric_limits<double>::infinity();
-  near[k] = c.distance < p.thickness;
+  m.closing = c.distance > 0 ? gap - (1 + 1e-5) * p.thickness : std::numeric_limits<double>::infinity();
+  m.hitting = c.distance > eta2 ? gap - eta2 : -std::numeric_limits<double>::infinity();
+  m.near = c.distance < p.thickness;
+  return m;
+}
+
+void StepList::measure(const Candidates& round, int k) {
+  auto& [closing, hitting, near] = scratch_;
+  const Measure m = measured(round, k);
+  step.closest[k] = m.closest, closing[k] = m.closing, hitting[k] = m.hitting, near[k] = m.near;
+}
+
+// Any end the candidates serve lies within the margin of step.end along each axis: within sqrt(3) margin.
+double StepList::most() const { return 2 * std::sqrt(3.0) * step.margin; }
+
+bool StepList::kept(const Measure& m) const { return m.near || !(m.closing > most()) || !(m.hitting > most()); }
+
+void StepList::list(int j) {
+  auto& [closing, hitting, near] = scratch_;
+  if (near[j]) step.near.push_back(j), step.near_min = std::min(step.near_min, step.closest[j].distance);
+  if (!(closing[j] > most())) step.closing.emplace_back(j, closing[j]);
+  if (!(hitting[j] > most())) step.hitting.emplace_back(j, hitting[j]);
 }
 
 void StepList::sort(const Candidates& round) {
-  // Any end the candidates serve lies within the margin of step.end along each axis: within sqrt(3) margin.
-  const double most = 2 * std::sqrt(3.0) * step.margin;
   auto& [closing, hitting, near] = scratch_;
   step.near.clear();
   step.closing.clear();
   step.hitting.clear();
   const int n = round.count(), vf_count = int(step.vf.size());
-  int kept = 0, kept_vf = 0;
+  int count = 0, kept_vf = 0;
   for (int k = 0; k < n; ++k) {
-    if (!near[k] && closing[k] > most && hitting[k] > most) continue;
-    const int j = kept++;
+    if (!kept({Closest{}, closing[k], hitting[k], near[k]})) continue;
+    const int j = count++;
     if (k < vf_count) step.vf[kept_vf++] = step.vf[k];
     else step.ee[j - kept_vf] = step.ee[k - vf_count];
     step.closest[j] = step.closest[k], step.joined[j] = step.joined[k];
     closing[j] = closing[k], hitting[j] = hitting[k], near[j] = near[k];
-    if (near[j]) step.near.push_back(j), step.near_min = std::min(step.near_min, step.closest[j].distance);
-    if (!(closing[j] > most)) step.closing.emplace_back(j, closing[j]);
-    if (!(hitting[j] > most)) step.hitting.emplace_back(j, hitting[j]);
+    list(j);
   }
-  step.ee.resize(kept - kept_vf), step.vf.resize(kept_vf);
-  step.closest.resize(kept), step.joined.resize(kept);
-  closing.resize(kept), hitting.resize(kept), near.resize(kept);
+  step.ee.resize(count - kept_vf), step.vf.resize(kept_vf);
+  step.closest.resize(count), step.joined.resize(count);
+  closing.resize(count), hitting.resize(count), near.resize(count);
 }
 
 bool StepList::update(Candidates& round) {

@@ -47,8 +47,19 @@ class StepList {
 
  private:
   // Candidate k of the step's lists: its nearest points at the start, and the values sort sorts it by, at the
-  // nodes' ends step.end.
+  // nodes' ends step.end (measured: returned; measure: into the step's arrays at k).
+  struct Measure {
+    Closest closest;
+    double closing, hitting;
+    char near;
+  };
+  Measure measured(const Candidates& round, int k) const;
   void measure(const Candidates& round, int k);
+  // Whether a candidate so measured stays in the step's lists (sort), and the slack beyond which none is tested.
+  bool kept(const Measure& m) const;
+  double most() const;
+  // Candidate j of the lists (its measures in place) into the lists each search takes, and near_min.
+  void list(int j);
   // The step's lists (StepCandidates) from its candidates' measures, and near_min lowered by theirs. Only the
   // candidates in a list stay (in order, their measures with them): any other can pass no test at an end the list
   // serves, and is measured again only if update finds it again.
@@ -83,7 +94,8 @@ class StepList {
     std::vector<double> old_closing, old_hitting;
     std::vector<char> old_near;
     std::vector<std::size_t> joined;
-  } update_scratch_;  // update's, kept from step to step
+  } update_scratch_;                                                // update's, kept from step to step
+  std::vector<std::vector<std::pair<int, Measure>>> find_scratch_;  // find's kept candidates, per chunk
 };
 
 }  // namespace wobble::collision
