@@ -51,9 +51,12 @@ class PhotonRandom {
   std::uint32_t state_, count_ = 0;
 };
 
-// Traces one photon of flux `power` leaving `origin` along `d` into the scene; where it lands after at least one
-// smooth interface on a surface that is not gelatine, returns it.
-std::optional<CausticPhoton> tracePhoton(const Scene& scene, Ray ray, Color power, PhotonRandom& random) {
+// Traces one photon of flux `power` along `ray` into the scene; where it lands after at least one smooth interface
+// on a surface that is not gelatine, returns it. sunlit(): whether sunlight reaches the ray's origin, asked only of a
+// photon whose first hit is gelatine (most others are dropped for one ray).
+template <class Sunlit>
+std::optional<CausticPhoton> tracePhoton(const Scene& scene, Ray ray, Color power, PhotonRandom& random,
+                                         const Sunlit& sunlit) {
   const Material* medium = nullptr;
   int leaving = -1;
   for (int events = 0; events <= kMaxInterfaceEvents; ++events) {
@@ -66,9 +69,9 @@ std::optional<CausticPhoton> tracePhoton(const Scene& scene, Ray ray, Color powe
     }
     if (!hit) return std::nullopt;
     const Material& material = scene.material(hit->material);
+    if (events == 0 && (!material.dielectric || !sunlit())) return std::nullopt;
     if (!material.dielectric) {
-      if (events == 0) return std::nullopt;  // direct light: the path tracer's shadow rays
-      return CausticPhoton{hit->p, -ray.direction, power};
+      return CausticPhoton{hit->p, -ray.direction, power};  // (a first hit here is direct light: dropped above)
     }
     // Gelatine: its print layer and a rough interface are not part of a specular chain.
     if (material.print > 0 && random.next() < material.print) return std::nullopt;
@@ -131,10 +134,12 @@ CausticMap CausticMap::shoot(const Scene& scene, const CausticSettings& settings
             target.centre + target.radius * to_sun + radius * (phi.x() * across.s + phi.y() * across.t);
         const float time = motion_blur ? emission.get1D(sample, 2) : 0.0f;
         // Sunlight reaches the disc only where nothing stands between it and the sun.
-        if (scene.occluded(Ray{origin, to_sun, 0, std::numeric_limits<float>::infinity(), time})) continue;
+        const auto sunlit = [&] {
+          return !scene.occluded(Ray{origin, to_sun, 0, std::numeric_limits<float>::infinity(), time});
+        };
         PhotonRandom random(seed, sample);
-        slots[j * n + i] =
-            tracePhoton(scene, Ray{origin, -to_sun, 0, std::numeric_limits<float>::infinity(), time}, power, random);
+        slots[j * n + i] = tracePhoton(scene, Ray{origin, -to_sun, 0, std::numeric_limits<float>::infinity(), time},
+                                       power, random, sunlit);
       }
     });
   }
