@@ -9,6 +9,8 @@
 //            the coat's reflection and the sky seen directly. The denoiser filters the two apart.
 //   variance_diffuse, variance_other   estimated variance of the pixel mean's luminance, for diffuse / albedo and
 //            for colour - diffuse: sample variance / samples; -1 where a pixel has a single sample
+//   blur     mean over the samples of the radius in pixels over which the lens spreads the first hit (its circle of
+//            confusion, camera.h; 0 for a pinhole): the denoiser mixes a blurred pixel with those in its blur
 //   samples  samples taken in the pixel (adaptive sampling varies it)
 // Pixels are stored row-major, row 0 at the top.
 #pragma once
@@ -31,6 +33,7 @@ struct Film {
   std::vector<float> depth;
   std::vector<Color> diffuse;
   std::vector<float> variance_diffuse, variance_other;
+  std::vector<float> blur;
   std::vector<std::uint32_t> samples;
 
   Film() = default;
@@ -44,6 +47,7 @@ struct Film {
     color[i] = albedo[i] = normal[i] = diffuse[i] = Eigen::Vector3f::Zero();
     depth[i] = std::numeric_limits<float>::infinity();
     variance_diffuse[i] = variance_other[i] = -1.0f;
+    blur[i] = 0;
   }
   std::size_t index(int x, int y) const { return std::size_t(y) * width + x; }
 };

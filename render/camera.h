@@ -17,6 +17,8 @@
 // Film coordinates: x to the right in [0, width], y downwards in [0, height]; pixel (i, j) covers
 // [i, i+1] x [j, j+1], so its centre is (i + 0.5, j + 0.5).
 #pragma once
+#include <cmath>
+
 #include <Eigen/Core>
 
 #include "render/ray.h"
@@ -64,6 +66,12 @@ class Camera {
 
   // Distance of p from the eye along the optical axis (the EXR depth channel).
   float depth(const Eigen::Vector3f& p) const { return (p - params_.position).dot(forward_); }
+  // The radius in pixels of the disc a point at this depth (infinite: the sky) is spread over by the lens (its circle
+  // of confusion, aperture |1/focus - 1/depth| on the film at distance 1); 0 for a pinhole.
+  float blurRadius(float depth) const {
+    const float inv = depth > 0 && std::isfinite(depth) ? 1.0f / depth : 0.0f;
+    return params_.aperture * std::abs(1.0f / focus_ - inv) * static_cast<float>(params_.height) / (2 * tan_half_y_);
+  }
 
   const CameraParams& params() const { return params_; }
   int width() const { return params_.width; }

@@ -10,6 +10,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <tuple>
@@ -66,6 +67,7 @@ struct Signal {
 
 struct Guide {
   Plane cls, z, gx, gy, nx, ny, nz;  // cls: 1 surface, 0 sky, -1 padding
+  Plane blur, order;                 // the lens's blur radius (pixels); depth for occlusion, the sky farthest
 };
 
 // fn(begin, end) over [0, n) in blocks of 64 Ki values, on threads: for filling and copying whole planes.
@@ -95,6 +97,7 @@ struct Workspace {
     };
     fill(guide.cls, -1), fill(guide.z, 0), fill(guide.gx, 0), fill(guide.gy, 0);
     fill(guide.nx, 0), fill(guide.ny, 0), fill(guide.nz, 1);
+    fill(guide.blur, 0), fill(guide.order, 0);
     for (Signal* signal : {&diffuse, &other, &next})
       for (Plane* plane : {&signal->r, &signal->g, &signal->b, &signal->var}) fill(*plane, 0);
     fill(inv, 0), fill(lum, 0), fill(filled, 0);
@@ -123,6 +126,7 @@ inline float lum(float r, float g, float b) { return 0.2126f * r + 0.7152f * g +
 // The planes one pass reads, at the first pixel of a row span.
 struct TapInput {
   const float *cls, *z, *gx, *gy, *nx, *ny, *nz;  // guides
+  const float *blur, *order;                      // depth of field (read when kBlur)
   const float *r, *g, *b, *var;                   // the signal
   const float* inv;                               // 1 / (sigma_l sqrt(blurred variance) + eps) at the output pixel
 };
@@ -135,13 +139,20 @@ struct Taps {
   static constexpr int kMax = 24;  // 5 x 5 - 1
   int count = 0;
   std::ptrdiff_t offset[kMax];
-  float dx[kMax], dy[kMax], k[kMax];
+  float dx[kMax], dy[kMax], d2[kMax], k[kMax];  // d2: squared distance in pixels
 };
 
 // One iteration for a span of n output pixels: every tap's weighted value, weight and squared-weight variance,
 // summed in registers and written once (the taps in the inner loop, so each pixel's own guides are loaded once).
 // kTaps is the tap count, a constant so that the inner loop unrolls and the outer one vectorises.
-template <int kTaps>
+// Depth of field (kBlur): a pixel's lens samples see, near an edge, the nearer surface or what lies behind it, in
+// shares that change over the nearer surface's blur (its circle of confusion, in pixels), not from pixel to pixel.
+// So a tap q counts with its kernel weight alone, whatever the surfaces, when it lies within the blur of the nearer
+// of x and q, if that is a pixel or more: a blurred foreground and what is seen past it mix both ways, an in-focus
+// edge stays sharp against a blurred background (its own blur is small). Both must carry their whole colour: blurred
+// pixels (not demodulated, denoise() below) and the sky. Otherwise the usual weights, between surfaces alike blurred
+// or sharp; sky pixels no tap reaches stay as rendered. Without kBlur nothing of this is read.
+template <int kTaps, bool kBlur>
 __attribute__((target_clones("avx512f", "avx2", "default"))) void filterSpan(const TapInput in, const TapSums out,
                                                                              int n, const Taps taps, float centre,
                                                                              float sigma_n, float sigma_z) {
@@ -149,6 +160,7 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void filterSpan(con
   // checks otherwise, and the loop would stay scalar).
   const float* __restrict cls = in.cls, * __restrict z = in.z, * __restrict gx = in.gx, * __restrict gy = in.gy;
   const float* __restrict nx = in.nx, * __restrict ny = in.ny, * __restrict nz = in.nz;
+  const float* __restrict rb = in.blur, * __restrict zo = in.order;
   const float* __restrict ir = in.r, * __restrict ig = in.g, * __restrict ib = in.b, * __restrict iv = in.var;
   const float* __restrict inv = in.inv;
   float* __restrict sr = out.r, * __restrict sg = out.g, * __restrict sb = out.b, * __restrict sv = out.var;
@@ -163,15 +175,27 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void filterSpan(con
       const float normal = nx[x] * nx[q] + ny[x] * ny[q] + nz[x] * nz[q];
       const float geometry =
           std::abs(z[x] - z[q]) / (sigma_z * expected + 0.01f * z[x] + 1e-6f) + sigma_n * std::max(0.0f, 1.0f - normal);
-      const float same = cls[x] == cls[q] ? taps.k[t] : 0.0f;
+      float same = cls[x] == cls[q] ? taps.k[t] : 0.0f;
       const float l = std::abs(lp - lum(ir[q], ig[q], ib[q]));
-      const float w = same * fastExp(-geometry - l * inv[x]);
+      float w;
+      if constexpr (kBlur) {
+        const bool bx = rb[x] >= 1.0f, bq = rb[q] >= 1.0f;
+        const bool whole_x = bx || cls[x] == 0.0f, whole_q = bq || cls[q] == 0.0f;
+        const float near = zo[q] <= zo[x] ? rb[q] : rb[x];  // the blur of the nearer of the two
+        const bool spread = whole_x && whole_q && near >= 1.0f && taps.d2[t] <= near * near;
+        same = bx == bq && cls[x] == 1.0f ? same : 0.0f;
+        w = spread ? taps.k[t] : same * fastExp(-geometry - l * inv[x]);
+      } else {
+        w = same * fastExp(-geometry - l * inv[x]);
+      }
       r += w * ir[q], g += w * ig[q], b += w * ib[q];
       wsum += w, var += w * w * iv[q];
     }
-    // Only surfaces are filtered: the sky seen directly is exact up to anti-aliasing, and stays as rendered.
+    // Only surfaces are filtered: the sky seen directly is exact up to anti-aliasing, and stays as rendered (unless
+    // the lens blurs it).
     const float iw = 1.0f / wsum;
-    const bool surface = cls[x] == 1.0f;
+    bool surface = cls[x] == 1.0f;
+    if constexpr (kBlur) surface = surface || wsum > centre;  // the sky where a blurred tap reaches it
     sr[x] = surface ? r * iw : ir[x], sg[x] = surface ? g * iw : ig[x], sb[x] = surface ? b * iw : ib[x];
     sv[x] = surface ? var * iw * iw : iv[x];
   }
@@ -249,7 +273,7 @@ std::vector<Color> denoise(const image::Film& film, const DenoiseSettings& setti
   const std::size_t n = std::size_t(w) * h;
   if (w <= 0 || h <= 0 || film.color.size() != n || film.albedo.size() != n || film.normal.size() != n ||
       film.depth.size() != n || film.diffuse.size() != n || film.variance_diffuse.size() != n ||
-      film.variance_other.size() != n)
+      film.variance_other.size() != n || (!film.blur.empty() && film.blur.size() != n))
     throw std::invalid_argument("denoise: empty or inconsistent film");
   if (settings.iterations < 0 || settings.iterations > 10 || settings.radius < 1 || settings.radius > 2 ||
       !(settings.sigma_luminance > 0) || !(settings.sigma_normal >= 0) || !(settings.sigma_depth > 0))
@@ -271,17 +295,27 @@ std::vector<Color> denoise(const image::Film& film, const DenoiseSettings& setti
   // Only surfaces need filtering (the sky seen directly is exact up to anti-aliasing), and of `other` only where
   // it is not zero: the coat's reflections (usually a small part of the frame).
   std::vector<Window> row_surfaces(h), row_coated(h);  // per row, merged below (rows are filled in parallel)
+  // Depth of field: pixels the lens blurs by a pixel or more are filtered whole (colour in `other`, no demodulation:
+  // their texture is blurred anyway, and a blurred pixel whose sample saw the sky has no albedo to divide by).
+  const bool lens =
+      !film.blur.empty() && std::any_of(film.blur.begin(), film.blur.end(), [](float r) { return r >= 1.0f; });
+  std::vector<char> row_blurred(h, 0);
   forRows(0, h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       const std::size_t i = film.index(x, y), p = at(x, y);
       const bool sky = !std::isfinite(film.depth[i]);
+      const float blur = lens ? film.blur[i] : 0.0f;
       guide.cls.v[p] = sky ? 0.0f : 1.0f;
-      const Color d = film.diffuse[i].cwiseQuotient(film.albedo[i].cwiseMax(kAlbedoFloor));
-      const Color o = film.color[i] - film.diffuse[i];
+      guide.blur.v[p] = blur, guide.order.v[p] = sky ? std::numeric_limits<float>::max() : film.depth[i];
+      const bool blurred = blur >= 1.0f;
+      if (blurred) row_blurred[y] = 1;
+      const Color d =
+          blurred ? Color::Zero() : Color(film.diffuse[i].cwiseQuotient(film.albedo[i].cwiseMax(kAlbedoFloor)));
+      const Color o = blurred ? film.color[i] : Color(film.color[i] - film.diffuse[i]);
       guide.z.v[p] = sky ? 0.0f : film.depth[i];
       guide.nx.v[p] = sky ? 0.0f : film.normal[i].x(), guide.ny.v[p] = sky ? 0.0f : film.normal[i].y();
       guide.nz.v[p] = sky ? 1.0f : film.normal[i].z();
-      if (!sky) {
+      if (!sky || lens) {
         row_surfaces[y].add(x, y);
         if (!o.isZero()) row_coated[y].add(x, y);
       }
@@ -319,6 +353,7 @@ std::vector<Color> denoise(const image::Film& film, const DenoiseSettings& setti
   const float b1[3] = {1.0f / 4, 1.0f / 2, 1.0f / 4};
   const float* kernel = settings.radius == 2 ? b3 : b1;
   const int r = settings.radius;
+  const int reach = pad;  // the farthest tap of any iteration
   Plane& inv = ws.inv;
   // One a-trous iteration of one signal over its window, from `in` into `out` (pixels outside the window keep their
   // values: both buffers start equal and only the window is written). With `spans`, each row only over its own span
@@ -332,7 +367,8 @@ std::vector<Color> denoise(const image::Film& film, const DenoiseSettings& setti
         if (kx == 0 && ky == 0) continue;
         const int dx = kx * step, dy = ky * step;
         taps.offset[taps.count] = std::ptrdiff_t(dy) * stride + dx;
-        taps.dx[taps.count] = float(dx), taps.dy[taps.count] = float(dy);
+        taps.dx[taps.count] = float(dx), taps.dy[taps.count] = float(dy),
+        taps.d2[taps.count] = float(dx * dx + dy * dy);
         taps.k[taps.count++] = kernel[kx + r] * kernel[ky + r];
       }
     forRows(window.y0, window.y1, [&](int y) {
@@ -341,15 +377,21 @@ std::vector<Color> denoise(const image::Film& film, const DenoiseSettings& setti
       inverseDeviation(in.var, inv, settings.sigma_luminance, stride, row.x0 + pad, row.x1 + pad, y + pad);
       const std::size_t first = at(row.x0, y);
       const int span = row.x1 - row.x0;
-      const TapInput tap_in{guide.cls.v.data() + first, guide.z.v.data() + first,  guide.gx.v.data() + first,
-                            guide.gy.v.data() + first,  guide.nx.v.data() + first, guide.ny.v.data() + first,
-                            guide.nz.v.data() + first,  in.r.v.data() + first,     in.g.v.data() + first,
-                            in.b.v.data() + first,      in.var.v.data() + first,   inv.v.data() + first};
+      const TapInput tap_in{guide.cls.v.data() + first, guide.z.v.data() + first,    guide.gx.v.data() + first,
+                            guide.gy.v.data() + first,  guide.nx.v.data() + first,   guide.ny.v.data() + first,
+                            guide.nz.v.data() + first,  guide.blur.v.data() + first, guide.order.v.data() + first,
+                            in.r.v.data() + first,      in.g.v.data() + first,       in.b.v.data() + first,
+                            in.var.v.data() + first,    inv.v.data() + first};
       const TapSums sums{out.r.v.data() + first, out.g.v.data() + first, out.b.v.data() + first,
                          out.var.v.data() + first};
       const float centre = kernel[r] * kernel[r];
-      if (r == 1) filterSpan<8>(tap_in, sums, span, taps, centre, settings.sigma_normal, settings.sigma_depth);
-      else filterSpan<24>(tap_in, sums, span, taps, centre, settings.sigma_normal, settings.sigma_depth);
+      const float sn = settings.sigma_normal, sz = settings.sigma_depth;
+      // Rows with no blurred pixel within the filter's reach take the plain kernel.
+      bool blur_near = false;
+      for (int dy = -reach; dy <= reach && lens && !blur_near; ++dy)
+        blur_near = y + dy >= 0 && y + dy < h && row_blurred[y + dy];
+      if (r == 1) (blur_near ? filterSpan<8, true> : filterSpan<8, false>)(tap_in, sums, span, taps, centre, sn, sz);
+      else (blur_near ? filterSpan<24, true> : filterSpan<24, false>)(tap_in, sums, span, taps, centre, sn, sz);
     });
   };
   using Job = std::tuple<Signal*, Window, const std::vector<Window>*>;

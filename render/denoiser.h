@@ -11,6 +11,11 @@
 //              pixels (no depth) mix only with sky pixels
 //   luminance  exp(-|l_p - l_q| / (sigma_luminance sqrt(3x3 Gaussian of the variance at p) + 1e-4)), the variance
 //              filtered along (by the squared weights) from one iteration to the next
+// Where the camera ray met gelatine first the renderer hands the gelatine's surface as the normal and depth guides
+// (path_tracer.h, tracePathSplit). Depth of field: the film's blur layer (each sample's circle of confusion, pixels);
+// pixels blurred by a pixel or more are filtered whole (not demodulated) and mixed with every neighbour within the
+// blur of the nearer of the two, the sky included, so an out-of-focus edge is averaged rather than kept as the dither
+// one lens sample a pixel leaves (filterSpan in denoiser.cpp).
 // Parameters (DenoiseSettings): iterations, radius (1: 3 x 3 kernel, 2: 5 x 5; the filter reaches
 // radius (2^iterations - 1) pixels), sigma_luminance, sigma_normal, sigma_depth. Deterministic: every output pixel is
 // a fixed sum over its neighbours.

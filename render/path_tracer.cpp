@@ -337,6 +337,8 @@ Path::Step Path::crossInterface(int vertex, const SurfaceHit& hit, const Materia
   const bool entering = outward.dot(wo) > 0;
   const DielectricBsdf bsdf(material.ior, material.roughness, n, wo);
   // The guides: this interface, unless a non-specular vertex follows.
+  if (vertex == 0)
+    result_.front_normal = entering ? outward : Eigen::Vector3f(-outward), result_.front_position = hit.p;
   if (!split_) {
     result_.hit = true;
     result_.albedo = t_other_;
@@ -548,22 +550,27 @@ PathResult tracePathSplit(const PathContext& context, const Ray& ray, CameraSamp
   const Part others[] = {{Branch::Reflect, (1 - c) * f}, {Branch::Print, c}};
   const float interface_weight = (1 - c) * (1 - f);
   PathResult sum;
-  float guide_weight = -1;
+  sum.gelatine_first = true, sum.print = c, sum.reflectance = f;
   const auto add = [&](const PathResult& r, float w) {
     sum.radiance += w * r.radiance;
     sum.diffuse += w * r.diffuse;
     sum.diffuse_demodulated += w * r.diffuse_demodulated;
     sum.albedo += w * r.albedo;
-    sum.normal += w * r.normal;
-    if (r.hit && w > guide_weight) guide_weight = w, sum.position = r.position, sum.hit = true;
     sum.rays += r.rays;
   };
   add(first, interface_weight);
+  sum.through = interface_weight * first.radiance;
   for (const Part& part : others)
     if (part.weight > 0) {
       camera.branch = part.branch;
       add(tracePath(context, ray, camera, sampler, sample), part.weight);
     }
+  // The geometric guides are the gelatine's surface: what lies behind it (the far side's print or the floor through
+  // it, each branch's first non-specular vertex) changes from sample to sample, and guides that jump between them
+  // keep the denoiser from mixing neighbouring pixels at all.
+  sum.hit = true;
+  sum.normal = first.front_normal, sum.position = first.front_position;
+  sum.front_normal = first.front_normal, sum.front_position = first.front_position;
   return sum;
 }
 

@@ -95,6 +95,12 @@ struct PathResult {
   // The camera ray met gelatine first: its print coverage and (smooth interface) Fresnel reflectance there.
   bool gelatine_first = false;
   float print = 0, reflectance = 0;
+  // The gelatine surface met first: its normal (turned towards the camera) and point; tracePathSplit makes them the
+  // guides.
+  Eigen::Vector3f front_normal = Eigen::Vector3f::Zero(), front_position = Eigen::Vector3f::Zero();
+  // tracePathSplit: the light seen through that surface (the refraction branch's share of radiance), whose own error
+  // adaptive sampling weighs (renderer.h).
+  Color through = Color::Zero();
 };
 
 PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& camera, const PixelSampler& sampler,
@@ -104,7 +110,9 @@ PathResult tracePath(const PathContext& context, Ray ray, const CameraSample& ca
 // probability: the print (coverage c), the reflection (1 - c) F and the refraction (1 - c)(1 - F) of a smooth surface
 // (a rough one: the interface, (1 - c), its lobe drawn). The expectation is tracePath's, without the noise of that
 // first choice, which at one sample per pixel would speckle the jelly beyond what the denoiser can smooth (its guides
-// would jump between the print, the mirror image and what is seen through). Elsewhere it is tracePath.
+// would jump between the print, the mirror image and what is seen through). The guides' normal and position are then
+// the gelatine's surface (front_normal, front_position), its albedo the branches' albedos weighted alike. Elsewhere it
+// is tracePath.
 PathResult tracePathSplit(const PathContext& context, const Ray& ray, CameraSample camera, const PixelSampler& sampler,
                           std::uint32_t sample);
 

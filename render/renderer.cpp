@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -39,7 +40,10 @@ class DenormalsAreZero {
 struct PixelState {
   Color half = Color::Zero();  // colour sum over the first half of the samples taken by the end of the pass
   float diffuse_sum = 0, diffuse_sq = 0, other_sum = 0, other_sq = 0;  // luminance moments, for the variances
+  // The light seen through gelatine met first (PathResult::through): its sums over all samples and the first half.
+  Color through_sum = Color::Zero(), through_half = Color::Zero();
   bool active = true;
+  bool gelatine = false;  // a camera ray met gelatine first
 };
 
 // Variance of the mean of n samples with sum s and sum of squares q; -1 when n < 2.
@@ -103,6 +107,7 @@ image::Film render(const Scene& scene, const Camera& camera, const RenderSetting
                                          settings.light_samples, settings.roulette, settings.clamp_indirect},
                             caustics ? &caustic_maps : nullptr);
   const int w = camera.width(), h = camera.height(), ts = settings.tile_size;
+  const bool lens = camera.hasLens();
   const int tiles_x = (w + ts - 1) / ts, tiles_y = (h + ts - 1) / ts;
   // One sample per pixel (the default): a single pass, no moments to keep (a variance needs two samples: -1) and
   // nothing to normalise. The film is then set pixel by pixel as it is rendered, with no per-pixel state and no
@@ -132,7 +137,7 @@ image::Film render(const Scene& scene, const Camera& camera, const RenderSetting
             if (single) film.clearPixel(i);  // an unfilled film: set as Film(w, h) starts
             const PixelSampler sampler(sampler_kind, i, settings.frame);
             for (auto s = film.samples[i]; s < std::uint32_t(target); ++s) {
-              if (p && s == std::uint32_t(target / 2)) p->half = film.color[i];
+              if (p && s == std::uint32_t(target / 2)) p->half = film.color[i], p->through_half = p->through_sum;
               const Eigen::Vector2f jitter = sampler.get2D(s, SampleLayout::kPixel);
               const float fx = static_cast<float>(x) + jitter.x(), fy = static_cast<float>(y) + jitter.y();
               Ray ray =
@@ -142,6 +147,7 @@ image::Film render(const Scene& scene, const Camera& camera, const RenderSetting
               cs.camera = &camera;
               cs.offset = jitter.array() - 0.5f;
               const PathResult r = tracePathSplit(context, ray, cs, sampler, s);
+              if (p && r.gelatine_first) p->gelatine = true, p->through_sum += r.through;
               if (r.radiance.allFinite()) {  // one bad sample must not blacken the pixel
                 film.color[i] += r.radiance;
                 film.diffuse[i] += r.diffuse;
@@ -152,7 +158,9 @@ image::Film render(const Scene& scene, const Camera& camera, const RenderSetting
               }
               film.albedo[i] += r.albedo;
               film.normal[i] += r.normal;
-              if (r.hit) film.depth[i] = std::min(film.depth[i], camera.depth(r.position));
+              const float depth = r.hit ? camera.depth(r.position) : std::numeric_limits<float>::infinity();
+              film.depth[i] = std::min(film.depth[i], depth);
+              if (lens) film.blur[i] += camera.blurRadius(depth);
               rays += r.rays;
             }
             film.samples[i] = std::uint32_t(target);
@@ -186,6 +194,13 @@ image::Film render(const Scene& scene, const Camera& camera, const RenderSetting
         const float error =
             n < 2 ? neighbourhoodError(light, w, h, x, y) : adaptiveError(film.color[i], state[i].half, n);
         unconverged[i] = error >= settings.noise_threshold;
+        // Seen through gelatine: one sample says nothing of the spread of the light behind it (the neighbours'
+        // spread is the refracted print's and floor's detail), so such a pixel takes a second; from two on, that
+        // light's own error counts too, against its own brightness (the clear interface's reflection and the print
+        // would otherwise hide it).
+        if (state[i].gelatine)
+          unconverged[i] = n < 2 || std::max(error, adaptiveError(state[i].through_sum, state[i].through_half, n)) >=
+                                        settings.noise_threshold;
       }
     });
     std::vector<char> row_active(h, 0);
@@ -213,6 +228,7 @@ image::Film render(const Scene& scene, const Camera& camera, const RenderSetting
         film.diffuse[i] *= inv;
         film.albedo[i] *= inv;
         film.normal[i] *= inv;
+        film.blur[i] *= inv;
         film.variance_diffuse[i] = varianceOfMean(state[i].diffuse_sum, state[i].diffuse_sq, n);
         film.variance_other[i] = varianceOfMean(state[i].other_sum, state[i].other_sq, n);
       }

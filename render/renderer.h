@@ -11,7 +11,10 @@
 //                      with a single sample (min_samples 1) estimates that from its 3 x 3 neighbourhood's spread of
 //                      received light (colour with the diffuse part divided by the albedo, so texture is not noise),
 //                      so easy pixels can stop at one sample. A pixel next to one that goes on goes on too (a 3 x 3
-//                      dilation, as Cycles), so isolated pixels that stopped by luck do not show.
+//                      dilation, as Cycles), so isolated pixels that stopped by luck do not show. A pixel whose
+//                      camera ray meets gelatine first takes a second sample in any case (the neighbourhood's spread
+//                      there is the refracted detail), and from two on the error of the light seen through it
+//                      (PathResult::through) counts too, against that light's own brightness.
 //   max_bounces        path continuations after the first hit (path_tracer.h); 2 by default
 //   sampler            SamplerKind::Sobol (default) or Independent (sampler.h)
 //   sample_sky         next-event estimation of the sky with MIS (path_tracer.h)

@@ -34,7 +34,9 @@ std::array<int, 2> readResolution(TableReader& r, std::array<int, 2> fallback) {
 // sampling (noise threshold 0.1: at 16 spp, the error of 16 everywhere for a third of the samples).
 constexpr QualityPreset kPresets[] = {
     {"preview", 1, 1, 0.1, true, 0.5, "half resolution, 1 sample per pixel, denoised: to check a run's motion"},
-    {"final", 1, 1, 0.1, true, 1.0, "full resolution, 1 sample per pixel, denoised (adaptive up to --spp)"},
+    {"final", 1, 1, 0.1, true, 1.0,
+     "full resolution, denoised, the scene's render.samples (1 if unset): a video's quality, not a converged still; "
+     "for a still that converges give --spp N (N samples at most, its noise threshold following N)"},
 };
 
 }  // namespace
