@@ -6,7 +6,7 @@
 //
 // MASK.png is the same frame with the region's body drawn in pure green (a diffuse material with a green texture):
 //   body    the pixels where that body shows: green clearly dominates (G >= 24 and R, B at most G / 3)
-//   shadow  the pixels where it does not and the reference's luminance is below L (default 0.2 of full scale): the
+//   shadow  the pixels where it does not and the reference's luminance is below L (default 0.35 of full scale): the
 //           shade the body casts on what lies under it (the sky and sunlit surfaces are brighter)
 // RMSE over R, G and B of the 8-bit codes / 255, as docs/rendering.md measures frames. Prints key=value lines:
 // pixels_in, rmse_in, rmse_out, share_over_0.05 (the region's pixels with a channel off by more than 0.05).
@@ -33,7 +33,7 @@ int fail(const std::string& message) {
 int main(int argc, char** argv) {
   if (argc < 4) return fail("usage: region_error IMAGE.png REFERENCE.png MASK.png [--region body|shadow] [--dark L]");
   std::string region = "body";
-  double dark = 0.2;
+  double dark = 0.35;
   for (int i = 4; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--region" && i + 1 < argc &&

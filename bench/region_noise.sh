@@ -14,7 +14,7 @@
 #   3. wobble converged; Cycles at each of CYCLES' sample counts (no adaptive stop, no denoiser, seed 1, THREADS).
 #   4. wobble with the given flags (none: the scene's own settings), timed.
 #   5. bench/region_error of each picture against its renderer's converged one (the jelly: --region body; the cloth:
-#      --region shadow, the pixels darker than 0.2 that are not the cloth).
+#      --region shadow, the pixels darker than 0.35 that are not the cloth).
 # Prints one Markdown row per picture: scene, frame, renderer/setting, time, RMSE in the region, RMSE outside it.
 # Time: wobble's own "rendered ... (T s)" (render and denoise of one frame, with its start-up) and Blender's wall time
 # of the one-frame render (scene load included); quote ratios from one run.
