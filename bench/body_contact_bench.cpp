@@ -73,6 +73,8 @@ void solverCounters(benchmark::State& state, const IntegratorStats& before, cons
   state.counters["solves/step"] =
       1 + double(after.body_contact_solves - before.body_contact_solves + after.impact_solves - before.impact_solves) /
               taken;
+  // Steps whose linearized solve made up energy and were solved exactly (docs/energy.md)
+  state.counters["exact/step"] = double(after.exact_steps - before.exact_steps) / taken;
 }
 
 void run(benchmark::State& state, const char* integrator, double dt, bool stacked = false) {
@@ -89,6 +91,7 @@ void run(benchmark::State& state, const char* integrator, double dt, bool stacke
   }
   const double taken = double(sim.steps() - steps);
   if (sim.integrator().stats().cg_iterations > 0) solverCounters(state, solver, sim.integrator().stats(), taken);
+  state.counters["retakes"] = double(sim.energyRetakes());  // steps taken again in halves for energy, warm-up included
   if (const collision::Stats* s = sim.bodyContact()) {
     state.counters["contacts/step"] = double(s->contacts - before.contacts) / taken;
     state.counters["ccd_hits/step"] = double(s->ccd_hits - before.ccd_hits) / taken;

@@ -3,6 +3,7 @@
 #pragma once
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -178,6 +179,16 @@ class ForceJacobian {
                               const VecX& v1) const {
     (void)t, (void)h, (void)x0, (void)v0, (void)x1, (void)v1;
     return 0;
+  }
+  // The smooth forces' share of backward Euler's incremental potential at a candidate end (x1, v1) of a step of size h
+  // (Gast et al. 2015, "Optimization integrator for large time steps") that is a function of x1 alone: the elastic and
+  // gravitational energy at x1, whose gradient is minus the smooth force at (x1, 0). The dampers' and drag's share,
+  // linear in v1 with the springs' directions held, the integrator takes from smoothForce at v1 and at 0 (h and v1
+  // are for a system that has more to add). Backward Euler's Newton iteration backtracks on the whole
+  // (backward_euler.h). NaN, the default: not offered (the line search then backtracks on the residual).
+  virtual double stepPotential(double h, const VecX& x1, const VecX& v1) const {
+    (void)h, (void)x1, (void)v1;
+    return std::numeric_limits<double>::quiet_NaN();
   }
 
  protected:

@@ -52,12 +52,27 @@ class WithBodyContact final : public Dynamics, public ForceJacobian {
                       const VecX& v1) const override {
     return jacobian_.energyMadeUp(t, h, x0, v0, x1, v1);
   }
+  double stepPotential(double h, const VecX& x1, const VecX& v1) const override {
+    return jacobian_.stepPotential(h, x1, v1);
+  }
 
  private:
   const Dynamics& dynamics_;
   const ForceJacobian& jacobian_;
   collision::BodyCollisions& pass_;
 };
+
+// Whether a free particle of x lies inside a collider at t, deeper than its contact band: a body placed there is pushed
+// out by the collider's constraints within the step, energy the collider gives (not the step's to keep).
+bool insideCollider(const MassSpringSystem& system, double t, const VecX& x) {
+  std::vector<int> inside;
+  for (const auto& collider : system.colliders()) {
+    collider->near(t, x, -collider->contact().epsilon, inside);
+    for (const int i : inside)
+      if (system.inverseMass()[i] > 0) return true;
+  }
+  return false;
+}
 
 }  // namespace
 
@@ -90,6 +105,14 @@ Simulation::Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> int
     max_speed_squared_ = std::max(max_speed_squared_, particle(v_, i).squaredNorm());
   energy_start_ = system.energy(x_, v_);
   lift_margin_ = system.liftEnergy();
+  // An implicit integrator's steps are checked one by one (its steps are few and each costs several force
+  // evaluations, against which the energy at its ends is cheap), where it keeps the bodies apart itself: with [contact]
+  // in_solve = false the pass after the step is known to add energy (docs/energy.md), which no retake mends. An
+  // integrator from outside the table has no traits.
+  const auto names = integratorNames();
+  energy_retakes_ = std::find(names.begin(), names.end(), integrator_->name()) != names.end() &&
+                    integratorTraits(integrator_->name()).implicit &&
+                    (!collisions_ || integrator_->solvesBodyContact());
 }
 
 Simulation::~Simulation() = default;
@@ -109,7 +132,7 @@ std::optional<BlowUp> Simulation::advanceTo(double t_end) {
     const bool last = k == count;
     ++steps_;
     if (auto blow_up = step(t_, last ? t_end - t_ : dt_, last ? t_end : start + double(k) * dt_,
-                            collisions_ ? system_.contactSettings().split_steps : 0))
+                            collisions_ || energy_retakes_ ? system_.contactSettings().split_steps : 0))
       return blow_up;
   }
   checkEnergy();
@@ -118,25 +141,20 @@ std::optional<BlowUp> Simulation::advanceTo(double t_end) {
 
 std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int splits) {
   const bool colliders = !system_.colliders().empty();
-  if (collisions_ || colliders) x_before_ = x_, v_before_ = v_;
+  if (collisions_ || colliders || energy_retakes_) x_before_ = x_, v_before_ = v_;
+  // Where a step's energy may have been made up (energy_retakes_): the integrator solves every step exactly, or found
+  // its linearized step made some up and solved it again, or the pass between bodies stopped a collision after it
+  // (its impulses move the surface alone, and at a large step that compresses the springs behind it: docs/energy.md).
+  const IntegratorStats& stats = integrator_->stats();
+  const long exact_before = stats.exact_steps + stats.line_search_stops;
+  const long pass_before = collisions_ ? collisions_->stats().ccd_hits + collisions_->stats().zone_activations : 0;
   integrator_->step(stepped(), t0, h, x_, v_);
   system_.resolveCollisions(t1, x_, v_);
   if (collisions_)
     if (auto failure = collisions_->resolve(x_before_, x_, v_, h, !integrator_->solvesBodyContact())) {
       if (splits > 0) {
-        // The same step again as two halves, from its start state (kept above). What the integrator and the pass
-        // carry from step to step (backward Euler's pressed pairs, the pass's kept candidates) comes from the failed
-        // attempt as from any step before: guesses that each checks again. Static friction's stick time follows the
-        // halves' size, and is set back after them.
         ++split_steps_;
-        x_ = x_before_, v_ = v_before_;
-        const double size = system_.stepSize();
-        system_.setStepSize(h / 2);
-        const double mid = t0 + h / 2;
-        auto blow_up = step(t0, h / 2, mid, splits - 1);
-        if (!blow_up) blow_up = step(mid, t1 - mid, t1, splits - 1);
-        system_.setStepSize(size);
-        return blow_up;
+        return retakeInHalves(t0, h, t1, splits);
       }
       t_ = t1;
       std::ostringstream reason;
@@ -153,14 +171,52 @@ std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int split
                     failure->fix.empty() ? contactFix() : failure->fix};
     }
   t_ = t1;
+  const double work = colliders ? system_.colliderWork(t0, h, x_before_, v_before_, x_, v_) : 0;
+  // A step that made up energy (its end above its start plus the colliders' work by more than the step's margin:
+  // integrator, colliders and pass together) is taken again in halves, each checked the same way; the smallest part
+  // that still makes it up is left to the run's check (docs/energy.md, "A step that gains is taken again"). Not one
+  // that starts with a body inside a collider: the collider pushes it out within the step, energy it gives whatever
+  // the step's size (a smaller step only pushes it faster).
+  const bool suspect =
+      energy_retakes_ &&
+      (!integrator_->linearizesItsStep() || stats.exact_steps + stats.line_search_stops != exact_before ||
+       (collisions_ && collisions_->stats().ccd_hits + collisions_->stats().zone_activations != pass_before));
+  if (suspect) {
+    const double start_energy = system_.energy(x_before_, v_before_);
+    if (system_.energy(x_, v_) - start_energy - work >
+            kStepEnergyMargin * std::max(std::abs(start_energy), lift_margin_) &&
+        !insideCollider(system_, t0, x_before_)) {
+      if (splits > 0) {
+        ++energy_retakes_count_;
+        return retakeInHalves(t0, h, t1, splits);
+      }
+      energy_retakes_exhausted_ = true;
+    }
+  }
   if (auto blow_up = check()) return blow_up;
-  if (colliders) {
-    const double work = system_.colliderWork(t0, h, x_before_, v_before_, x_, v_);
-    collider_work_ += work;
-    collider_work_unsigned_ += std::abs(work);
+  collider_work_ += work;
+  collider_work_unsigned_ += std::abs(work);
+  if (energy_retakes_exhausted_) {  // the run's check at once, where it failed
+    checkEnergy();
+    energy_retakes_exhausted_ = false;
   }
   if (step_observer_) step_observer_(t_, x_);
   return std::nullopt;
+}
+
+// The same step again as two halves, from its start state (kept by step). What the integrator and the pass carry from
+// step to step (backward Euler's pressed pairs, the pass's kept candidates) comes from the failed attempt as from any
+// step before: guesses that each checks again. Static friction's stick time follows the halves' size, and is set back
+// after them.
+std::optional<BlowUp> Simulation::retakeInHalves(double t0, double h, double t1, int splits) {
+  x_ = x_before_, v_ = v_before_;
+  const double size = system_.stepSize();
+  system_.setStepSize(h / 2);
+  const double mid = t0 + h / 2;
+  auto blow_up = step(t0, h / 2, mid, splits - 1);
+  if (!blow_up) blow_up = step(mid, t1 - mid, t1, splits - 1);
+  system_.setStepSize(size);
+  return blow_up;
 }
 
 void Simulation::checkEnergy() {
@@ -180,7 +236,8 @@ void Simulation::checkEnergy() {
                               integrator_->linearizesItsStep(),
                               std::any_of(system_.colliders().begin(), system_.colliders().end(),
                                           [](const auto& c) { return c->contact().restitution > 0; }),
-                              collider_work_unsigned_ > 0};
+                              collider_work_unsigned_ > 0,
+                              energy_retakes_ ? system_.contactSettings().split_steps : -1};
 }
 
 std::string EnergyGain::message(double dt) const {
@@ -201,6 +258,14 @@ std::string EnergyGain::message(double dt) const {
   if (linearized) out << ", the exact step instead of its linearization ([simulation] newton = true)";
   if (bouncing) out << ", or a lower restitution";
   out << ".";
+  if (halvings > 0)
+    out << " Every step that gained had been solved exactly (Newton's iteration with a line search on its incremental "
+           "potential) and taken again in halves, down to a 1/"
+        << (1L << halvings) << " part of the step ([contact] split_steps = " << halvings
+        << "), and the smallest part still gained.";
+  else if (halvings == 0)
+    out << " Every step that gained had been solved exactly (Newton's iteration with a line search on its incremental "
+           "potential) but not taken again in halves: [contact] split_steps = 0.";
   // A moving collider's count misses one case (docs/energy.md, "Limits"), which no step size or integrator mends.
   if (moving_colliders)
     out << " Moving colliders did work here: a platform that stops dead while it presses a body gives it energy that "

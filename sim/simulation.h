@@ -2,7 +2,12 @@
 // to land on it exactly (never an extra sliver step for round-off: a 3 s run at dt 1e-4 is 30000 steps); contact
 // resolution at every step end; blow-up detection after every step. A step the pass between bodies cannot make free
 // of collisions (impact zones over their cap, a broad phase over its budget) is taken again from its start as two
-// halves, up to [contact] split_steps halvings deep (docs/body-contact.md), before the run stops.
+// halves, up to [contact] split_steps halvings deep (docs/body-contact.md), before the run stops. So is a step of an
+// implicit integrator (backward Euler, which has already solved such a step exactly by Newton's iteration on its
+// incremental potential: Gast et al. 2015, "Optimization integrator for large time steps"; Li et al. 2020,
+// "Incremental Potential Contact") whose end, pass between bodies included, still has more energy than its start plus
+// the colliders' work and push-out: the error of an inexact step, and the pass's, shrink with the step
+// (docs/energy.md).
 #pragma once
 #include <cmath>
 #include <functional>
@@ -55,6 +60,9 @@ struct EnergyGain {
   bool linearized = false;        // the integrator solved a linearized step (Integrator::linearizesItsStep)
   bool bouncing = false;          // a collider gives bounces back (restitution > 0): a lower one is worth trying
   bool moving_colliders = false;  // moving colliders did work on the bodies before the check
+  // How often a step that made up energy was halved and taken again before this ([contact] split_steps); -1: the
+  // integrator's steps are checked at the frames only (Simulation's energy retakes)
+  int halvings = -1;
   double gained() const { return energy - start - collider_work; }
   // One paragraph for the user: what happened, where, and what to try.
   std::string message(double dt) const;
@@ -99,12 +107,16 @@ class Simulation {
   const collision::Stats* bodyContact() const { return collisions_ ? &collisions_->stats() : nullptr; }
   // Steps (or parts of one) the pass between bodies failed on and took again as two halves ([contact] split_steps).
   long splitSteps() const { return split_steps_; }
+  // Steps (or parts of one) of an implicit integrator that made up energy, taken again the same way.
+  long energyRetakes() const { return energy_retakes_count_; }
 
  private:
   // Step steps_ (or a part of it) of h from t0 to t1 (the end time exact for advanceTo's last step), with the contact
   // passes after it; splits: how many more times a step the pass between bodies fails on may be halved. Leaves t_ at
   // t1 (on a failure, at the end of the part that failed).
   std::optional<BlowUp> step(double t0, double h, double t1, int splits);
+  // The same step again as two halves from its start state (x_before_, v_before_), splits - 1 more halvings allowed.
+  std::optional<BlowUp> retakeInHalves(double t0, double h, double t1, int splits);
   std::optional<BlowUp> check();
   std::string contactFix() const;
   // Whether the integrator could carry contact between bodies in its solve but was told not to ([contact] in_solve).
@@ -116,7 +128,9 @@ class Simulation {
   double dt_;
   VecX x_, v_;
   double t_ = 0;
-  long steps_ = 0, split_steps_ = 0;
+  long steps_ = 0, split_steps_ = 0, energy_retakes_count_ = 0;
+  bool energy_retakes_ = false;            // every step's end is checked (an implicit integrator's)
+  bool energy_retakes_exhausted_ = false;  // a smallest part made up energy: the run's check runs at every step
   double max_speed_squared_ = 0;
   double interval_speed_squared_ = 0, interval_kinetic_ = 0;  // over the last advanceTo's steps
   std::unique_ptr<collision::BodyCollisions> collisions_;

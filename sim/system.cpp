@@ -254,6 +254,13 @@ double MassSpringSystem::energyMadeUp(double t, double h, const VecX& x0, const 
          kStepEnergyMargin * std::max(std::abs(start), liftEnergy());
 }
 
+double MassSpringSystem::stepPotential(double, const VecX& x1, const VecX&) const {
+  // One thread, in a fixed order: the line search compares these sums, which must not depend on the thread count.
+  double e = springEnergy(springs_, x1);
+  for (int i = 0; i < particleCount(); ++i) e -= mass_[i] * gravity_.dot(particle(x1, i));
+  return e;
+}
+
 double MassSpringSystem::liftEnergy() const {
   double free_mass = 0;
   for (int i = 0; i < particleCount(); ++i) free_mass += inv_mass_[i] > 0 ? mass_[i] : 0;

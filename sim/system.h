@@ -84,6 +84,8 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   // the start's |energy()| and liftEnergy().
   double energyMadeUp(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,
                       const VecX& v1) const override;
+  // ForceJacobian: the springs' elastic and gravity's energy at x1.
+  double stepPotential(double h, const VecX& x1, const VecX& v1) const override;
   // The energy of lifting every free (not pinned) particle by kEnergyGainLift, with |g| at least 1 m/s^2: the energy
   // checks' absolute margin.
   double liftEnergy() const;

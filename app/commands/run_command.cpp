@@ -47,7 +47,12 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
                             {"render", r.seconds_render}};
   j["frames_rendered"] = r.frames_rendered;
   j["frames_skipped"] = r.frames_skipped;  // --skip-existing: already rendered with the same settings
-  j["energy"] = {{"start", r.energy_start}, {"end", r.energy_end}, {"collider_work", r.collider_work}};
+  // retakes: the steps (or parts of one) that made up energy and were taken again in halves (an implicit integrator's;
+  // docs/energy.md).
+  j["energy"] = {{"start", r.energy_start},
+                 {"end", r.energy_end},
+                 {"collider_work", r.collider_work},
+                 {"retakes", sim.energyRetakes()}};
   j["max_speed"] = r.max_speed;
   // The end state: over the steps of the last frame simulated (whether the scene has come to rest).
   j["end_state"] = {{"max_speed", sim.lastIntervalMaxSpeed()}, {"max_kinetic_energy", sim.lastIntervalMaxKinetic()}};
@@ -76,6 +81,8 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
             {{"solves", s.iteration_cap_stops}, {"max_relative_residual", s.max_cg_residual_cap}}}}},
          {"impact_solves", s.impact_solves},  // solves again with impact constraints (docs/energy.md)
          {"exact_steps", s.exact_steps},      // linearized steps that made up energy, solved exactly (docs/energy.md)
+         // Newton iterations ended because no step along their direction lowered the incremental potential
+         {"line_search_stops", s.line_search_stops},
          {"cg_iterations", s.cg_iterations},
          {"cg_iterations_per_step", s.steps ? double(s.cg_iterations) / double(s.steps) : 0.0},
          {"max_relative_residual", s.max_cg_residual}};

@@ -46,6 +46,12 @@ void readSimulation(TableReader r, SceneFile& scene, Vec3& gravity) {
   o.rtol = r.number("rtol", o.rtol, Range::positive());
   o.atol = r.number("atol", o.atol, Range::positive());
   o.newton = r.boolean("newton", o.newton);
+  o.newton_tolerance = r.number("newton_tolerance", o.newton_tolerance, Range::positive());
+  o.newton_max_iterations = r.integer("newton_max_iterations", o.newton_max_iterations, Range{1, 1000});
+  const std::vector<std::string> searches = {"potential", "residual"};
+  o.line_search = LineSearch(
+      std::find(searches.begin(), searches.end(), r.string("line_search", "potential", searches)) - searches.begin());
+  o.line_search_halvings = r.integer("line_search_halvings", o.line_search_halvings, Range{0, 60});
   o.cg_tolerance = r.number("cg_tolerance", o.cg_tolerance, Range::positive());
   o.cg_error_fraction = r.number("cg_error_fraction", o.cg_error_fraction, Range::nonNegative());
   o.cg_max_iterations = r.integer("cg_max_iterations", o.cg_max_iterations, Range::atLeast(1));

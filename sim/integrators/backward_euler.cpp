@@ -17,8 +17,9 @@ BackwardEuler::BackwardEuler(const IntegratorOptions& o) : options_(o) {
   if (!(o.cg_tolerance > 0) || o.cg_max_iterations < 1)
     throw std::invalid_argument("backward-euler: cg_tolerance must be > 0 and cg_max_iterations >= 1");
   if (!(o.cg_error_fraction >= 0)) throw std::invalid_argument("backward-euler: cg_error_fraction must be >= 0");
-  if (o.newton && (!(o.newton_tolerance > 0) || o.newton_max_iterations < 1))
-    throw std::invalid_argument("backward-euler: newton_tolerance must be > 0 and newton_max_iterations >= 1");
+  if (!(o.newton_tolerance > 0) || o.newton_max_iterations < 1 || o.line_search_halvings < 0)
+    throw std::invalid_argument(
+        "backward-euler: newton_tolerance must be > 0, newton_max_iterations >= 1 and line_search_halvings >= 0");
 }
 
 void BackwardEuler::step(const Dynamics& dynamics, double t, double h, VecX& x, VecX& v) {
@@ -108,15 +109,19 @@ void BackwardEuler::step(const Dynamics& dynamics, double t, double h, VecX& x, 
     newton(*jacobian, t, h, x, v, mass);
   } else {
     // A linearized step that made up energy (a spring shortened or turned by much of its length within the step,
-    // where its linearization at the start is far off): the exact step instead, by Newton's iteration from it.
-    // Checked where the step solved more than once: an impact or contact pairs changed its velocities within it,
-    // which is where the linearization failed (docs/energy.md); a smooth step pays nothing.
-    if (stats_.last_linear_solves > 1 && madeUpEnergy(*jacobian, t, h, x, v)) {
+    // where its linearization at the start is far off): the exact step instead, by Newton's iteration on the
+    // incremental potential from it (docs/energy.md). Checked where contact acted in the step: constraints on
+    // colliders or pairs between bodies at its start, or an impact or a change of pairs within it, in it or in the step
+    // before (a stiff body leaving a surface it bounced off), which is where the linearization fails; a step in free
+    // flight pays nothing.
+    const bool contact = stats_.last_linear_solves > 1 || !contacts_.empty() || !released_.empty() || !pairs_.empty();
+    if ((contact || contact_before_) && madeUpEnergy(*jacobian, t, h, x, v)) {
       ++stats_.exact_steps;
       error_.history = 0;  // this step's dv is Newton's: not the smooth error's measure
       newton(*jacobian, t, h, x, v, mass, true);
     }
   }
+  contact_before_ = stats_.last_linear_solves > 1 || !contacts_.empty() || !released_.empty() || !pairs_.empty();
   pairs_.carry(h, x, v, dv_);
 
   forEachChunk(n_, parallel_, [&](int begin, int end) {
@@ -248,6 +253,20 @@ double BackwardEuler::residual(const ForceJacobian& jacobian, double t, double h
   return worst;
 }
 
+// Phi(dv) = dv^T M dv / 2 - h Fc . dv + U(x1) + h D(v1), x1 = x + h (v + dv), v1 = v + dv: with M dv = h F(x1, v1)
+// the step, its gradient is the residual's M dv - h F, the step its minimizer. U: the springs' and gravity's energy
+// and the active pairs' penalty; D: the dissipation of the sliding contacts' and the pairs' friction (each a damper
+// linear in v1: D = c |P u|^2 / 2 has gradient c P u). The springs' dampers and the drag are the line search's
+// (newton): their directions move with x1.
+double BackwardEuler::potential(const ForceJacobian& jacobian, double h, const VecX& dv, const VecX& mass) {
+  double phi = jacobian.stepPotential(h, newton_.x1, newton_.v1) + pairs_.potential(h, newton_.x1, newton_.v1);
+  for (const SlidingContact& s : sliding_)
+    if (s.in_matrix) phi += 0.5 * h * s.contact.damping * tangentialSlide(s.contact, h, newton_.v1).squaredNorm();
+  for (int p = 0; p < n_; ++p)
+    phi += particle(dv, p).dot(0.5 * mass[p] * particle(dv, p) - h * particle(newton_.fc, p));
+  return phi;
+}
+
 void BackwardEuler::newton(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v,
                            const VecX& mass, bool until_energy_kept) {
   // The contact forces in F0, held fixed: Fc = F0 - Fs(x0, v0) (f0_ holds accelerations).
@@ -257,6 +276,9 @@ void BackwardEuler::newton(const ForceJacobian& jacobian, double t, double h, co
   for (int p = 0; p < n_; ++p)
     particle(newton_.fc, p) = filter_.apply(p, mass[p] * particle(f0_, p) - particle(newton_.fs, p));
   double norm = residual(jacobian, t, h, x, v, dv_, mass, newton_.r);
+  // The line search's merit: the incremental potential where the system offers its share (else NaN: the residual).
+  double phi = options_.line_search == LineSearch::Potential ? potential(jacobian, h, dv_, mass)
+                                                             : std::numeric_limits<double>::quiet_NaN();
   while (norm > options_.newton_tolerance * std::max(1.0, newton_.v1.lpNorm<Eigen::Infinity>()) &&
          stats_.last_linear_solves < options_.newton_max_iterations) {
     assemble(jacobian, t + h, newton_.x1, newton_.v1, h, nullptr, nullptr);
@@ -264,17 +286,54 @@ void BackwardEuler::newton(const ForceJacobian& jacobian, double t, double h, co
     newton_.delta.setZero(x.size());
     rhs_ = -newton_.r;
     solve(rhs_, newton_.delta);
-    // Backtrack on the residual norm: halve the Newton step until it decreases (at most 10 halvings).
+    // Backtracking: halve the Newton step until it lowers the incremental potential by Armijo's share of its slope
+    // (Gast et al. 2015; the matrix is positive definite, so the step descends), or, without the potential, the
+    // residual's norm. No step that raises the potential is taken: the iteration ends at the last iterate instead.
+    // The residual's search takes its last halving as it stands.
+    const double slope = newton_.r.dot(newton_.delta);  // dPhi/dalpha at 0
+    const bool on_potential = std::isfinite(phi) && slope < 0;
+    // The dampers' and the drag's dissipation along the line, with the springs' directions held at the iterate (as
+    // IPC holds its friction's: Li et al. 2020): the force Fd(w) = Fs(x1, w) - Fs(x1, 0) is linear in w, so D(v1 +
+    // alpha delta) - D(v1) = -alpha delta . Fd(v1) - alpha^2 delta . Fd(delta) / 2, and Phi's slope at the iterate
+    // is the residual's.
+    double damped = 0, damped_delta = 0;  // delta . Fd(v1), delta . Fd(delta)
+    if (on_potential) {
+      stats_.evaluations += 3;
+      newton_.v_rest.setZero(x.size());
+      jacobian.smoothForce(t + h, newton_.x1, newton_.v_rest, newton_.f_rest);
+      jacobian.smoothForce(t + h, newton_.x1, newton_.v1, newton_.f_damped);
+      jacobian.smoothForce(t + h, newton_.x1, newton_.delta, newton_.f_delta);
+      for (int p = 0; p < n_; ++p) {
+        const Vec3 rest = particle(newton_.f_rest, p), d = particle(newton_.delta, p);
+        damped += d.dot(particle(newton_.f_damped, p) - rest);
+        damped_delta += d.dot(particle(newton_.f_delta, p) - rest);
+      }
+    }
+    bool moved = false;
     double alpha = 1;
-    for (int k = 0; k < 10; ++k, alpha /= 2) {
+    for (int k = 0; k <= options_.line_search_halvings; ++k, alpha /= 2) {
       newton_.trial = dv_ + alpha * newton_.delta;
       const double trial_norm = residual(jacobian, t, h, x, v, newton_.trial, mass, newton_.trial_r);
-      if (trial_norm < norm || k == 9) {
+      const double trial_phi = on_potential ? potential(jacobian, h, newton_.trial, mass) : phi;
+      const double dissipated = -h * alpha * (damped + 0.5 * alpha * damped_delta);
+      const bool last = k == options_.line_search_halvings;
+      // (Near convergence the decrease is below the potential's rounding, which the comparison forgives.)
+      const double rounding = kPotentialRounding * std::max(std::abs(phi), std::abs(trial_phi));
+      if (on_potential ? trial_phi + dissipated - phi <= kArmijo * alpha * slope + rounding
+                       : trial_norm < norm || last) {
         dv_.swap(newton_.trial);
         newton_.r.swap(newton_.trial_r);
         norm = trial_norm;
+        // The next iteration's merit starts from here (its dampers' share held at its own iterate).
+        phi = on_potential || !std::isfinite(phi) ? trial_phi : potential(jacobian, h, dv_, mass);
+        moved = true;
         break;
       }
+    }
+    if (!moved) {
+      ++stats_.line_search_stops;
+      residual(jacobian, t, h, x, v, dv_, mass, newton_.r);  // the scratch's x1, v1 back at the iterate
+      break;
     }
     if (until_energy_kept && !madeUpEnergy(jacobian, t, h, x, v)) break;
   }

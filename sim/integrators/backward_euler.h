@@ -41,11 +41,14 @@
 // cg_error_fraction (below), cg_preconditioner (integrator.h) and cg_max_iterations of each linear solve (a solve that
 // hits the limit is used as it stands, as Blender's cloth solver does; the achieved residual is in the stats); newton:
 // after that first step, iterate Newton on the full nonlinear equations (contact still held at its start value) with a
-// backtracking line search on the residual, until max |M^-1 residual| <= newton_tolerance * max(1, max |v1|), at most
-// newton_max_iterations linear solves (the damper's x-dependence is not in the Jacobian, so convergence is linear
-// rather than quadratic when dampers act; it still converges to the exact backward-Euler step). The error rule
-// (cg_error_fraction = eta > 0, without newton): the solve also stops once its error is at most eta times the step's
-// own. Backward Euler's local error in v is about (h^2 / 2) a' ~ |dv_n - dv_(n-1)| / 2; the last two steps' velocity
+// backtracking line search on the step's incremental potential, of which the step is the minimizer (Gast et al. 2015;
+// as IPC's Newton iteration, Li et al. 2020: a Newton step that would raise it is not taken, so the iteration cannot
+// make energy the potential does not have; line_search = residual: on the residual's norm), until max |M^-1 residual|
+// <= newton_tolerance * max(1, max |v1|), at most newton_max_iterations linear solves (the damper's x-dependence is not
+// in the Jacobian, so convergence is linear rather than quadratic when dampers act; it still converges to the exact
+// backward-Euler step). The error rule (cg_error_fraction = eta > 0, without newton): the solve also stops once its
+// error is at most eta times the step's own. Backward Euler's local error in v is about (h^2 / 2) a' ~ |dv_n -
+// dv_(n-1)| / 2; the last two steps' velocity
 #pragma once
 #include <cmath>
 #include <vector>
@@ -96,8 +99,12 @@ class BackwardEuler final : public Integrator {
   // Newton scratch's x1, v1.
   double residual(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v, const VecX& dv,
                   const VecX& mass, VecX& r);
-  // Newton on the nonlinear backward-Euler equations from the linearized step in dv_, with backtracking.
-  // until_energy_kept: stop as soon as the iterate no longer makes up energy (madeUpEnergy), before convergence.
+  // The step's incremental potential at dv (backward_euler.cpp), for the trial state the last residual() left; NaN
+  // where the Dynamics does not offer its share (ForceJacobian::stepPotential).
+  double potential(const ForceJacobian& jacobian, double h, const VecX& dv, const VecX& mass);
+  // Newton on the nonlinear backward-Euler equations from the linearized step in dv_, with a backtracking line search
+  // on the incremental potential (options_.line_search). until_energy_kept: stop as soon as the iterate no longer
+  // makes up energy (madeUpEnergy), before convergence.
   void newton(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v, const VecX& mass,
               bool until_energy_kept = false);
   // Whether the step's end x + h (v + dv), v + dv has more energy than the start gives it (ForceJacobian::
@@ -124,6 +131,12 @@ class BackwardEuler final : public Integrator {
   // The further solves while the solved step ends a particle inside a surface or changes which pairs are pressed.
   void solveImpacts(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v, double absolute);
 
+  // Armijo's sufficient decrease: a Newton step is taken once it lowers the potential by this share of its slope's
+  // prediction (Nocedal & Wright's usual 1e-4).
+  static constexpr double kArmijo = 1e-4;
+  // The relative rounding of the potential's sums over particles and springs (far above double's 1e-16: a million
+  // terms of either sign), which a line search's comparison forgives.
+  static constexpr double kPotentialRounding = 1e-10;
   static constexpr int kImpactPasses = 4;
   static constexpr int kBodyPasses = 8;  // ... when bodies touch
   // A later check that changes the activity of fewer than this share of the step's pairs ends the step (solveImpacts;
@@ -145,6 +158,7 @@ class BackwardEuler final : public Integrator {
   // Newton's iterates and residuals (newton, residual).
   struct NewtonScratch {
     VecX fs, fc, r, x1, v1, delta, trial, trial_r;
+    VecX v_rest, f_rest, f_damped, f_delta;  // the dampers' forces along the line search's direction
   };
   // The rigid-mode correction's inputs (keepMomentum).
   struct MomentumCorrection {
@@ -171,6 +185,7 @@ class BackwardEuler final : public Integrator {
   ErrorRule error_;
   NewtonScratch newton_;
   MomentumCorrection momentum_;
+  bool contact_before_ = false;  // contact acted in the last step (the energy check's trigger, step)
 };
 
 }  // namespace wobble

@@ -125,4 +125,17 @@ void PenaltyPairs::addForces(const VecX& x1, const VecX& v1, VecX& f) const {
   }
 }
 
+double PenaltyPairs::potential(double h, const VecX& x1, const VecX& v1) const {
+  double e = 0;
+  for (std::size_t k = 0; k < pairs_.size(); ++k) {
+    if (!terms_[k].active) continue;
+    const ContactPair& c = pairs_[k];
+    const double past = c.gap(x1) - terms_[k].rest;
+    const Vec3 u = c.relative(v1);
+    e += 0.5 * terms_[k].stiffness * past * past +
+         0.5 * h * terms_[k].damping * (u - c.normal.dot(u) * c.normal).squaredNorm();
+  }
+  return e;
+}
+
 }  // namespace wobble

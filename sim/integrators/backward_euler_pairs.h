@@ -63,6 +63,9 @@ class PenaltyPairs {
   void carry(double h, const VecX& x, const VecX& v, const VecX& dv);
   // f += the active pairs' penalty and friction forces at (x1, v1) (Newton's residual).
   void addForces(const VecX& x1, const VecX& v1, VecX& f) const;
+  // The active pairs' share of the incremental potential at (x1, v1): the penalty's energy k (g(x1) - g_rest)^2 / 2
+  // and h times the friction's dissipation c |P u1|^2 / 2 (their forces' potential: addForces).
+  double potential(double h, const VecX& x1, const VecX& v1) const;
 
  private:
   struct Term {

@@ -17,13 +17,21 @@ enum class CgPreconditioner { Auto, BlockJacobi, TwoLevel };
 inline constexpr int kTwoLevelParticles = 2000;
 inline constexpr int kTwoLevelIterations = 40;
 
+// What backward Euler's Newton iteration backtracks on (IntegratorOptions::line_search).
+enum class LineSearch { Potential, Residual };
+
 // Settings that only some methods read (adaptive and implicit ones); the defaults suit the shipped scenes.
 struct IntegratorOptions {
   double rtol = 1e-6, atol = 1e-9;  // rk45: relative and absolute error tolerances per step
   long max_substeps = 100000;       // rk45: attempted substeps allowed in one step() before it gives up
   bool newton = false;              // backward-euler: iterate Newton to convergence instead of one step
   double newton_tolerance = 1e-8;   // backward-euler newton: max |M^-1 residual| (m/s), relative to max(1, |v|)
-  int newton_max_iterations = 50;
+  int newton_max_iterations = 50;   // backward-euler: linear solves of a step's Newton iteration, the first included
+  // backward-euler: what Newton's iteration backtracks on (backward_euler.h): the step's incremental potential
+  // (Gast et al. 2015; a step that would raise it is not taken) or the residual's norm; and at most how many halvings
+  // of a Newton step it tries.
+  LineSearch line_search = LineSearch::Potential;
+  int line_search_halvings = 10;
   // backward-euler: the conjugate-gradient solve stops at this relative residual |S (b - A dv)| / |S (b - A z)|
   // (filtered_pcg.h); docs/integrators.md, "The linear solve", for how the default was chosen.
   double cg_tolerance = 1e-3;
@@ -61,8 +69,11 @@ struct IntegratorStats {
   long impact_solves = 0;   // backward-euler: extra solves with impact constraints (contact/constraints/constraints.h)
   long body_contact_solves = 0;  // backward-euler: extra solves with contact between bodies (ContactPair)
   long body_contact_pairs = 0;   // backward-euler: pairs of surface elements in those solves, all steps
-  long exact_steps = 0;          // backward-euler without newton: steps whose linearized solve made up energy,
-                                 // solved exactly instead (ForceJacobian::energyMadeUp)
+  // backward-euler: Newton iterations that stopped because no step along their direction lowered the incremental
+  // potential (line_search = potential)
+  long line_search_stops = 0;
+  long exact_steps = 0;  // backward-euler without newton: steps whose linearized solve made up energy,
+                         // solved exactly instead (ForceJacobian::energyMadeUp)
   // backward-euler, contact between bodies in the solve (run.json's body_contact, docs/body-contact.md):
   long linear_solves = 0;                   // linear solves, all steps and causes
   long body_contact_steps = 0;              // steps whose solve carried at least one pair
