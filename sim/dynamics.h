@@ -91,6 +91,15 @@ struct ContactPair {
 // already within the thickness all but `recovery` of its overlap (backward_euler.cpp, updatePairs).
 inline double penaltyRestGap(double start_gap, double recovery) { return std::min(0.0, start_gap) * (1 - recovery); }
 
+// The band around a pair's rest gap within which backward Euler's active set leaves its activity as it is: slack times
+// the pair's distance at the step's start (thickness + start_gap), at most slack times the thickness. Scaled by the
+// distance left, not the thickness alone: a band of a quarter of the thickness around the rest gap of a pair nearly
+// touching reaches past contact, so the solve could never press it; it was left to the pass after the step, whose
+// impulses on the touching particles alone fed a resting stack energy every step (docs/body-contact.md, "Rest").
+inline double activeSlack(double slack, double start_gap, double thickness) {
+  return slack * std::clamp(thickness + start_gap, 0.0, thickness);
+}
+
 // Which of the pairs within reach a search for an implicit solve hands over (ForceJacobian::bodyContacts). A pair
 // the solve does not press contributes nothing to it, and every check after a solve searches again: so backward
 // Euler takes into a step's first solve only the pairs the last step left pressed, and after a solve only the pairs
@@ -99,7 +108,7 @@ struct PairJoin {
   // Set: only the pairs of these elements (ContactPair::element, ascending).
   const std::vector<std::array<int, 4>>* only = nullptr;
   // Else, when pressed: only the pairs whose gap at the end lies below their rest gap (penaltyRestGap) by more than
-  // slack times their thickness (backward Euler's active set).
+  // their activeSlack (backward Euler's active set).
   bool pressed = false;
   double recovery = 0, slack = 0;
   // Out: how many pairs within reach, not in the list yet, the search held back (what the list would hold more had
@@ -109,7 +118,7 @@ struct PairJoin {
   // Whether a pair within reach is handed over: its element, its gap at the start and at the end, its thickness.
   bool hands(const std::array<int, 4>& element, double start_gap, double end_gap, double thickness) const {
     if (only) return std::binary_search(only->begin(), only->end(), element);
-    return !pressed || end_gap < penaltyRestGap(start_gap, recovery) - slack * thickness;
+    return !pressed || end_gap < penaltyRestGap(start_gap, recovery) - activeSlack(slack, start_gap, thickness);
   }
 };
 

@@ -36,7 +36,8 @@ std::size_t PenaltyPairs::update(const VecX& inverse_mass, double h, const VecX&
     const ContactPair& c = pairs_[k];
     const double weight = c.stencil.inverseMass(inverse_mass);
     const double stiffness = weight > 0 ? kPenalty / (weight * h * h) : 0;
-    Term term{stiffness, 0, penaltyRestGap(c.gap(x0), kRecovery), false};
+    Term term{stiffness, 0, penaltyRestGap(c.gap(x0), kRecovery), activeSlack(kActiveSlack, c.gap(x0), c.thickness),
+              false};
     if (c.collider) term.rest = std::max(term.rest, c.gap(x0) + c.rise);
     if (first) {  // the last step's active set, and its friction, start this step's
       const auto it = std::lower_bound(carried_.begin(), carried_.end(), Carried{c.element, 0});
@@ -52,7 +53,7 @@ std::size_t PenaltyPairs::update(const VecX& inverse_mass, double h, const VecX&
   changed += countOverPairs(pairs_.size(), parallel, [&](std::size_t k) {
     const double past = pairs_[k].gap(x1) - terms_[k].rest;  // < 0: pressed
     const bool active = terms_[k].stiffness > 0 && past < 0;
-    if (active == terms_[k].active || std::abs(past) < kActiveSlack * pairs_[k].thickness) return false;
+    if (active == terms_[k].active || std::abs(past) < terms_[k].slack) return false;
     terms_[k].active = active;
     return true;
   });

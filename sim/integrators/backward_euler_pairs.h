@@ -28,8 +28,9 @@ class PenaltyPairs {
   static constexpr double kRecovery = 0.1;
   // The penalty's h^2 k over the pair's effective mass; measured in docs/body-contact.md.
   static constexpr double kPenalty = 100;
-  // A pair whose solved end is within this share of the thickness of its penalty's rest gap keeps its activity:
-  // without it, the last solves of a step flip a few hundred pairs by a fiftieth of the thickness each.
+  // A pair whose solved end is within this share of its start distance (at most of the thickness: activeSlack) of its
+  // penalty's rest gap keeps its activity: without it, the last solves of a step flip a few hundred pairs by a
+  // fiftieth of the thickness each.
   static constexpr double kActiveSlack = 0.25;
   // m/s: below this sliding speed friction between bodies holds (carry).
   static constexpr double kStickSpeed = 1e-3;
@@ -72,6 +73,7 @@ class PenaltyPairs {
     double stiffness;  // N/m of the penalty (0: a pair of pinned particles)
     double damping;    // N s/m of friction (carried from the step before: carry)
     double rest;       // m: the gap the penalty holds (update)
+    double slack;      // m: the band around rest in which the pair keeps its activity (activeSlack)
     bool active;       // pressed at the last solved end
   };
   struct Carried {
