@@ -48,7 +48,7 @@
 // in the Jacobian, so convergence is linear rather than quadratic when dampers act; it still converges to the exact
 // backward-Euler step). The error rule (cg_error_fraction = eta > 0, without newton): the solve also stops once its
 // error is at most eta times the step's own. Backward Euler's local error in v is about (h^2 / 2) a' ~ |dv_n -
-// dv_(n-1)| / 2; the last two steps' velocity
+// dv_(n-1)| / 2, estimated from the last two steps' velocity changes without an extra solve.
 #pragma once
 #include <cmath>
 #include <vector>

@@ -100,7 +100,9 @@ TEST_F(FarmPieces, StabilityStudyInPiecesIsTheOneMachineStudy) {
   EXPECT_EQ(slurpFile(split() / "stability.csv"), slurpFile(one() / "stability.csv"));
   EXPECT_EQ(slurpFile(split() / "stability.md"), slurpFile(one() / "stability.md"));
   for (const char* plot : {"stability-explicit-euler.png", "stability-rk4.png"})
-    if (fs::exists(one() / plot)) EXPECT_EQ(slurpFile(split() / plot), slurpFile(one() / plot)) << plot;
+    if (fs::exists(one() / plot)) {
+      EXPECT_EQ(slurpFile(split() / plot), slurpFile(one() / plot)) << plot;
+    }
 
   // Bad pieces: out of range, against the folder's earlier pieces, gathering too early.
   expectRefused(study + split().string() + " --piece 4/3", {"--piece 4/3", "I must be 1 to 3"});
@@ -136,7 +138,9 @@ TEST_F(FarmPieces, CompareInPiecesIsTheOneMachineComparison) {
     EXPECT_TRUE(slurpFile(e.path()) == slurpFile(split / "frames" / e.path().filename())) << e.path().filename();
   }
   EXPECT_EQ(frames, 5);
-  if (fs::exists(one / "compare.mp4")) EXPECT_TRUE(slurpFile(one / "compare.mp4") == slurpFile(split / "compare.mp4"));
+  if (fs::exists(one / "compare.mp4")) {
+    EXPECT_TRUE(slurpFile(one / "compare.mp4") == slurpFile(split / "compare.mp4"));
+  }
   for (const char* variant : {"1_explicit-euler", "2_midpoint", "3_rk4"})
     for (int k = 1; k <= 5; ++k) {
       const fs::path obj = fs::path(variant) / "mesh" / ("jelly_000" + std::to_string(k) + ".obj");

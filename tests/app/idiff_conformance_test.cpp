@@ -378,8 +378,8 @@ TEST_F(IdiffConformance, OutputOptionsInIdiffSpelling) {
   const std::vector<FilePair> pairs = {png("o_equal", base, base), png("o_80px", base, raised(80, 5))};
   const fs::path log = dir() / "log.txt", idiff_log = dir() / "idiff.txt";
   for (const FilePair& p : pairs)
-    for (const std::string& o : {"-o {}", "-od -o {}", "-abs -scale 10 -o {}", "-a -fail 0.02 -o {}", "-q",
-                                 "-q -fail 0.02 -warn 0.01 -warnpercent 5", "-a -v"}) {
+    for (const char* o : {"-o {}", "-od -o {}", "-abs -scale 10 -o {}", "-a -fail 0.02 -o {}", "-q",
+                          "-q -fail 0.02 -warn 0.01 -warnpercent 5", "-a -v"}) {
       std::string command = o;
       const std::string files = " " + p.a.string() + " " + p.b.string();
       const auto run = [&](const std::string& program, const fs::path& difference, const fs::path& to) {

@@ -37,7 +37,9 @@ TEST_F(RunDriverTest, WatchingChangesNothingAndFramesLandOnTheirTimes) {
     EXPECT_EQ(watched.simulation().time(), watched_scene.frameTime(k));
     EXPECT_TRUE(watched.x() == plain.x()) << "frame " << k;
     EXPECT_TRUE(watched.x() == bare.x()) << "frame " << k;
-    if (k > 1) EXPECT_EQ(watched.posed().poses.back()[0].positions, plain.surfaces()[0].positions);
+    if (k > 1) {
+      EXPECT_EQ(watched.posed().poses.back()[0].positions, plain.surfaces()[0].positions);
+    }
   }
   EXPECT_THROW(plain.posed(), std::logic_error);  // nothing watched: no camera, no poses
   EXPECT_THROW(bare.next(), std::logic_error);    // a bare system has no frames

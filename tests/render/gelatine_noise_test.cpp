@@ -103,7 +103,9 @@ TEST(GelatineNoise, DefaultSamplingDenoisedIsNearTheConvergedBall) {
   // Every pixel seen through the ball takes a second sample at least.
   for (int y = 0; y < cam.height(); ++y)
     for (int x = 0; x < cam.width(); ++x)
-      if (onBall(cam, x, y)) EXPECT_GE(film.samples[film.index(x, y)], 2u) << x << ", " << y;
+      if (onBall(cam, x, y)) {
+        EXPECT_GE(film.samples[film.index(x, y)], 2u) << x << ", " << y;
+      }
   EXPECT_LT(rmse, 0.036);
 }
 
