@@ -17,6 +17,7 @@
 #include "app/scene/input_error.h"
 #include "tests/app/output_check.h"
 #include "tests/app/scratch_dir.h"
+#include "tests/app/simulate_only.h"
 #include "tests/sim/triangle_intersection.h"
 
 namespace fs = std::filesystem;
@@ -57,13 +58,7 @@ class ContactScene : public testing::ScratchDir, public ::testing::WithParamInte
 
 TEST_P(ContactScene, NoTrianglesIntersectAtAnyFrame) {
   const Case c = GetParam();
-  RunOptions o;
-  o.scene = testing::sourceDir() / "scenes" / (std::string(c.scene) + ".toml");
-  o.out = dir() / "out";
-  o.render.render = "none";
-  o.progress = false;
-  o.integrator = c.integrator;
-  if (c.dt > 0) o.dt = c.dt;
+  RunOptions o = testing::simulateOnly(c.scene, dir() / "out", c.integrator, c.dt);
   if (c.duration > 0) o.sets.push_back("simulation.duration=" + std::to_string(c.duration));
   const SceneFile scene = loadRunScene(o);
   testing::ParticleTriangles tris;
@@ -125,13 +120,7 @@ class SkippedPasses : public testing::ScratchDir {};
 // cloth_sphere's cloth under explicit Euler at 1e-4 s (the course's setting) never comes within its thickness of
 // itself: run.json counts the passes skipped without detection (sim/contact/candidates/clearance.h), nearly all.
 TEST_F(SkippedPasses, ClothSphereSkipsThePassWhereNothingIsNear) {
-  RunOptions o;
-  o.scene = testing::sourceDir() / "scenes" / "cloth_sphere.toml";
-  o.out = dir() / "out";
-  o.render.render = "none";
-  o.progress = false;
-  o.integrator = "explicit-euler";
-  o.dt = 1e-4;
+  RunOptions o = testing::simulateOnly("cloth_sphere", dir() / "out", "explicit-euler", 1e-4);
   o.sets.push_back("simulation.duration=0.3");
   const RunReport r = runScene(o);
   ASSERT_FALSE(r.blow_up) << r.blow_up_message;
@@ -148,13 +137,7 @@ class Stack : public testing::ScratchDir, public ::testing::WithParamInterface<C
 // within its footprint, and it has come to rest (its centre moves less than 2 cm over the last half second).
 TEST_P(Stack, UpperJellyEndsOnTopOfTheLower) {
   const Case c = GetParam();
-  RunOptions o;
-  o.scene = testing::sourceDir() / "scenes" / "jelly_stack.toml";
-  o.out = dir() / "out";
-  o.render.render = "none";
-  o.progress = false;
-  o.integrator = c.integrator;
-  if (c.dt > 0) o.dt = c.dt;
+  RunOptions o = testing::simulateOnly("jelly_stack", dir() / "out", c.integrator, c.dt);
   const SceneFile scene = loadRunScene(o);
   const BodySlot &lower = scene.system->bodies()[0], &upper = scene.system->bodies()[1];
   std::vector<VecX> frames;
@@ -197,13 +180,7 @@ class ContactCounters : public testing::ScratchDir {};
 TEST_F(ContactCounters, InSolveCountersFollowTheKey) {
   for (const bool in_solve : {true, false}) {
     const fs::path out = dir() / (in_solve ? "in_solve" : "pass_alone");
-    RunOptions o;
-    o.scene = testing::sourceDir() / "scenes" / "jelly_stack.toml";
-    o.out = out;
-    o.render.render = "none";
-    o.progress = false;
-    o.integrator = "backward-euler";
-    o.dt = 1.0 / 60;
+    RunOptions o = testing::simulateOnly("jelly_stack", out, "backward-euler", 1.0 / 60);
     o.stop_on_energy_gain = false;  // the pass alone gains energy at this step (Energy at the impacts)
     o.sets = {"simulation.duration=1.0", "output.pc2=false", "output.obj=false"};
     if (!in_solve) o.sets.push_back("contact.in_solve=false");
@@ -245,14 +222,8 @@ TEST_F(ContactCounters, InSolveCountersFollowTheKey) {
 // step is solved exactly (docs/energy.md), the run ends without an energy gain, run.json counts the exact steps, and
 // the Newton solves are among the run's solves (solves_per_step).
 TEST_F(ContactCounters, ExactStepsAreCountedAndKeepTheLandingClothsEnergy) {
-  RunOptions o;
-  o.scene = testing::sourceDir() / "scenes" / "cloth_drop.toml";
   const fs::path out = dir() / "drop";
-  o.out = out;
-  o.render.render = "none";
-  o.progress = false;
-  o.integrator = "backward-euler";
-  o.dt = 1.0 / 60;
+  RunOptions o = testing::simulateOnly("cloth_drop", out, "backward-euler", 1.0 / 60);
   o.sets = {"simulation.duration=0.6", "output.pc2=false", "output.obj=false", "cloth.nx=30", "cloth.ny=30",
             "cloth.mass=0.0044"};
   const RunReport r = runScene(o);

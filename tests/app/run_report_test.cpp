@@ -12,6 +12,7 @@
 #include "app/commands/run_command.h"
 #include "app/scene/scene_file.h"
 #include "tests/app/scratch_dir.h"
+#include "tests/app/simulate_only.h"
 
 namespace wobble {
 namespace {
@@ -21,13 +22,7 @@ class RunReportTest : public testing::ScratchDir {};
 // jelly_stack under backward Euler at 1/60 s, 3 s: the upper jelly lands at about 0.5 s at 5 m/s and both rest by the
 // end. The end state is the last frame's, far below the run's largest speed.
 TEST_F(RunReportTest, EndStateAndSolveStopsOfAStackComingToRest) {
-  RunOptions o;
-  o.scene = testing::sourceDir() / "scenes" / "jelly_stack.toml";
-  o.out = dir() / "out";
-  o.render.render = "none";
-  o.progress = false;
-  o.integrator = "backward-euler";
-  o.dt = 1.0 / 60;
+  RunOptions o = testing::simulateOnly("jelly_stack", dir() / "out", "backward-euler", 1.0 / 60);
   o.sets.push_back("simulation.fps=60");
   const RunReport r = runScene(o);
   ASSERT_FALSE(r.blow_up);
