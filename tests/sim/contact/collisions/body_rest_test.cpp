@@ -5,8 +5,10 @@
 // own bounce of resting particles is not what is tested here; docs/body-contact.md, "Limits").
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <ostream>
 #include <string>
 
 #include "sim/simulation.h"
@@ -27,6 +29,7 @@ struct Case {
   const char* integrator;
   double dt;
 };
+void PrintTo(const Case& c, std::ostream* os) { *os << c.integrator << " at 1/" << std::lround(1 / c.dt) << " s"; }
 
 struct Column {
   testing::ColumnParams params;
@@ -105,6 +108,10 @@ struct TraceCase {
   bool stiff;
   double restitution;
 };
+void PrintTo(const TraceCase& c, std::ostream* os) {
+  *os << c.integrator << " at 1/" << std::lround(1 / c.dt) << " s, " << (c.stiff ? "stiff" : "soft")
+      << " jellies, floor restitution " << c.restitution;
+}
 
 double tilt(const MassSpringSystem& system, const VecX& x, int b, int n) {
   const BodySlot& slot = system.bodies()[b];
@@ -129,8 +136,8 @@ TEST_P(ColumnTrace, DISABLED_SixJellies) {
   Simulation sim(*system, makeIntegrator(c.integrator), c.dt);
   std::printf("%s 1/%g s, %s jellies, floor restitution %g\n", c.integrator, 1 / c.dt, c.stiff ? "stiff" : "soft",
               c.restitution);
+  double speed = 0;  // the largest over the current half second
   for (int frame = 1; frame <= 14 * 60; ++frame) {
-    static double speed = 0;
     if (sim.advanceTo(frame * kFrame)) {
       std::printf("blew up at %g s\n", sim.time());
       return;
@@ -154,7 +161,15 @@ INSTANTIATE_TEST_SUITE_P(Measure, ColumnTrace,
                                            TraceCase{"rk4", 1.0 / 240, false, 0},
                                            TraceCase{"backward-euler", 1.0 / 240, false, 0},
                                            TraceCase{"backward-euler", 1.0 / 240, true, 0.2},
-                                           TraceCase{"backward-euler", 1.0 / 240, true, 0}));
+                                           TraceCase{"backward-euler", 1.0 / 240, true, 0}),
+                         [](const auto& info) {
+                           const TraceCase& c = info.param;
+                           std::string name = std::string(c.integrator) + "_" + std::to_string(std::lround(1 / c.dt)) +
+                                              (c.stiff ? "_stiff" : "_soft") +
+                                              (c.restitution > 0 ? "_bouncing_floor" : "_dead_floor");
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
 
 }  // namespace
 }  // namespace wobble
