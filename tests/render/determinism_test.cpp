@@ -114,11 +114,12 @@ Frame renderWithThreads(int threads, int tile_size = 16, std::uint32_t frame = 0
 }
 
 // On two threads, until a second thread took part in the render (a small frame may be done before a worker wakes
-// on a busy machine; 20 tries at most): every try must give the same bytes, returned with its thread count.
+// on a busy machine, where a try can take 3 ms; 200 tries at most): every try must give the same bytes, returned
+// with its thread count.
 Frame renderOnTwoThreads(int tile_size = 16, std::uint32_t frame = 0, int spp = 4, bool blur = false,
                          bool lit = false) {
   Frame first = renderWithThreads(2, tile_size, frame, spp, blur, lit);
-  for (int attempt = 1; attempt < 20 && first.other_threads == 0; ++attempt) {
+  for (int attempt = 1; attempt < 200 && first.other_threads == 0; ++attempt) {
     const Frame again = renderWithThreads(2, tile_size, frame, spp, blur, lit);
     EXPECT_EQ(again.image.pixels, first.image.pixels) << "try " << attempt;
     first.other_threads = again.other_threads;
