@@ -20,10 +20,6 @@ namespace wobble::render {
 
 namespace {
 
-// As many interfaces as a path may cross (path_tracer.cpp): a photon caught inside by total internal reflection
-// stops where the path tracer's paths would.
-constexpr int kMaxInterfaceEvents = 64;
-
 // The sphere around every gelatine shape's bounds (over the shutter); radius 0: no gelatine in the scene.
 struct Target {
   Eigen::Vector3f centre = Eigen::Vector3f::Zero();

@@ -23,9 +23,9 @@ namespace {
 // that could have drawn it with density `other`.
 // Russian roulette's least chance of continuing: bounds the weight 1 / q a surviving path gets.
 constexpr float kMinContinuation = 0.05f;
-// Gelatine: the most interfaces (reflections and refractions, as Cycles' 12 transmission bounces) and scattering
-// events a path meets; neither counts against max_bounces.
-constexpr int kMaxInterfaceEvents = 64, kMaxScatterEvents = 128;
+// Gelatine: the most scattering events a path meets; they do not count against max_bounces (nor do its interfaces,
+// kMaxInterfaceEvents).
+constexpr int kMaxScatterEvents = 128;
 
 float powerHeuristic(float chosen, float other) {
   const float a = chosen * chosen, b = other * other;

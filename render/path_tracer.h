@@ -37,6 +37,10 @@ class CausticMap;
 class CausticMaps;
 class Scene;
 
+// Gelatine: the most interfaces (reflections and refractions, as Cycles' 12 transmission bounces) a path or a caustic
+// photon crosses; they do not count against max_bounces.
+constexpr int kMaxInterfaceEvents = 64;
+
 struct PathSettings {
   int max_bounces = 2;
   bool sample_sky = false;  // next-event estimation of the sky, with MIS against BSDF sampling
