@@ -73,19 +73,13 @@ std::optional<CausticPhoton> tracePhoton(const Scene& scene, Ray ray, Color powe
     if (material.print > 0 && random.next() < material.print) return std::nullopt;
     if (material.roughness > 0) return std::nullopt;
     // The smooth interface, as the path tracer crosses it (Path::crossInterface).
-    const Eigen::Vector3f wo = -ray.direction;
-    const Eigen::Vector3f& outward = hit->ng;
-    const Eigen::Vector3f n = hit->ns.dot(outward) >= 0 ? hit->ns : Eigen::Vector3f(-hit->ns);
-    const bool entering = outward.dot(wo) > 0;
-    const DielectricBsdf bsdf(material.ior, 0, n, wo);
-    const float u_lobe = random.next();
-    const auto s = bsdf.sample(u_lobe, 0.5f, 0.5f);
+    const InterfaceCrossing crossing(*hit, ray.direction);
+    const auto s = crossing.bsdf(material.ior, 0).sample(random.next(), 0.5f, 0.5f);
     if (!s) return std::nullopt;
-    const bool outside = s->wi.dot(outward) > 0;
-    if (s->transmitted == (outside == entering)) return std::nullopt;
-    if (s->transmitted) medium = entering ? &material : nullptr;
-    ray = Ray{offsetFromSurface(hit->p, outside ? outward : Eigen::Vector3f(-outward)), s->wi, 0,
-              std::numeric_limits<float>::infinity(), ray.time};
+    const std::optional<Ray> next = crossing.leave(*hit, *s);
+    if (!next) return std::nullopt;
+    if (s->transmitted) medium = crossing.entering ? &material : nullptr;
+    ray = *next;
     leaving = hit->shape;
   }
   return std::nullopt;

@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "render/microfacet.h"
+#include "render/path_tracer.h"
 
 namespace wobble::render {
 
@@ -135,6 +137,19 @@ float DielectricBsdf::pdf(const Eigen::Vector3f& wi_world) const {
   if (etap == 1) return pdf_m / (4.0f * std::abs(wo_.dot(wm))) * r;
   const float denom = wi.dot(wm) + wo_.dot(wm) / etap;
   return pdf_m * std::abs(wi.dot(wm)) / (denom * denom) * (1 - r);
+}
+
+InterfaceCrossing::InterfaceCrossing(const SurfaceHit& hit, const Eigen::Vector3f& direction)
+    : wo(-direction),
+      outward(hit.ng),
+      n(hit.ns.dot(hit.ng) >= 0 ? hit.ns : Eigen::Vector3f(-hit.ns)),
+      entering(hit.ng.dot(wo) > 0) {}
+
+std::optional<Ray> InterfaceCrossing::leave(const SurfaceHit& hit, const DielectricSample& s) const {
+  const bool outside = s.wi.dot(outward) > 0;
+  if (s.transmitted == (outside == entering)) return std::nullopt;
+  return Ray{offsetFromSurface(hit.p, outside ? outward : Eigen::Vector3f(-outward)), s.wi, 0,
+             std::numeric_limits<float>::infinity(), hit.time};
 }
 
 }  // namespace wobble::render

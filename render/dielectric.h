@@ -22,6 +22,8 @@
 #include <Eigen/Core>
 
 #include "render/color.h"
+#include "render/hit.h"
+#include "render/ray.h"
 #include "render/sampling.h"
 
 namespace wobble::render {
@@ -54,6 +56,21 @@ class DielectricBsdf {
   Frame frame_;
   Eigen::Vector3f wo_;  // local; z along the outward normal
   float ior_, alpha_;
+};
+
+// A ray crossing a body's interface at a hit, as the path tracer (Path::crossInterface) and the caustic photons
+// (tracePhoton) both cross it: the frame its BSDF is built in, and the ray a sampled direction leaves along.
+struct InterfaceCrossing {
+  InterfaceCrossing(const SurfaceHit& hit, const Eigen::Vector3f& direction);
+  DielectricBsdf bsdf(float ior, float roughness) const { return DielectricBsdf(ior, roughness, n, wo); }
+  // The ray along a sampled direction, from just off the side it leaves by, at the hit's time; none when the shading
+  // normal sent the sample to the wrong side (a transmission staying on the ray's side, or a reflection crossing).
+  std::optional<Ray> leave(const SurfaceHit& hit, const DielectricSample& s) const;
+
+  Eigen::Vector3f wo;       // towards where the ray came from
+  Eigen::Vector3f outward;  // the body's outward geometric normal
+  Eigen::Vector3f n;        // the shading normal, turned to the outward side
+  bool entering;            // the ray arrives from outside
 };
 
 }  // namespace wobble::render

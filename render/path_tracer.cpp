@@ -331,11 +331,10 @@ void Path::addEscapedLight(int vertex) {
 // Gelatine's clear interface: reflect or refract (the branch asked for at the camera ray, else one drawn), entering
 // or leaving the medium. A rough interface samples the lights; a smooth one cannot.
 Path::Step Path::crossInterface(int vertex, const SurfaceHit& hit, const Material& material, Branch branch) {
-  const Eigen::Vector3f wo = -ray_.direction;
-  const Eigen::Vector3f& outward = hit.ng;
-  const Eigen::Vector3f n = hit.ns.dot(outward) >= 0 ? hit.ns : Eigen::Vector3f(-hit.ns);
-  const bool entering = outward.dot(wo) > 0;
-  const DielectricBsdf bsdf(material.ior, material.roughness, n, wo);
+  const InterfaceCrossing crossing(hit, ray_.direction);
+  const Eigen::Vector3f &wo = crossing.wo, &outward = crossing.outward, &n = crossing.n;
+  const bool entering = crossing.entering;
+  const DielectricBsdf bsdf = crossing.bsdf(material.ior, material.roughness);
   // The guides: this interface, unless a non-specular vertex follows.
   if (vertex == 0)
     result_.front_normal = entering ? outward : Eigen::Vector3f(-outward), result_.front_position = hit.p;
@@ -360,8 +359,8 @@ Path::Step Path::crossInterface(int vertex, const SurfaceHit& hit, const Materia
   const Eigen::Vector2f u = sampler_.get2D(sample_, layout_.bsdfDirection(vertex));
   const auto s = bsdf.sample(u_lobe, u.x(), u.y());
   if (!s) return Step::Stop;
-  const bool outside = s->wi.dot(outward) > 0;
-  if (s->transmitted == (outside == entering)) return Step::Stop;  // the shading normal sent it to the wrong side
+  const std::optional<Ray> next = crossing.leave(hit, *s);
+  if (!next) return Step::Stop;
   weigh(Color::Constant(s->weight));
   if (dark()) return Step::Stop;
   if (s->transmitted) medium_ = entering ? &material : nullptr;
@@ -369,7 +368,7 @@ Path::Step Path::crossInterface(int vertex, const SurfaceHit& hit, const Materia
   previous_sampled_lights_ = !bsdf.smooth();
   previous_sampled_sky_ = false;
   travelled_ += hit.t;
-  ray_ = atTime(Ray{offsetFromSurface(hit.p, outside ? outward : Eigen::Vector3f(-outward)), s->wi});
+  ray_ = *next;
   leaving_ = hit.shape;
   return Step::Next;
 }
