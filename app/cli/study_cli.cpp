@@ -1,4 +1,5 @@
 // `wobble study accuracy|stability` on the command line: options, the summary on screen, where the files went.
+#include <cmath>
 #include <cstdio>
 #include <memory>
 
@@ -132,10 +133,18 @@ void addStability(CLI::App& study, int& status) {
   cmd->add_flag("--fine", *fine, "A finer grid: 13 ks x 12 dt values");
   cmd->add_flag("--no-infer", *no_infer, "Run every cell (default: below a stable dt, a row is taken as stable)");
   auto no_contact = std::make_shared<bool>(false);
-  cmd->add_option("--contact-scene", o->contact_scene,
-                  "Scene of the contact case: a stiff jelly landing on a jelly, at ks 1e5 and dt 1/60, 1/120, 1/240 s")
-      ->capture_default_str();
-  cmd->add_flag("--no-contact", *no_contact, "Leave the contact case out");
+  auto contact = std::make_shared<std::vector<std::string>>();
+  auto contact_scenes = std::make_shared<std::vector<std::string>>();
+  std::string keys;
+  for (const ContactCase& c : contactCases()) keys += (keys.empty() ? "" : ",") + c.key;
+  cmd->add_option("--contact", *contact,
+                  "Contact cases to run (default: all, " + keys +
+                      "): landing, a stiff jelly (ks 1e5) landing on a jelly at dt 1/60, 1/120, 1/240 s; free-pair, "
+                      "a small jelly shot into a large one without gravity or colliders at dt 1/60 s to 2.5e-4 s, "
+                      "with each integrator's momentum drift")
+      ->delimiter(',');
+  cmd->add_option("--contact-scene", *contact_scenes, "KEY=FILE: run contact case KEY on another scene (repeatable)");
+  cmd->add_flag("--no-contact", *no_contact, "Leave the contact cases out");
   cmd->add_option("--jobs", o->jobs, "Threads (0: one per hardware thread; results do not depend on it)")
       ->capture_default_str();
   auto pieces = std::make_shared<PieceFlags>();
@@ -149,8 +158,23 @@ void addStability(CLI::App& study, int& status) {
       "  wobble study stability --integrators explicit-euler,rk4 --duration 0.3\n"
       "  wobble study stability --fine --out out/map --piece 3/8    # one task of a farm (scripts/slurm/)\n"
       "  wobble study stability --fine --out out/map --gather       # when all 8 are done");
-  cmd->callback([o, fine, no_infer, no_contact, pieces, &status] {
-    if (*no_contact) o->contact_scene.clear();
+  cmd->callback([o, fine, no_infer, no_contact, contact, contact_scenes, pieces, &status] {
+    if (!contact->empty()) {
+      o->contact.clear();
+      for (const std::string& key : *contact) o->contact.push_back(contactCase(key, "--contact"));
+    }
+    for (const std::string& given : *contact_scenes) {
+      const std::size_t eq = given.find('=');
+      if (eq == std::string::npos || eq + 1 == given.size())
+        throw InputError("--contact-scene '" + given + "': expected KEY=FILE, e.g. landing=my_stack.toml");
+      const std::string key = given.substr(0, eq);
+      contactCase(key, "--contact-scene");  // a known key
+      bool found = false;
+      for (ContactCase& c : o->contact)
+        if (c.key == key) c.scene = given.substr(eq + 1), found = true;
+      if (!found) throw InputError("--contact-scene '" + given + "': case " + key + " is not run (--contact)");
+    }
+    if (*no_contact) o->contact.clear();
     if (*fine) {
       o->ks_points = 13;
       o->dt_points = 12;
@@ -173,9 +197,13 @@ void addStability(CLI::App& study, int& status) {
         std::printf("  ks %-6g dt %-7g %-17s %-10s max strain %s\n", c.ks, c.dt, c.integrator.c_str(),
                     toString(c.outcome), io::formatNumber(c.max_strain, 3).c_str());
     for (const StabilityCell& c : r.cells)
-      if (c.contact_case)
-        std::printf("  contact: ks %-6g dt %-7.3g %-17s %-10s max strain %s\n", c.ks, c.dt, c.integrator.c_str(),
-                    toString(c.outcome), io::formatNumber(c.max_strain, 3).c_str());
+      if (!c.contact_case.empty()) {
+        std::printf("  %s: ks %-6g dt %-7.3g %-17s %-13s max strain %s", c.contact_case.c_str(), c.ks, c.dt,
+                    c.integrator.c_str(), toString(c.outcome), io::formatNumber(c.max_strain, 3).c_str());
+        if (std::isfinite(c.momentum_drift))
+          std::printf(", momentum drift %s", io::formatNumber(c.momentum_drift, 2).c_str());
+        std::printf("\n");
+      }
     std::printf("wrote %s/stability.csv and stability.md\n", out.c_str());
     for (const PlotResult& p : plots) {
       if (!p.ok) std::fprintf(stderr, "wobble: %s\n", p.message.c_str());

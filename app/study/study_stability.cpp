@@ -49,11 +49,54 @@ void validate(const StabilityOptions& o) {
   for (const auto& c : o.cases)
     check(c[0] >= 0 && c[1] > 0,
           "--case " + io::formatNumber(c[0]) + "," + io::formatNumber(c[1]) + ": need ks >= 0, dt > 0");
-  for (const auto& c : o.contact_cases)
-    check(c[0] >= 0 && c[1] > 0,
-          "contact case " + io::formatNumber(c[0]) + "," + io::formatNumber(c[1]) + ": need ks >= 0, dt > 0");
-  check(o.contact_duration > 0 && std::isfinite(o.contact_duration),
-        "contact duration " + io::formatNumber(o.contact_duration) + ": must be > 0");
+  for (const ContactCase& contact : o.contact) {
+    int same = 0;
+    for (const ContactCase& other : o.contact) same += other.key == contact.key;
+    check(same == 1, "contact case " + contact.key + ": named " + std::to_string(same) + " times; once at most");
+    for (const auto& c : contact.runs)
+      check(c[0] >= 0 && c[1] > 0, "contact case " + contact.key + " " + io::formatNumber(c[0]) + "," +
+                                       io::formatNumber(c[1]) + ": need ks >= 0, dt > 0");
+    check(contact.duration > 0 && std::isfinite(contact.duration),
+          "contact case " + contact.key + " duration " + io::formatNumber(contact.duration) + ": must be > 0");
+  }
+}
+
+// The bodies' total linear and angular momentum (about the origin), and their scales: sum m |v|, and
+// sum m |(x - c) x v| about the centre of mass c.
+struct Momenta {
+  Vec3 linear = Vec3::Zero(), angular = Vec3::Zero();
+  double linear_scale = 0, angular_scale = 0;
+};
+
+Momenta momenta(const MassSpringSystem& system, const VecX& x, const VecX& v) {
+  Momenta m;
+  const VecX& mass = system.mass();
+  Vec3 c = Vec3::Zero();
+  for (int i = 0; i < system.particleCount(); ++i) {
+    m.linear += mass[i] * particle(v, i);
+    m.angular += mass[i] * particle(x, i).cross(particle(v, i));
+    m.linear_scale += mass[i] * particle(v, i).norm();
+    c += mass[i] * particle(x, i);
+  }
+  c /= mass.sum();
+  for (int i = 0; i < system.particleCount(); ++i)
+    m.angular_scale += mass[i] * (particle(x, i) - c).cross(particle(v, i)).norm();
+  return m;
+}
+
+// Which momenta only internal forces change (StabilityCell::momentum_drift): no collider, pin or drag for the linear
+// one (gravity's share is known), and no gravity either for the angular one.
+struct Conserved {
+  bool linear = false, angular = false;
+};
+
+Conserved conserved(const MassSpringSystem& system) {
+  bool external = !system.colliders().empty();
+  for (const BodySlot& slot : system.bodies()) {
+    external |= slot.body.drag != 0;
+    for (const bool pinned : slot.body.pinned) external |= pinned;
+  }
+  return {!external, !external && system.gravity().isZero()};
 }
 
 // The scene with every spring's ks set: one override per body.
@@ -72,6 +115,11 @@ std::vector<std::string> bodyNames(const SceneFile& scene) {
 nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 double number(const nlohmann::json& j) { return j.is_null() ? kNaN : j.get<double>(); }
 
+// A relative drift, NaN where it does not apply or cannot be measured.
+double relative(bool applies, double drift, double scale) {
+  return applies && scale > 0 && std::isfinite(drift) ? drift / scale : kNaN;
+}
+
 // A work item's cells as a piece keeps them (farm_pieces.h): every field, doubles exact (NaN as null).
 nlohmann::json cellsJson(const std::vector<StabilityCell>& cells) {
   nlohmann::json list = nlohmann::json::array();
@@ -87,6 +135,8 @@ nlohmann::json cellsJson(const std::vector<StabilityCell>& cells) {
                     {"final_strain", number(c.final_strain)},
                     {"end_time", number(c.end_time)},
                     {"max_speed", number(c.max_speed)},
+                    {"momentum_drift", number(c.momentum_drift)},
+                    {"angular_momentum_drift", number(c.angular_momentum_drift)},
                     {"steps", c.steps},
                     {"note", c.note}});
   return list;
@@ -102,11 +152,13 @@ std::vector<StabilityCell> cellsOf(const nlohmann::json& list) {
     c.outcome = Outcome(j.at("outcome").get<int>());
     c.inferred = j.at("inferred").get<bool>();
     c.user_case = j.at("user_case").get<bool>();
-    c.contact_case = j.at("contact_case").get<bool>();
+    c.contact_case = j.at("contact_case").get<std::string>();
     c.max_strain = number(j.at("max_strain"));
     c.final_strain = number(j.at("final_strain"));
     c.end_time = number(j.at("end_time"));
     c.max_speed = number(j.at("max_speed"));
+    c.momentum_drift = number(j.at("momentum_drift"));
+    c.angular_momentum_drift = number(j.at("angular_momentum_drift"));
     c.steps = j.at("steps").get<long>();
     c.note = j.at("note").get<std::string>();
     cells.push_back(std::move(c));
@@ -116,21 +168,49 @@ std::vector<StabilityCell> cellsOf(const nlohmann::json& list) {
 
 // Everything a cell's result depends on, hashed: pieces of one study share it (farm_pieces.h).
 std::string studyKey(const StabilityOptions& o, const StabilityResult& r, const std::string& scene_text,
-                     const std::string& contact_text) {
+                     const std::vector<std::string>& contact_texts) {
   io::ContentHash h;
-  h.add(std::string_view("wobble study stability 1"));
+  h.add(std::string_view("wobble study stability 2"));
   h.add(std::string_view(scene_text));
-  h.add(std::string_view(contact_text));
+  for (std::size_t i = 0; i < o.contact.size(); ++i) {
+    const ContactCase& c = o.contact[i];
+    h.add(std::string_view(c.key)), h.add(std::string_view(contact_texts[i])), h.add(c.duration);
+    for (const auto& run : c.runs) h.add(run[0]), h.add(run[1]);
+  }
   for (const std::string& name : r.integrators) h.add(std::string_view(name));
   h.addArray(std::span<const double>(r.ks));
   h.addArray(std::span<const double>(r.dt));
   for (const auto& c : o.cases) h.add(c[0]), h.add(c[1]);
-  for (const auto& c : o.contact_cases) h.add(c[0]), h.add(c[1]);
-  h.add(o.duration), h.add(o.contact_duration), h.add(o.strain_bound), h.add(o.infer);
+  h.add(o.duration), h.add(o.strain_bound), h.add(o.infer);
   return h.hex();
 }
 
 }  // namespace
+
+const std::vector<ContactCase>& contactCases() {
+  static const std::vector<ContactCase> cases = {
+      {"landing",
+       "a stiff jelly landing on a jelly",
+       "scenes/jelly_stack.toml",
+       {{1e5, 1.0 / 60}, {1e5, 1.0 / 120}, {1e5, 1.0 / 240}},
+       1.0},
+      {"free-pair",
+       "a free pair, a small jelly shot into a large one",
+       "scenes/jelly_shot.toml",
+       {{2000, 1.0 / 60}, {2000, 1.0 / 240}, {2000, 1e-3}, {2000, 5e-4}, {2000, 2.5e-4}},
+       0.5},
+  };
+  return cases;
+}
+
+const ContactCase& contactCase(const std::string& key, const std::string& flag) {
+  std::string allowed;
+  for (const ContactCase& c : contactCases()) {
+    if (c.key == key) return c;
+    allowed += (allowed.empty() ? "" : ", ") + c.key;
+  }
+  throw InputError(flag + " '" + key + "': no such contact case; allowed: " + allowed);
+}
 
 const char* toString(Outcome outcome) {
   switch (outcome) {
@@ -155,6 +235,8 @@ StabilityCell classifyCell(MassSpringSystem& system, const std::string& integrat
   c.dt = dt;
   RunDriver run(system, integrator, options, dt);
   const Simulation& sim = run.simulation();
+  const Conserved kept = conserved(system);
+  const Momenta start = momenta(system, sim.x(), sim.v());
   const long per_check = std::max(1L, std::lround(0.01 / dt));  // strain every ~0.01 s: it costs a force evaluation
   try {
     for (long k = 1;; ++k) {
@@ -187,6 +269,11 @@ StabilityCell classifyCell(MassSpringSystem& system, const std::string& integrat
   c.end_time = sim.time();
   c.steps = sim.steps();
   c.max_speed = sim.maxSpeed();
+  const Momenta end = momenta(system, sim.x(), sim.v());
+  const double mass = system.mass().sum();
+  c.momentum_drift = relative(kept.linear, (end.linear - start.linear - mass * system.gravity() * c.end_time).norm(),
+                              start.linear_scale);
+  c.angular_momentum_drift = relative(kept.angular, (end.angular - start.angular).norm(), start.angular_scale);
   return c;
 }
 
@@ -209,17 +296,17 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
   result.ks = logSpaced(o.ks_min, o.ks_max, o.ks_points);
   result.dt = logSpaced(o.dt_min, o.dt_max, o.dt_points);
   const std::vector<std::string> bodies = bodyNames(base);
-  std::vector<std::string> contact_bodies;
-  std::string contact_text;
-  IntegratorOptions contact_options;  // the scene's [simulation] solver keys and [contact] in_solve
-  if (!o.contact_scene.empty()) {
-    result.contact_scene_file = o.contact_scene;
-    result.contact_duration = o.contact_duration;
-    const SceneFile contact = loadScene(o.contact_scene, {});
-    contact_text = contact.text;
-    result.contact_scene_name = contact.name;
-    contact_bodies = bodyNames(contact);
-    contact_options = contact.integrator_options;
+  // Per contact case: its scene's bodies, text and options (its [simulation] solver keys and [contact] in_solve).
+  std::vector<std::vector<std::string>> contact_bodies;
+  std::vector<std::string> contact_texts;
+  std::vector<IntegratorOptions> contact_options;
+  result.contact = o.contact;
+  for (const ContactCase& c : o.contact) {
+    const SceneFile contact = loadScene(c.scene, {});
+    contact_texts.push_back(contact.text);
+    result.contact_scenes.push_back(contact.name);
+    contact_bodies.push_back(bodyNames(contact));
+    contact_options.push_back(contact.integrator_options);
   }
 
   // Theory at every ks the study touches (for the report: not in a piece).
@@ -247,7 +334,8 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
     std::string integrator;
     double ks;
     std::vector<double> dts;  // descending for grid rows
-    bool user_case, contact_case;
+    bool user_case;
+    int contact;  // the contact case's index in o.contact; -1: none
     double duration;
     IntegratorOptions options;
     std::unique_ptr<MassSpringSystem> system;
@@ -257,17 +345,17 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
   std::vector<double> descending(result.dt.rbegin(), result.dt.rend());
   for (const std::string& name : result.integrators) {
     for (double ks : result.ks)
-      items.push_back({name, ks, descending, false, false, o.duration, base.integrator_options, nullptr, {}});
+      items.push_back({name, ks, descending, false, -1, o.duration, base.integrator_options, nullptr, {}});
     for (const auto& c : o.cases)
-      items.push_back({name, c[0], {c[1]}, true, false, o.duration, base.integrator_options, nullptr, {}});
-    if (!o.contact_scene.empty())
-      for (const auto& c : o.contact_cases)
-        items.push_back({name, c[0], {c[1]}, false, true, o.contact_duration, contact_options, nullptr, {}});
+      items.push_back({name, c[0], {c[1]}, true, -1, o.duration, base.integrator_options, nullptr, {}});
+    for (std::size_t k = 0; k < o.contact.size(); ++k)
+      for (const auto& c : o.contact[k].runs)
+        items.push_back({name, c[0], {c[1]}, false, int(k), o.contact[k].duration, contact_options[k], nullptr, {}});
   }
   std::optional<FarmPieces> pieces;
   if (o.piece || o.gather) {
     if (o.out.empty()) throw InputError("--piece, --gather: need the study's folder (--out)");
-    pieces.emplace(o.out, "stability", studyKey(o, result, base.text, contact_text), items.size(),
+    pieces.emplace(o.out, "stability", studyKey(o, result, base.text, contact_texts), items.size(),
                    o.gather ? std::nullopt : o.piece);
   }
   const auto [first, last] = pieces ? pieces->range() : std::pair<std::size_t, std::size_t>{0, items.size()};
@@ -284,7 +372,7 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
         ++result.piece.kept;
         continue;
       }
-    item.system = item.contact_case ? systemAt(o.contact_scene, {}, contact_bodies, item.ks)
+    item.system = item.contact >= 0 ? systemAt(o.contact[item.contact].scene, {}, contact_bodies[item.contact], item.ks)
                                     : systemAt(o.scene, o.sets, bodies, item.ks);
   }
   int total = 0;
@@ -305,16 +393,16 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
           c.dt = dt;
           c.outcome = *survived_above;
           c.inferred = true;
-          c.max_strain = c.final_strain = c.max_speed = kNaN;
+          c.max_strain = c.final_strain = c.max_speed = c.momentum_drift = c.angular_momentum_drift = kNaN;
         } else {
           c = classifyCell(*item.system, item.integrator, dt, item.duration, o.strain_bound, item.options);
-          if (o.infer && !item.user_case && !item.contact_case &&
+          if (o.infer && !item.user_case && item.contact < 0 &&
               (c.outcome == Outcome::Stable || c.outcome == Outcome::LostShape))
             survived_above = c.outcome;
         }
         c.ks = item.ks;
         c.user_case = item.user_case;
-        c.contact_case = item.contact_case;
+        if (item.contact >= 0) c.contact_case = o.contact[item.contact].key;
         item.cells.push_back(c);
         std::lock_guard lock(mutex);
         if (o.progress) progress.update(++done);
@@ -330,8 +418,13 @@ StabilityResult runStabilityStudy(const StabilityOptions& o) {
   progress.finish();
   for (Item& item : items)  // in item order, whatever thread ran it: the output does not depend on jobs
     for (StabilityCell& c : item.cells) result.cells.push_back(std::move(c));  // a piece: its own items only
-  // The grid first, then the users' cases, then the contact case.
-  const auto group = [](const StabilityCell& c) { return c.contact_case ? 2 : c.user_case ? 1 : 0; };
+  // The grid first, then the users' cases, then the contact cases in their order.
+  const auto group = [&](const StabilityCell& c) {
+    if (c.contact_case.empty()) return c.user_case ? 1 : 0;
+    std::size_t k = 0;
+    while (k < o.contact.size() && o.contact[k].key != c.contact_case) ++k;
+    return int(2 + k);
+  };
   std::stable_sort(result.cells.begin(), result.cells.end(),
                    [&](const StabilityCell& a, const StabilityCell& b) { return group(a) < group(b); });
   return result;

@@ -9,12 +9,15 @@
 // lost shape) without running
 // ("inferred": stability regions of these methods contain the whole segment from 0 to their boundary, and a
 // smaller step solves the same physics more accurately). The extra `cases` (ks, dt) always run, and so do the
-// `contact_cases` on their own scene (two jellies, one landing on the other: contact between bodies at large steps).
+// `contact` cases, each on its own scene (contact between bodies at large steps: ContactCase). Where no collider, pin
+// or drag acts, a cell also measures how far the run moved the total linear momentum from what gravity alone gives
+// (sum m v: p0 + M g t), and with no gravity either, the angular momentum (sum x x m v): internal forces (springs,
+// dampers, contact between bodies) move neither.
 // Rows run on `jobs` threads; each cell is single-threaded and deterministic, so the results do not depend on jobs.
 // On a farm (farm_pieces.h): `piece` runs only that piece's rows (work items: per integrator, each grid ks, then each
-// user case, then each contact case) into OUT/pieces/stability/, resuming; `gather` runs none and reads them all,
-// giving the StabilityResult of a one-machine run.
-// This file runs the study into a plain StabilityResult; study_stability_report.h writes it.
+// user case, then each contact case's runs) into OUT/pieces/stability/, resuming; `gather` runs none and reads them
+// all, giving the StabilityResult of a one-machine run. This file runs the study into a plain StabilityResult;
+// study_stability_report.h writes it.
 #pragma once
 #include <array>
 #include <filesystem>
@@ -31,6 +34,25 @@ namespace wobble {
 // A body whose largest spring strain passes this has lost its shape (also `wobble compare`'s mark).
 inline constexpr double kStrainBound = 0.5;
 
+// A contact case beside the map: a scene of bodies meeting, run under every integrator at each (ks, dt) of `runs`
+// (every spring's ks set) for `duration` simulated seconds. `key` names it on the command line (--contact,
+// --contact-scene KEY=FILE), in the CSV and in a piece's key; `title` heads its section of stability.md.
+struct ContactCase {
+  std::string key, title;
+  std::filesystem::path scene;
+  std::vector<std::array<double, 2>> runs;  // (ks, dt)
+  double duration = 1;
+};
+
+// The study's contact cases, in report order:
+//   landing    scenes/jelly_stack.toml, every spring at ks 1e5, dt 1/60, 1/120, 1/240 s for 1 s: a stiff jelly
+//              landing on a jelly (blow-up, crush, energy gained at the landing);
+//   free-pair  scenes/jelly_shot.toml at its own ks 2000, dt 1/60, 1/240, 1e-3, 5e-4, 2.5e-4 s for 0.5 s: a small jelly
+//              shot into a large one, no gravity, no colliders (the momentum each integrator keeps through an impact).
+const std::vector<ContactCase>& contactCases();
+// The case of that key. Throws InputError naming `flag`, the key and the allowed keys when there is none.
+const ContactCase& contactCase(const std::string& key, const std::string& flag);
+
 struct StabilityOptions {
   std::filesystem::path scene = "scenes/jelly_impact.toml";
   std::vector<std::string> sets;
@@ -41,11 +63,7 @@ struct StabilityOptions {
   double ks_min = 1e3, ks_max = 1e9, dt_min = 1e-5, dt_max = 1.0 / 30;
   int ks_points = 7, dt_points = 6;  // log spaced, ends included (--fine: 13 x 12)
   std::vector<std::array<double, 2>> cases = {{5e4, 1.2e-3}, {1e5, 1.4e-3}};  // (ks, dt): the users' reports
-  // The contact case: a stiff jelly landing on a jelly (contact between bodies, docs/body-contact.md) at large steps,
-  // each (ks, dt) run for contact_duration on contact_scene with every spring's ks set; no contact case when empty.
-  std::filesystem::path contact_scene = "scenes/jelly_stack.toml";
-  std::vector<std::array<double, 2>> contact_cases = {{1e5, 1.0 / 60}, {1e5, 1.0 / 120}, {1e5, 1.0 / 240}};
-  double contact_duration = 1.0;
+  std::vector<ContactCase> contact = contactCases();                          // none: no contact case
   bool infer = true;
   int jobs = 0;  // 0: hardware threads
   std::string gnuplot = "gnuplot";
@@ -63,10 +81,16 @@ struct StabilityCell {
   std::string integrator;
   double ks = 0, dt = 0;
   Outcome outcome = Outcome::Stable;
-  bool inferred = false, user_case = false, contact_case = false;  // at most one of the cases
-  double max_strain = 0, final_strain = 0;                         // over the checks / at the end (NaN when it blew up)
-  double end_time = 0;                                             // simulated time reached
-  double max_speed = 0;                                            // largest particle speed seen (m/s)
+  bool inferred = false, user_case = false;
+  std::string contact_case;                 // the contact case's key; empty in the map and the users' cases
+  double max_strain = 0, final_strain = 0;  // over the checks / at the end (NaN when it blew up)
+  double end_time = 0;                      // simulated time reached
+  double max_speed = 0;                     // largest particle speed seen (m/s)
+  // At the end: |p - (p0 + M g t)| / sum m |v0| (sum m |v0|: the largest |p0| the start's velocities could give), NaN
+  // where a collider, a pin or drag acts or the state is not finite; and |L - L0| / sum m |(x0 - c0) x v0| (about the
+  // origin; c0 the centre of mass: the start's angular momentum about it, were every particle turning one way), NaN
+  // also under gravity.
+  double momentum_drift = 0, angular_momentum_drift = 0;
   long steps = 0;
   std::string note;  // the failure's message
 };
@@ -79,9 +103,9 @@ struct StabilityTheory {
 
 struct StabilityResult {
   std::string scene_name;
-  std::string contact_scene_name;  // empty without a contact case
-  std::filesystem::path scene_file, contact_scene_file;
-  double contact_duration = 0;
+  std::filesystem::path scene_file;
+  std::vector<ContactCase> contact;         // the contact cases run
+  std::vector<std::string> contact_scenes;  // their scenes' names
   double duration = 0, strain_bound = 0;
   std::vector<std::string> integrators;
   std::vector<double> ks, dt;  // the grid

@@ -30,7 +30,10 @@ std::string cellSymbol(const StabilityCell& c) {
   return "?";
 }
 
-bool gridCell(const StabilityCell& c) { return !c.user_case && !c.contact_case; }
+bool gridCell(const StabilityCell& c) { return !c.user_case && c.contact_case.empty(); }
+
+// A relative momentum drift for the report: NaN (does not apply) as "-".
+std::string drift(double d) { return std::isfinite(d) ? io::formatNumber(d, 2) : "-"; }
 
 }  // namespace
 
@@ -88,22 +91,53 @@ std::string stabilityMarkdown(const StabilityResult& r) {
     md << t.markdown() << "\n";
   }
 
-  bool any_contact = false;
-  for (const StabilityCell& c : r.cells) any_contact |= c.contact_case;
-  if (any_contact) {
-    md << "## Contact: a stiff jelly landing on a jelly\n\n"
-       << "Scene `" << r.contact_scene_file.string() << "` (contact between bodies, docs/body-contact.md) with every "
-       << "spring's ks set to the case's value, run for " << io::formatNumber(r.contact_duration)
-       << " simulated seconds at large steps: the landing is where a step too large for the stiff jelly blows up "
-          "(BLOW), crushes it (SHAPE), or gives energy back (GAIN); a contact the fail-safe cannot resolve stops the "
-          "run like a blow-up (BLOW, the note says so).\n\n";
-    io::TextTable t{{"ks", "dt (s)", "integrator", "outcome", "max strain", "final strain", "max speed (m/s)",
-                     "end time (s)", "note"}};
+  for (std::size_t k = 0; k < r.contact.size(); ++k) {
+    const ContactCase& contact = r.contact[k];
+    bool any = false, momentum = false, angular = false;
     for (const StabilityCell& c : r.cells)
-      if (c.contact_case)
-        t.add({io::formatNumber(c.ks), io::formatNumber(c.dt, 3), c.integrator, cellSymbol(c),
-               io::formatNumber(c.max_strain, 3), io::formatNumber(c.final_strain, 3), io::formatNumber(c.max_speed, 3),
-               io::formatNumber(c.end_time, 3), c.note});
+      if (c.contact_case == contact.key) {
+        any = true;
+        momentum |= std::isfinite(c.momentum_drift);
+        angular |= std::isfinite(c.angular_momentum_drift);
+      }
+    if (!any) continue;
+    md << "## Contact: " << contact.title << "\n\n"
+       << "Contact case `" << contact.key << "`: scene `" << contact.scene.string()
+       << "` (contact between bodies, docs/body-contact.md) with every spring's ks set to the case's value, run for "
+       << io::formatNumber(contact.duration)
+       << " simulated seconds at each step: the contact is where a step too large for the bodies blows up (BLOW), "
+          "crushes them (SHAPE), or gives energy back (GAIN); a contact the fail-safe cannot resolve stops the run "
+          "like a blow-up (BLOW, the note says so).";
+    if (momentum)
+      md << " No collider, pin or drag acts, so only internal forces move the bodies: **momentum drift** is |p - (p0 + "
+            "M g t)| at the run's end over sum m |v0| (the bodies' momentum scale), which they keep to round-off under "
+            "an exact integrator";
+    if (angular)
+      md << ", and with no gravity **angular drift** is |L - L0| (about the origin) over sum m |(x0 - c0) x v0| (c0: "
+            "the centre of mass)";
+    if (momentum) md << "; '-': not finite.";
+    md << "\n\n";
+    std::vector<std::string> head{"ks",         "dt (s)",       "integrator",      "outcome",
+                                  "max strain", "final strain", "max speed (m/s)", "end time (s)"};
+    if (momentum) head.push_back("momentum drift");
+    if (angular) head.push_back("angular drift");
+    head.push_back("note");
+    io::TextTable t{head};
+    for (const StabilityCell& c : r.cells)
+      if (c.contact_case == contact.key) {
+        std::vector<std::string> row{io::formatNumber(c.ks),
+                                     io::formatNumber(c.dt, 3),
+                                     c.integrator,
+                                     cellSymbol(c),
+                                     io::formatNumber(c.max_strain, 3),
+                                     io::formatNumber(c.final_strain, 3),
+                                     io::formatNumber(c.max_speed, 3),
+                                     io::formatNumber(c.end_time, 3)};
+        if (momentum) row.push_back(drift(c.momentum_drift));
+        if (angular) row.push_back(drift(c.angular_momentum_drift));
+        row.push_back(c.note);
+        t.add(row);
+      }
     md << t.markdown() << "\n";
   }
 
@@ -170,18 +204,22 @@ std::vector<PlotResult> writeStabilityOutputs(const StabilityResult& r, const fs
                                               const std::string& gnuplot) {
   fs::create_directories(out);
   io::TextTable csv{{"scene", "integrator", "ks", "dt", "outcome", "inferred", "user_case", "contact_case",
-                     "max_strain", "final_strain", "max_speed", "end_time", "steps", "theory_dt_power",
-                     "theory_dt_gershgorin", "note"}};
+                     "max_strain", "final_strain", "max_speed", "end_time", "steps", "momentum_drift",
+                     "angular_momentum_drift", "theory_dt_power", "theory_dt_gershgorin", "note"}};
   for (const StabilityCell& c : r.cells) {
     const auto i =
         std::size_t(std::find(r.integrators.begin(), r.integrators.end(), c.integrator) - r.integrators.begin());
     const StabilityTheory* th = nullptr;  // the theory is the main scene's
     for (const StabilityTheory& t : r.theory)
-      if (t.ks == c.ks && !c.contact_case) th = &t;
-    csv.add({c.contact_case ? r.contact_scene_name : r.scene_name, c.integrator, io::formatNumber(c.ks, 10),
-             io::formatNumber(c.dt, 10), toString(c.outcome), c.inferred ? "1" : "0", c.user_case ? "1" : "0",
-             c.contact_case ? "1" : "0", io::formatNumber(c.max_strain, 6), io::formatNumber(c.final_strain, 6),
-             io::formatNumber(c.max_speed, 6), io::formatNumber(c.end_time, 6), std::to_string(c.steps),
+      if (t.ks == c.ks && c.contact_case.empty()) th = &t;
+    std::string scene = r.scene_name;  // a contact case's own
+    for (std::size_t k = 0; k < r.contact.size(); ++k)
+      if (r.contact[k].key == c.contact_case) scene = r.contact_scenes[k];
+    const auto optional = [](double v) { return std::isfinite(v) ? io::formatNumber(v, 6) : std::string(); };
+    csv.add({scene, c.integrator, io::formatNumber(c.ks, 10), io::formatNumber(c.dt, 10), toString(c.outcome),
+             c.inferred ? "1" : "0", c.user_case ? "1" : "0", c.contact_case, io::formatNumber(c.max_strain, 6),
+             io::formatNumber(c.final_strain, 6), io::formatNumber(c.max_speed, 6), io::formatNumber(c.end_time, 6),
+             std::to_string(c.steps), optional(c.momentum_drift), optional(c.angular_momentum_drift),
              th ? io::formatNumber(th->dt_power[i], 6) : "", th ? io::formatNumber(th->dt_gershgorin[i], 6) : "",
              c.note});
   }
@@ -207,7 +245,7 @@ std::vector<PlotResult> writeStabilityOutputs(const StabilityResult& r, const fs
     for (int k = 0; k < 7; ++k) {
       gp << "$c" << k << " << EOD\n";
       for (const StabilityCell& c : r.cells)
-        if (!c.contact_case && c.integrator == name && cellSymbol(c) == kinds[k])
+        if (c.contact_case.empty() && c.integrator == name && cellSymbol(c) == kinds[k])
           gp << io::formatNumber(c.dt, 10) << " " << io::formatNumber(c.ks, 10) << " " << (c.user_case ? 1 : 0) << "\n";
       gp << "EOD\n";
     }

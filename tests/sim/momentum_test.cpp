@@ -7,8 +7,8 @@
 
 #include <cmath>
 
-#include "sim/bodies/jelly.h"
 #include "sim/simulation.h"
+#include "tests/sim/jelly_shot.h"
 #include "tests/sim/momentum.h"
 
 namespace wobble {
@@ -31,22 +31,8 @@ struct Shot {
 };
 
 Shot shootJellyIntoJelly(double dt, double cg_tolerance) {
-  MassSpringSystem system(Vec3::Zero());
-  system.addBody(buildJelly("bullet", {.n = 4,
-                                       .size = 0.4,
-                                       .mass = 0.02,
-                                       .ks = 2000,
-                                       .kd = 5,
-                                       .center = Vec3(-1.5, 0.3, 0.2),
-                                       .velocity = Vec3(25, 0, 0)}));
-  system.addBody(buildJelly("target", {.n = 8,
-                                       .size = 1.6,
-                                       .mass = 0.05,
-                                       .ks = 2000,
-                                       .kd = 5,
-                                       .center = Vec3(0, 0, 0),
-                                       .rotation_axis = Vec3(0, 1, 0.3),
-                                       .rotation_deg = 20}));
+  const auto shot = testing::jellyShot();
+  MassSpringSystem& system = *shot;
   IntegratorOptions options;
   options.cg_tolerance = cg_tolerance;
   Simulation sim(system, makeIntegrator("backward-euler", options), dt);
