@@ -135,14 +135,14 @@ void addStability(CLI::App& study, int& status) {
   auto no_contact = std::make_shared<bool>(false);
   auto contact = std::make_shared<std::vector<std::string>>();
   auto contact_scenes = std::make_shared<std::vector<std::string>>();
-  std::string keys;
-  for (const ContactCase& c : contactCases()) keys += (keys.empty() ? "" : ",") + c.key;
-  cmd->add_option("--contact", *contact,
-                  "Contact cases to run (default: all, " + keys +
-                      "): landing, a stiff jelly (ks 1e5) landing on a jelly at dt 1/60, 1/120, 1/240 s; free-pair, "
-                      "a small jelly shot into a large one without gravity or colliders at dt 1/60 s to 2.5e-4 s, "
-                      "with each integrator's momentum drift")
-      ->delimiter(',');
+  std::string cases;  // each case's key, what it is and its steps, from the table
+  for (const ContactCase& c : contactCases()) {
+    cases +=
+        (cases.empty() ? "" : "; ") + c.key + ": " + c.title + ", ks " + io::formatNumber(c.runs.front()[0]) + ", dt";
+    for (const auto& run : c.runs) cases += " " + io::formatNumber(run[1], 3);
+    cases += " s";
+  }
+  cmd->add_option("--contact", *contact, "Contact cases to run (default: all): " + cases)->delimiter(',');
   cmd->add_option("--contact-scene", *contact_scenes, "KEY=FILE: run contact case KEY on another scene (repeatable)");
   cmd->add_flag("--no-contact", *no_contact, "Leave the contact cases out");
   cmd->add_option("--jobs", o->jobs, "Threads (0: one per hardware thread; results do not depend on it)")
@@ -153,7 +153,7 @@ void addStability(CLI::App& study, int& status) {
   addMaxMemoryOption(*cmd);
   cmd->add_option("--gnuplot", o->gnuplot, "The gnuplot program (name on PATH or a path)")->capture_default_str();
   cmd->footer(
-      "The users' cases (ks 5e4 at dt 1.2e-3, ks 1e5 at dt 1.4e-3) and the contact case are always run in full.\n"
+      "The users' cases (ks 5e4 at dt 1.2e-3, ks 1e5 at dt 1.4e-3) and the contact cases are always run in full.\n"
       "Examples:\n"
       "  wobble study stability --integrators explicit-euler,rk4 --duration 0.3\n"
       "  wobble study stability --fine --out out/map --piece 3/8    # one task of a farm (scripts/slurm/)\n"
