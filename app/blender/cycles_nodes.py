@@ -36,6 +36,11 @@ light_paths(scene, bounces, dielectric, clamp_indirect): Cycles' integrator as w
     volume, as wobble's caps), caustics on (wobble filters none), indirect light clamped at wobble's
     render.clamp_indirect (0, the bench's setting, clamps nothing), no direct clamp, no light threshold, no glossy blur,
     a 1-pixel box filter.
+shadow_caustics(casters, receivers, lights): Cycles' manifold next-event estimation (Hanika, Droske, Fascione 2015)
+    for the sunlight refracted through gelatine, as wobble's caustic photon map carries it (render.caustics =
+    "photons"): the gelatine objects cast shadow caustics, every other mesh receives them, the suns light them. Cycles
+    3.4 solves the chain through the caster's smooth interfaces but leaves out the volume inside it (no Beer-Lambert
+    tint: the caustic comes out white where wobble's is the gelatine's colour) and needs smooth normals.
 tone_map(scene, exposure): wobble's display transform (render/color.h): 2^exposure, Narkowicz's ACES fit x (2.51 x +
     0.03) / (x (2.43 x + 0.59) + 0.14) per channel, clamped to [0, 1], as compositor nodes; then the "Standard" view
     transform (the sRGB encoding, no look, exposure 0, gamma 1) and no dither, as wobble's PNG frames.
@@ -281,6 +286,15 @@ def light_paths(scene, bounces, dielectric, clamp_indirect=0.0):
     c.filter_type = "BOX"  # wobble's pixel filter is a 1-pixel box
     c.filter_width = 1.0
     c.film_exposure = 1.0
+
+
+def shadow_caustics(casters, receivers, lights):
+    for obj in casters:
+        obj.cycles.is_caustics_caster = True
+    for obj in receivers:
+        obj.cycles.is_caustics_receiver = True
+    for obj in lights:
+        obj.data.cycles.is_caustics_light = True
 
 
 def tone_map(scene, exposure):

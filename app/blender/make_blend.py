@@ -7,13 +7,15 @@ the run's folder, where the .blend is saved) lists the frame range and rate, wob
 coat, texture, gelatine), the bodies (base OBJ, PC2 point cache, material), the colliders as wobble draws them (a
 sphere, or triangles with UVs around the drawn centre; a centre per frame for a moving one), the camera (one view,
 or one per frame for a follow camera; the lens and shutter), the suns and the sky, or the environment map that
-replaces them, the bounces and the exposure. Each body becomes one object: its base OBJ, imported with Blender's
-default OBJ axes (forward -Z, up Y, which map wobble's (x, y, z) to Blender's (x, -z, y) by the object's rotation),
-smooth shaded from its moving vertices, with a Mesh Cache modifier playing its PC2 (whose points are the OBJ's
-vertices in order). Moving colliders and the follow camera are baked as keyframes, one per frame, linear. The
-materials, world, sun, light paths and tone curve come from cycles_nodes.py (written beside this script by `wobble
-blend`; bench/cycles_scene.py uses it too), so Cycles renders the picture wobble renders. Paths in the .blend are
-relative to it, so the run's folder can be moved as a whole; with "pack", the images are packed into it.
+replaces them, the bounces, the clamp of indirect light, whether wobble carries shadow caustics (then the gelatine
+bodies cast them in Cycles, the other surfaces receive them and the suns light them) and the exposure. Each body
+becomes one object: its base OBJ, imported with Blender's default OBJ axes (forward -Z, up Y, which map wobble's
+(x, y, z) to Blender's (x, -z, y) by the object's rotation), smooth shaded from its moving vertices, with a Mesh
+Cache modifier playing its PC2 (whose points are the OBJ's vertices in order). Moving colliders and the follow
+camera are baked as keyframes, one per frame, linear. The materials, world, sun, light paths and tone curve come
+from cycles_nodes.py (written beside this script by `wobble blend`; bench/cycles_scene.py uses it too), so Cycles
+renders the picture wobble renders. Paths in the .blend are relative to it, so the run's folder can be moved as a
+whole; with "pack", the images are packed into it.
 """
 import json
 import math
@@ -221,16 +223,21 @@ def main():
         return bpy.data.images.load("//" + path, check_existing=True)
 
     materials = [cycles_nodes.material(mat, load_image) for mat in m["materials"]]
+    casters, receivers = [], []  # shadow caustics: gelatine casts them, every other surface receives them
     for b in m["bodies"]:
-        add_body(b, materials[b["material"]], out_dir, m["frame_start"])
+        obj = add_body(b, materials[b["material"]], out_dir, m["frame_start"])
+        (casters if m["materials"][b["material"]].get("dielectric") else receivers).append(obj)
     for c in m["colliders"]:
         obj, centers = add_collider(c)
         if any((p - centers[0]).length > 0 for p in centers):
             bake(obj, {"location": centers}, m["frame_start"])
         obj.data.materials.append(materials[c["material"]])
+        receivers.append(obj)
     add_camera(m["camera"], m["frame_start"])
-    for i, sun in enumerate(m["suns"]):  # none with an environment map: it holds its own sun
-        cycles_nodes.sun(scene, "sun" if i == 0 else "sun.%d" % i, sun)
+    suns = [cycles_nodes.sun(scene, "sun" if i == 0 else "sun.%d" % i, sun)  # none with an environment map
+            for i, sun in enumerate(m["suns"])]
+    if m["shadow_caustics"] and casters:
+        cycles_nodes.shadow_caustics(casters, receivers, suns)
     cycles_nodes.world(scene, m["sky"], m.get("environment"), m["bounces"])
     cycles_nodes.light_paths(scene, m["bounces"], any(mat.get("dielectric") for mat in m["materials"]),
                              m["clamp_indirect"])

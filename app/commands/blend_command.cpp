@@ -292,6 +292,7 @@ BlendReport makeBlend(const BlendOptions& options) {
                      {"up", vec(lights.sky.up)}}},
                    {"bounces", o.bounces},
                    {"clamp_indirect", o.clamp_indirect},
+                   {"shadow_caustics", o.caustics == "photons"},
                    {"exposure", o.exposure},
                    {"pack", options.pack}};
   manifest["materials"] = materials(scene, drawn.scene(), rects, out, files);

@@ -248,6 +248,52 @@ environment_strength = 2
       << slurpFile(log);
 }
 
+// Shadow caustics in Cycles (issue 51): where wobble carries the sun's light through gelatine (render.caustics =
+// "photons", the default), the .blend turns on Cycles' manifold next-event estimation for it: the gelatine body casts
+// shadow caustics, the other body and the colliders receive them, the sun lights them; with caustics off, no flag is
+// set (tests/blender/caustics_check.py reads them back in Blender).
+TEST_F(Blender, GelatineCastsShadowCausticsInCycles) {
+  if (!blender_)
+    GTEST_SKIP() << "blender is not on PATH (./setup.sh tests installs it; plain setup.sh leaves it out: it is large)";
+  copyCatTexture();
+  const fs::path scene =
+      write("caustic.toml",
+            testing::smallSceneText(
+                {.duration = "0.1", .center = "[0, 1.6, 0]", .jelly = "material = \"gelatine\"\n", .rest = R"(
+[bodies.sheet]
+type = "cloth"
+nx = 4
+ny = 4
+size = [1.0, 1.0]
+center = [3, 1.0, 0]
+
+[colliders.ball]
+type = "sphere"
+center = [-3, 0.5, 0]
+radius = 0.5
+)"}));
+  const fs::path log = dir() / "log.txt";
+  for (const bool on : {true, false}) {
+    const fs::path out = dir() / (on ? "on" : "off");
+    ASSERT_EQ(runWobble("run " + scene.string() + " --render none --pc2 --out " + out.string() +
+                            (on ? "" : " --set render.caustics=off"),
+                        log),
+              0)
+        << slurpFile(log);
+    ASSERT_EQ(runWobble("blend " + out.string(), log), 0) << slurpFile(log);
+    const nlohmann::json expected = {{"casters", on ? nlohmann::json{"jelly"} : nlohmann::json::array()},
+                                     {"receivers",
+                                      on ? nlohmann::json{"sheet", "floor", "ball"} : nlohmann::json::array()},
+                                     {"lights", on ? nlohmann::json{"sun"} : nlohmann::json::array()}};
+    std::ofstream(dir() / "expected.json") << expected.dump();
+    EXPECT_EQ(blender((out / "caustic.blend").string() + " --python-exit-code 1 --python " +
+                          script("caustics_check.py") + " -- " + (dir() / "expected.json").string(),
+                      log),
+              0)
+        << (on ? "caustics on: " : "caustics off: ") << slurpFile(log);
+  }
+}
+
 // Cycles renders the .blend as wobble renders the scene (issue 51): a small frame of a textured, coated jelly on a
 // wooden slope turned about two axes (its square's orientation and its planks show), a checked ball, wobble's sky,
 // sun and tone curve, at 128 x 72. wobble renders it with 64 samples a pixel (no adaptive stop, no denoiser) and
