@@ -276,10 +276,11 @@ std::vector<Color> denoise(const image::Film& film, const DenoiseSettings& setti
       film.variance_other.size() != n || (!film.blur.empty() && film.blur.size() != n))
     throw std::invalid_argument("denoise: empty or inconsistent film");
   if (settings.iterations < 0 || settings.iterations > 10 || settings.radius < 1 || settings.radius > 2 ||
-      !(settings.sigma_luminance > 0) || !(settings.sigma_normal >= 0) || !(settings.sigma_depth > 0))
+      !(settings.sigma_luminance > 0) || !(settings.sigma_normal >= 0) || !(settings.sigma_depth > 0) ||
+      settings.well_sampled < 0 || settings.well_sampled_iterations < 0)
     throw std::invalid_argument(
         "denoise: need iterations in [0, 10], radius 1 or 2, sigma_luminance > 0, "
-        "sigma_normal >= 0, sigma_depth > 0");
+        "sigma_normal >= 0, sigma_depth > 0, well_sampled >= 0, well_sampled_iterations >= 0");
 
   const int pad = std::max(1, settings.iterations > 0 ? settings.radius << (settings.iterations - 1) : 0);
   const int stride = w + 2 * pad, rows = h + 2 * pad;
@@ -348,6 +349,17 @@ std::vector<Color> denoise(const image::Film& film, const DenoiseSettings& setti
   });
   fillMissingVariance(diffuse, ws.lum, ws.filled, stride, pad, w, h);
   fillMissingVariance(other, ws.lum, ws.filled, stride, pad, w, h);
+  // Well-sampled surface pixels (denoiser.h): held as they are after the first iterations. None on a frame of one to a
+  // few samples a pixel.
+  std::vector<std::size_t> held;
+  if (settings.well_sampled > 0 && settings.well_sampled_iterations < settings.iterations && film.samples.size() == n)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const std::size_t p = at(x, y);
+        if (film.samples[film.index(x, y)] >= std::uint32_t(settings.well_sampled) && guide.cls.v[p] == 1.0f &&
+            guide.blur.v[p] < 1.0f)
+          held.push_back(p);
+      }
 
   const float b3[5] = {1.0f / 16, 1.0f / 4, 3.0f / 8, 1.0f / 4, 1.0f / 16};
   const float b1[3] = {1.0f / 4, 1.0f / 2, 1.0f / 4};
@@ -401,6 +413,11 @@ std::vector<Color> denoise(const image::Film& film, const DenoiseSettings& setti
     copySignal(*signal, next);
     for (int iteration = 0; iteration < settings.iterations; ++iteration) {
       pass(*signal, next, window, spans, 1 << iteration);
+      if (iteration >= settings.well_sampled_iterations)
+        for (const std::size_t p : held) {
+          next.r.v[p] = signal->r.v[p], next.g.v[p] = signal->g.v[p], next.b.v[p] = signal->b.v[p];
+          next.var.v[p] = signal->var.v[p];
+        }
       std::swap(*signal, next);
     }
   }

@@ -323,6 +323,9 @@ TEST(Denoiser, RejectsBadInput) {
   DenoiseSettings sigma;
   sigma.sigma_luminance = 0;
   EXPECT_THROW(denoise(film, sigma), std::invalid_argument);
+  DenoiseSettings held;
+  held.well_sampled = -1;
+  EXPECT_THROW(denoise(film, held), std::invalid_argument);
   // Zero iterations is allowed and leaves the colour as it was.
   DenoiseSettings none;
   none.iterations = 0;

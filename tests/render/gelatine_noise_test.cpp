@@ -14,6 +14,7 @@
 #include "render/denoiser.h"
 #include "render/renderer.h"
 #include "render/scene.h"
+#include "tests/render/test_util.h"
 
 namespace wobble::render {
 namespace {
@@ -51,31 +52,18 @@ Camera camera() {
 
 // Pixels whose footprint (corners and centre) lies on the ball.
 bool onBall(const Camera& cam, int x, int y) {
-  for (const auto& [dx, dy] : {std::pair{0.0f, 0.0f}, {1.0f, 0.0f}, {0.0f, 1.0f}, {1.0f, 1.0f}, {0.5f, 0.5f}}) {
-    const Ray r = cam.ray(x + dx, y + dy);
+  return test::wholePixel(x, y, [&](float u, float v) {
+    const Ray r = cam.ray(u, v);
     const Vector3f oc = r.origin - kCentre;
     const float b = oc.dot(r.direction);
-    if (b * b - (oc.squaredNorm() - 1) < 0) return false;
-  }
-  return true;
+    return b * b - (oc.squaredNorm() - 1) >= 0;
+  });
 }
 
-// RMSE of the displayed (tone-mapped, 8-bit) pictures over the ball.
+// RMSE of the displayed pictures over the ball.
 double ballRmse(const Camera& cam, const std::vector<Color>& image, const std::vector<Color>& reference) {
-  const image::Image8 a = image::develop(cam.width(), cam.height(), image);
-  const image::Image8 b = image::develop(cam.width(), cam.height(), reference);
-  double sq = 0;
-  int n = 0;
-  for (int y = 0; y < cam.height(); ++y)
-    for (int x = 0; x < cam.width(); ++x) {
-      if (!onBall(cam, x, y)) continue;
-      for (int c = 0; c < 3; ++c) {
-        const double d = (double(a.at(x, y, c)) - double(b.at(x, y, c))) / 255.0;
-        sq += d * d;
-      }
-      ++n;
-    }
-  return std::sqrt(sq / (3.0 * n));
+  return test::displayRmse(cam.width(), cam.height(), image, reference,
+                           [&](int x, int y) { return onBall(cam, x, y); });
 }
 
 // The default scene's settings (scenes/jelly_slope.toml): adaptive from one sample up to three at threshold 0.3,
