@@ -13,31 +13,45 @@ namespace {
 std::atomic<bool> skip_while_apart{true};
 // The clearance is measured with each element's box padded by half the thickness and half this many thicknesses
 // more: G is at most (1 + kMarginThicknesses) thicknesses, and the steps it serves may close up to kMarginThicknesses
-// of them. More serves longer and lists more pairs (a cloth's elements a spacing apart).
-constexpr double kMarginThicknesses = 4;
+// of them. More serves longer where the elements are further apart and lists more pairs: 6 thicknesses is about the
+// nearest non-adjacent elements of cloth_sphere's cloth (0.7 of its spacing), which bound its G below that.
+constexpr double kMarginThicknesses = 5;
 // A measure that served fewer steps than this did not pay: the next one waits (twice as long each time).
 constexpr long kPayoff = 8;
 constexpr int kMostWait = 256;
 
-// Over count particles: the largest of |a_k - r_k - sa|^2 and |b_k - r_k - sb|^2 into largest, and their sum into sum
-// (not finite where a coordinate is not), 3 coordinates a particle. Run on every step that may skip: its cost is what
-// a skipped step costs, so it has AVX-512 and AVX2 clones.
-__attribute__((target_clones("avx512f", "avx2", "default"))) void driftSquared(const double* a, const double* b,
-                                                                               const double* r, int count,
-                                                                               const double* sa, const double* sb,
-                                                                               double& largest, double& sum) {
-  double most = largest, total = sum;
-  for (int i = 0; i < count; ++i) {
-    const double ax = a[3 * i] - r[3 * i] - sa[0], ay = a[3 * i + 1] - r[3 * i + 1] - sa[1],
-                 az = a[3 * i + 2] - r[3 * i + 2] - sa[2];
-    const double bx = b[3 * i] - r[3 * i] - sb[0], by = b[3 * i + 1] - r[3 * i + 1] - sb[1],
-                 bz = b[3 * i + 2] - r[3 * i + 2] - sb[2];
-    const double qa = ax * ax + ay * ay + az * az, qb = bx * bx + by * by + bz * bz;
-    const double q = qa > qb ? qa : qb;
-    most = q > most ? q : most;
-    total += qa + qb;
+// Over count particles, 3 coordinates each: per axis the least and the greatest of x - r folded into lo and hi, and
+// their sum added to sum (not finite where a coordinate is not: the minimum and maximum pass a NaN by). Run on every
+// step that may skip, so its cost is what a skipped step costs: its lanes are 8 particles' coordinates, each with its
+// own least, greatest and sum (elementwise: they vectorize with no reordering of floating-point operations), folded
+// per axis at the end; AVX-512 and AVX2 clones.
+__attribute__((target_clones("avx512f", "avx2", "default"))) void displacementBox(const double* x, const double* r,
+                                                                                  int count, double* lo, double* hi,
+                                                                                  double& sum) {
+  constexpr int kLanes = 24;  // 8 particles: whole AVX-512 and AVX2 vectors, and whole particles
+  double l[kLanes], h[kLanes], s[kLanes];
+  for (int j = 0; j < kLanes; ++j) l[j] = lo[j % 3], h[j] = hi[j % 3], s[j] = 0;
+  const int blocks = count / 8;
+  for (int k = 0; k < blocks; ++k)
+    for (int j = 0; j < kLanes; ++j) {
+      const double d = x[kLanes * k + j] - r[kLanes * k + j];
+      l[j] = d < l[j] ? d : l[j];
+      h[j] = d > h[j] ? d : h[j];
+      s[j] += d;
+    }
+  for (int j = kLanes * blocks; j < 3 * count; ++j) {  // the last particles, fewer than 8
+    const double d = x[j] - r[j];
+    l[j % 3] = d < l[j % 3] ? d : l[j % 3];
+    h[j % 3] = d > h[j % 3] ? d : h[j % 3];
+    s[j % 3] += d;
   }
-  largest = most, sum = total;
+  double total = sum;
+  for (int j = 0; j < kLanes; ++j) {
+    lo[j % 3] = std::min(lo[j % 3], l[j]);
+    hi[j % 3] = std::max(hi[j % 3], h[j]);
+    total += s[j];
+  }
+  sum = total;
 }
 }  // namespace
 
@@ -62,7 +76,7 @@ Clearance::Clearance(const SurfaceNodes& nodes, CandidateSearch& search, bool pa
     std::vector<int>& p = particles[b];
     std::sort(p.begin(), p.end());
     p.erase(std::unique(p.begin(), p.end()), p.end());
-    Body body{{}, p.empty() ? 0 : p[p.size() / 2], weight[b]};
+    Body body{{}, weight[b]};
     for (std::size_t i = 0; i < p.size(); ++i)
       if (i > 0 && p[i] == p[i - 1] + 1) body.ranges.back().second = p[i] + 1;
       else body.ranges.emplace_back(p[i], p[i] + 1);
@@ -72,31 +86,36 @@ Clearance::Clearance(const SurfaceNodes& nodes, CandidateSearch& search, bool pa
   }
 }
 
+// Per body and end: the box of its particles' displacements from the reference, its centre c and half-diagonal h.
+bool Clearance::spread(const VecX& x, int end) {
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    double sum = 0;
+    for (const auto& [begin, stop] : bodies_[b].ranges)
+      displacementBox(x.data() + 3 * begin, reference_.data() + 3 * begin, stop - begin, lo.data(), hi.data(), sum);
+    if (!std::isfinite(sum)) return false;  // a coordinate that is not finite
+    const bool none = bodies_[b].ranges.empty();
+    centre_[2 * b + end] = none ? Vec3::Zero() : Vec3(0.5 * (lo + hi));
+    half_[2 * b + end] = none ? 0.0 : 0.5 * (hi - lo).norm();
+  }
+  return true;
+}
+
 double Clearance::closing(const VecX& x0, const VecX& x1, double limit) {
-  const int bodies = int(bodies_.size());
-  drift_.assign(bodies, 0.0);
-  shift_.resize(2 * bodies);
+  const std::size_t bodies = bodies_.size();
+  centre_.resize(2 * bodies), half_.resize(2 * bodies);
+  if (!spread(x0, 0) || !spread(x1, 1)) return std::numeric_limits<double>::infinity();
   double most = 0;
-  for (int b = 0; b < bodies; ++b) {
-    const Body& body = bodies_[b];
-    const int r = body.reference_particle;
-    const Vec3 s0 = particle(x0, r) - particle(reference_, r), s1 = particle(x1, r) - particle(reference_, r);
-    shift_[2 * b] = s0, shift_[2 * b + 1] = s1;
-    double largest = 0, sum = 0;  // squared
-    for (const auto& [begin, stop] : body.ranges)
-      driftSquared(x0.data() + 3 * begin, x1.data() + 3 * begin, reference_.data() + 3 * begin, stop - begin, s0.data(),
-                   s1.data(), largest, sum);
-    if (!std::isfinite(sum)) return std::numeric_limits<double>::infinity();  // a coordinate that is not finite
-    drift_[b] = std::sqrt(largest);
+  for (std::size_t b = 0; b < bodies; ++b)
     if (nodes_.params[b].self_contact) {
-      most = std::max(most, 2 * body.weight * drift_[b]);
+      most = std::max(most, 2 * bodies_[b].weight * std::max(half_[2 * b], half_[2 * b + 1]));
       if (most >= limit) return most;
     }
-  }
   for (const auto& [a, b] : meeting_) {
     const double apart =
-        std::max((shift_[2 * a] - shift_[2 * b]).norm(), (shift_[2 * a + 1] - shift_[2 * b + 1]).norm());
-    most = std::max(most, bodies_[a].weight * drift_[a] + bodies_[b].weight * drift_[b] + apart);
+        std::max((centre_[2 * a] - centre_[2 * b]).norm(), (centre_[2 * a + 1] - centre_[2 * b + 1]).norm());
+    most = std::max(most, bodies_[a].weight * std::max(half_[2 * a], half_[2 * a + 1]) +
+                              bodies_[b].weight * std::max(half_[2 * b], half_[2 * b + 1]) + apart);
   }
   return most;
 }
@@ -117,28 +136,6 @@ bool Clearance::covers(const VecX& x0, const VecX& x1) {
   }
   ++served_;
   return true;
-}
-
-// Each body's shift follows the particle whose displacement since the last reference lay nearest the middle of the
-// body's displacements (per axis, halfway between the least and the greatest): if the body keeps moving so, its
-// other particles stay nearer it than a particle at one end of the range, and the measure serves longer. (Any
-// particle keeps the bound: this only picks one.)
-void Clearance::chooseShifts(const VecX& x) {
-  for (Body& body : bodies_) {
-    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-    for (const auto& [begin, stop] : body.ranges)
-      for (int k = begin; k < stop; ++k) {
-        const Vec3 u = particle(x, k) - particle(reference_, k);
-        lo = lo.cwiseMin(u), hi = hi.cwiseMax(u);
-      }
-    const Vec3 middle = 0.5 * (lo + hi);
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const auto& [begin, stop] : body.ranges)
-      for (int k = begin; k < stop; ++k) {
-        const double d = (particle(x, k) - particle(reference_, k) - middle).squaredNorm();
-        if (d < nearest) nearest = d, body.reference_particle = k;
-      }
-  }
 }
 
 void Clearance::passed(bool near) { near_ = near; }
@@ -187,7 +184,6 @@ void Clearance::measure(const VecX& x) {
   const double slack = 1e-6 * thickness + 1e-12 * (1 + blended_.lpNorm<Eigen::Infinity>());
   allowance_ = clearance_ - thickness - slack;
   if (allowance_ > 0) {
-    if (reference_.size() == x.size()) chooseShifts(x);
     reference_ = x;
     valid_ = true;
   } else {  // (a measure that serves no step)

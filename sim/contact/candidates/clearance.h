@@ -8,20 +8,21 @@
 // per pair a lower bound of its distance (the gap between its two elements' projections on the direction of their
 // nearest points, which no direction exceeds). Every other pair is further apart than 2 pad. So the smallest distance
 // between any two elements the pass tests is at least G, the least of 2 pad and the pairs' bounds.
-// A later step moves the particles linearly from x0 to x1. Per body b, with u_k = x_k - x_ref,k and the shift s_b =
-// u_r of one particle r of the body (a common translation changes no distance within the body), each node moves from
-// its reference by s_b plus at most W_b D_b, where D_b is the largest |u_k - s_b| of the body's particles at either end
-// (the norm is convex: in between it is no larger) and W_b the largest sum of |weights| of a node (1 for a node that is
-// a particle). Two elements of body b come closer by at most 2 W_b D_b; of bodies a and b by at most W_a D_a + W_b D_b
-// + |s_a - s_b|. While the largest such closing over the pairs of bodies that meet stays below G less the largest
-// thickness (less a slack for rounding), every pair stays further apart than the thickness all through the step: the
-// pass would find no pair within it at the start, no collision along the step (those are within a thousandth of it)
-// and change no byte of x1 or v1, and backward Euler's searches would hand over no pair (they hand over only pairs
-// within the thickness at the end or colliding). Such a step skips them.
+// A later step moves the particles linearly from x0 to x1. Per body b and end, the displacements u_k = x_k - x_ref,k of
+// the body's particles lie in their box (per axis, from the least to the greatest), within its half-diagonal h_b of its
+// centre c_b (a common translation moves the box, not h_b); in between, each u_k(t) lies within the larger h_b of the
+// two ends of the centre's own straight path (the norm is convex). A node blends particles with weights that sum to
+// 1, so it moves from its reference by c_b plus at most W_b D_b, D_b the larger h_b of the two ends and W_b the largest
+// sum of |weights| of a node (1 for a node that is a particle). Two elements of body b come closer by at most
+// 2 W_b D_b; of bodies a and b by at most W_a D_a + W_b D_b + |c_a - c_b| (the larger of the two ends). While the
+// largest such closing over the pairs of bodies that meet stays below G less the largest thickness (less a slack for
+// rounding), every pair stays further apart than the thickness all through the step: the pass would find no pair
+// within it at the start, no collision along the step (those are within a thousandth of it) and change no byte of
+// x1 or v1, and backward Euler's searches would hand over no pair (they hand over only pairs within the thickness at
+// the end or colliding). Such a step skips them.
 // The clearance is measured at the start of a step that the last one no longer covers, unless the last pass that ran
 // found something near (a pair within the thickness, a collision): a scene in contact never pays for it. A measure
-// that served fewer than kPayoff steps makes the next wait for twice as many steps (up to kMostWait). Each body's
-// shift follows the particle that moved most like the middle of the body since the last measure (chooseShifts).
+// that served fewer than kPayoff steps makes the next wait for twice as many steps (up to kMostWait).
 #pragma once
 #include <vector>
 
@@ -50,7 +51,9 @@ class Clearance {
 
  private:
   void measure(const VecX& x);
-  void chooseShifts(const VecX& x);
+  // Per body, the centre and half-diagonal of its displacements' box at x, into end (0 or 1) of centre_ and half_;
+  // false where a coordinate is not finite.
+  bool spread(const VecX& x, int end);
   // The largest closing of two elements over a step whose ends are x0 and x1, by the bound above; stops early (and
   // returns at least limit) once it reaches limit.
   double closing(const VecX& x0, const VecX& x1, double limit);
@@ -61,7 +64,6 @@ class Clearance {
   Stats& counters_;
   struct Body {
     std::vector<std::pair<int, int>> ranges;  // its nodes' particles, as runs [begin, end)
-    int reference_particle;                   // r: its shift
     double weight;                            // W_b
   };
   std::vector<Body> bodies_;
@@ -75,8 +77,8 @@ class Clearance {
   ElementBoxes boxes_;
   PairList vf_, ee_;
   std::vector<double> partials_;
-  std::vector<double> drift_;  // closing's, per body: D_b
-  std::vector<Vec3> shift_;    // per body and end: s_b
+  std::vector<Vec3> centre_;  // closing's, per body and end: c_b
+  std::vector<double> half_;  // h_b
 };
 
 }  // namespace wobble::collision

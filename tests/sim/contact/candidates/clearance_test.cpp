@@ -72,12 +72,12 @@ void expectSame(const Outcome& skip, const Outcome& every) {
 }
 
 // The bound itself, against an independent witness: one body of three triangles, self-contact on, thickness 0.02: the
-// top one 0.06 above the origin, the bottom one 0.06 below it, the middle one (which holds the particle whose motion is
-// the body's shift) far aside. A step moves the top one down and the bottom one up by d each (the middle one stays:
-// the worst case of the bound's factor 2), all three by a common random translation, and each particle by a little
-// noise. Whenever points sampled on the two triangles at some instant of the step lie closer than the thickness (an
-// upper bound of their distance: a witness that they come within it), the clearance must not cover the step; it does
-// cover the steps that stay well apart.
+// top one 0.06 above the origin, the bottom one 0.06 below it, the middle one far aside. A step moves the top one down
+// and the bottom one up by d each (the middle one stays, in the middle of the body's displacements: the worst case of
+// the bound's factor 2), all three by a common random translation, and each particle by a little noise. Whenever points
+// sampled on the two triangles at some instant of the step lie closer than the thickness (an upper bound of their
+// distance: a witness that they come within it), the clearance must not cover the step; it does cover the steps that
+// stay well apart.
 TEST(Clearance, NeverCoversAStepThatBringsTwoElementsWithinTheThickness) {
   SurfaceMesh mesh;
   for (int i = 0; i < 9; ++i) mesh.particle.push_back(i);
