@@ -51,39 +51,50 @@ bool StepList::find(Candidates& round) {
   step.ee.swap(round.ee);
   round.step = &step;
   round.drift = 0;
-  // Each candidate measured on threads, chunk by chunk, and only those sort would keep kept with their measures (most
-  // are dropped: arrays of every candidate's measures took most of a large cloth's memory at a landing).
+  step.near_min = std::numeric_limits<double>::infinity();
+  keepMeasured(round, [&](int k, Kept& out) {
+    out.m = measured(round, k);
+    out.joined = SIZE_MAX;
+    return kept(out.m);
+  });
+  step.valid = true;
+  return true;
+}
+
+template <class Fn>
+void StepList::keepMeasured(const Candidates& round, Fn&& measure) {
+  // Each candidate measured on threads, chunk by chunk, and only those kept kept with their measures (most are
+  // dropped: arrays of every candidate's measures took most of a large cloth's memory at a landing).
   const int n = round.count(), chunk = particleChunk(n), chunks = (n + chunk - 1) / chunk;
-  auto& parts = find_scratch_;
+  auto& parts = kept_scratch_;
   if (int(parts.size()) < chunks) parts.resize(chunks);
   forEachChunk(n, parallel_, [&](int begin, int end) {
     auto& part = parts[begin / chunk];
     part.clear();
     for (int k = begin; k < end; ++k)
-      if (const Measure m = measured(round, k); kept(m)) part.push_back({k, m});
+      if (Kept c{k}; measure(k, c)) part.push_back(c);
   });
   std::size_t total = 0;
   for (int c = 0; c < chunks; ++c) total += parts[c].size();
   auto& [closing, hitting, near] = scratch_;
   closing.resize(total), hitting.resize(total), near.resize(total);
   step.closest.resize(total);
-  step.joined.assign(total, SIZE_MAX);
+  step.joined.resize(total);
   step.near.clear();
   step.closing.clear();
   step.hitting.clear();
-  step.near_min = std::numeric_limits<double>::infinity();
   const int vf_count = int(step.vf.size());
   int j = 0, kept_vf = 0;
   for (int c = 0; c < chunks; ++c)
-    for (const auto& [k, m] : parts[c]) {
+    for (const Kept& e : parts[c]) {
+      const int k = e.k;
       if (k < vf_count) step.vf[kept_vf++] = step.vf[k];
       else step.ee[j - kept_vf] = step.ee[k - vf_count];
-      step.closest[j] = m.closest, closing[j] = m.closing, hitting[j] = m.hitting, near[j] = m.near;
+      step.closest[j] = e.m.closest, step.joined[j] = e.joined;
+      closing[j] = e.m.closing, hitting[j] = e.m.hitting, near[j] = e.m.near;
       list(j++);
     }
   step.ee.resize(j - kept_vf), step.vf.resize(kept_vf);
-  step.valid = true;
-  return true;
 }
 
 StepList::Measure StepList::measured(const Candidates& round, int k) const {
@@ -103,12 +114,6 @@ StepList::Measure StepList::measured(const Candidates& round, int k) const {
   return m;
 }
 
-void StepList::measure(const Candidates& round, int k) {
-  auto& [closing, hitting, near] = scratch_;
-  const Measure m = measured(round, k);
-  step.closest[k] = m.closest, closing[k] = m.closing, hitting[k] = m.hitting, near[k] = m.near;
-}
-
 // Any end the candidates serve lies within the margin of step.end along each axis: within sqrt(3) margin.
 double StepList::most() const { return 2 * std::sqrt(3.0) * step.margin; }
 
@@ -121,30 +126,8 @@ void StepList::list(int j) {
   if (!(hitting[j] > most())) step.hitting.emplace_back(j, hitting[j]);
 }
 
-void StepList::sort(const Candidates& round) {
-  auto& [closing, hitting, near] = scratch_;
-  step.near.clear();
-  step.closing.clear();
-  step.hitting.clear();
-  const int n = round.count(), vf_count = int(step.vf.size());
-  int count = 0, kept_vf = 0;
-  for (int k = 0; k < n; ++k) {
-    if (!kept({Closest{}, closing[k], hitting[k], near[k]})) continue;
-    const int j = count++;
-    if (k < vf_count) step.vf[kept_vf++] = step.vf[k];
-    else step.ee[j - kept_vf] = step.ee[k - vf_count];
-    step.closest[j] = step.closest[k], step.joined[j] = step.joined[k];
-    closing[j] = closing[k], hitting[j] = hitting[k], near[j] = near[k];
-    list(j);
-  }
-  step.ee.resize(count - kept_vf), step.vf.resize(kept_vf);
-  step.closest.resize(count), step.joined.resize(count);
-  closing.resize(count), hitting.resize(count), near.resize(count);
-}
-
 bool StepList::update(Candidates& round) {
-  auto& [beyond, fresh_vf, fresh_ee, merged_vf, merged_ee, from, closest, old_closing, old_hitting, old_near, joined] =
-      update_scratch_;
+  auto& [beyond, fresh_vf, fresh_ee, merged_vf, merged_ee, from] = update_scratch_;
   beyond.assign(nodes_.nodeCount(), 0);
   for (int k = 0; k < nodes_.nodeCount(); ++k)
     beyond[k] = !((particle(motion_.nxe, k) - particle(step.end, k)).cwiseAbs().maxCoeff() <= step.margin);
@@ -160,30 +143,23 @@ bool StepList::update(Candidates& round) {
   mergeUnmarked(step.vf, fresh_vf, search_.marks.vertex, search_.marks.triangle, merged_vf, &from, 0);
   mergeUnmarked(step.ee, fresh_ee, search_.marks.edge, search_.marks.edge, merged_ee, &from, int(step.vf.size()));
   if (merged_vf.size() + merged_ee.size() > search_.budget()) return false;
-  const int n = int(from.size());
+  // Each candidate kept with its measures (an old one: as they were; its boxes did not change), a fresh one measured,
+  // and only those a search may test kept (the old ones were: their measures and the margin are the same). Measured
+  // in the merged order, they come out in it; near_min is lowered by the fresh ones.
   auto& [closing, hitting, near] = scratch_;
-  // The old measures copied aside (the kept list is short: sort keeps what a search may test), the step's
-  // arrays refilled in place (they keep the room of the step's first, full list).
-  closest.assign(step.closest.begin(), step.closest.end()), joined.assign(step.joined.begin(), step.joined.end());
-  old_closing.assign(closing.begin(), closing.end());
-  old_hitting.assign(hitting.begin(), hitting.end()), old_near.assign(near.begin(), near.end());
   step.vf.swap(merged_vf), step.ee.swap(merged_ee), step.end.swap(end);
-  round.step = &step;  // pairInfo reads the step's lists
-  step.closest.resize(n), step.joined.resize(n);
-  closing.resize(n), hitting.resize(n), near.resize(n);
-  forEachChunk(n, parallel_, [&](int begin, int stop) {
-    for (int k = begin; k < stop; ++k) {
-      const int i = from[k];
-      if (i < 0) {
-        step.joined[k] = SIZE_MAX;
-        measure(round, k);
-        continue;
-      }
-      step.closest[k] = closest[i], step.joined[k] = joined[i];
-      closing[k] = old_closing[i], hitting[k] = old_hitting[i], near[k] = old_near[i];
+  round.step = &step;  // measured reads the step's lists
+  keepMeasured(round, [&](int k, Kept& out) {
+    const int i = from[k];
+    if (i < 0) {
+      out.m = measured(round, k);
+      out.joined = SIZE_MAX;
+      return kept(out.m);
     }
+    out.m = Measure{step.closest[i], closing[i], hitting[i], near[i]};
+    out.joined = step.joined[i];
+    return true;
   });
-  sort(round);
   ++counters_.step_updates;
   return true;
 }
