@@ -7,7 +7,8 @@
 #   bench/region_noise.sh                                   # wobble's default, and Cycles 16 and 256 from the .blend
 #   CYCLES= LABEL=spp4 bench/region_noise.sh --spp 4        # another wobble setting (flags for `wobble render`)
 #
-# Steps (per scene; the run, the mask, the converged pictures and Cycles' renders are kept in OUT and reused):
+# Steps (per scene; the run, the mask, the converged pictures and Cycles' renders are kept in OUT and reused; every
+# wobble picture renders the run's meshes with the repository's scene file, so a kept run follows its render keys):
 #   1. `wobble run SCENE --frames 1:LAST --render none` (the meshes), then `wobble blend` of that run.
 #   2. The mask: the frame with the body drawn pure green (a green texture: the jelly's print covering all of it, the
 #      cloth diffuse; 1 sample, no denoiser).
@@ -84,19 +85,19 @@ measure() {
   for f in $frames; do
     local png
     png="$(printf '%s_%04d.png' "$name" "$f")"
-    local common=(--frames "$f" --render png --set render.video=false "${res[@]}")
+    local common=(--scene "$repo/$scene" --frames "$f" --render png --set render.video=false "${res[@]}")
     if [[ ! -f "$dir/mask/frames/$png" ]]; then
       step "$name $f: mask"
-      run "$name-mask-$f.log" "$wobble" render "$dir/run" "${common[@]}" --out "$dir/mask" --spp 1 --denoise off \
+      run "$name-mask-$f.log" "$wobble" render "$dir/run/mesh" "${common[@]}" --out "$dir/mask" --spp 1 --denoise off \
         --set "bodies.$body.texture=$green" --set "bodies.$body.color=[1,1,1]" "${mask_sets[@]}"
     fi
     if [[ ! -f "$dir/converged/frames/$png" ]]; then
       step "$name $f: wobble converged ($ref_spp spp)"
-      run "$name-converged-$f.log" nice "$wobble" render "$dir/run" "${common[@]}" --out "$dir/converged" \
+      run "$name-converged-$f.log" nice "$wobble" render "$dir/run/mesh" "${common[@]}" --out "$dir/converged" \
         --spp "$ref_spp" --set render.noise_threshold=0 --denoise off
     fi
     step "$name $f: wobble $label"
-    run "$name-$label-$f.log" "$wobble" render "$dir/run" "${common[@]}" --out "$dir/$label" "${flags[@]}"
+    run "$name-$label-$f.log" "$wobble" render "$dir/run/mesh" "${common[@]}" --out "$dir/$label" "${flags[@]}"
     local t errors
     t="$(seconds "$out/logs/$name-$label-$f.log")"
     errors="$("$region_error" "$dir/$label/frames/$png" "$dir/converged/frames/$png" "$dir/mask/frames/$png" --region "$region")"
