@@ -16,6 +16,11 @@ std::atomic<bool> skip_while_apart{true};
 // of them. More serves longer where the elements are further apart and lists more pairs: 6 thicknesses is about the
 // nearest non-adjacent elements of cloth_sphere's cloth (0.7 of its spacing), which bound its G below that.
 constexpr double kMarginThicknesses = 5;
+// A measure that served to its end measures again ahead of the step's start x0 by this much of the motion since the
+// start of the last: x_ref = x0 + kAhead (x0 - that start). The motion going on so, the next steps' states lie on both
+// sides of x_ref, nearer it than to x0, and the measure serves longer (cloth_sphere's first second: 15 measures
+// against 18 at x0).
+constexpr double kAhead = 0.5;
 // A measure that served fewer steps than this did not pay: the next one waits (twice as long each time).
 constexpr long kPayoff = 8;
 constexpr int kMostWait = 256;
@@ -123,16 +128,28 @@ double Clearance::closing(const VecX& x0, const VecX& x1, double limit) {
 bool Clearance::covers(const VecX& x0, const VecX& x1) {
   if (!skipWhileApart() || x0.size() != x1.size()) return false;
   const bool stale = valid_ && !(x0.size() == reference_.size() && closing(x0, x1, allowance_) < allowance_);
-  if (stale) {  // the end of what the measure served: measure again at this step's start if it paid
+  bool paid = false;
+  if (stale) {  // the end of what the measure served: measure again at once if it paid
     valid_ = false;
-    backoff_ = served_ >= kPayoff ? 0 : std::min(std::max(1, 2 * backoff_), kMostWait);
+    paid = served_ >= kPayoff;
+    backoff_ = paid ? 0 : std::min(std::max(1, 2 * backoff_), kMostWait);
     wait_ = backoff_;
   }
   if (!valid_) {
     if (near_) return false;  // the last pass found contact: no measure until one finds none
     if (wait_ > 0) return --wait_, false;
-    measure(x0);
-    if (!valid_ || !(closing(x0, x1, allowance_) < allowance_)) return false;
+    // Ahead first, after a measure that served to its end; at the step's start where that does not cover the step.
+    bool measured = false;
+    if (paid && start_.size() == x0.size()) {
+      ahead_ = x0 + kAhead * (x0 - start_);
+      measure(ahead_);
+      measured = valid_ && closing(x0, x1, allowance_) < allowance_;
+    }
+    if (!measured) {
+      measure(x0);
+      if (!valid_ || !(closing(x0, x1, allowance_) < allowance_)) return false;
+    }
+    start_ = x0;
   }
   ++served_;
   return true;

@@ -20,9 +20,13 @@
 // within it at the start, no collision along the step (those are within a thousandth of it) and change no byte of
 // x1 or v1, and backward Euler's searches would hand over no pair (they hand over only pairs within the thickness at
 // the end or colliding). Such a step skips them.
-// The clearance is measured at the start of a step that the last one no longer covers, unless the last pass that ran
-// found something near (a pair within the thickness, a collision): a scene in contact never pays for it. A measure
-// that served fewer than kPayoff steps makes the next wait for twice as many steps (up to kMostWait).
+// The reference need not be a state the run passes through: the bound holds for any x_ref at which G was measured.
+// The clearance is measured again at a step that the last measure no longer covers, unless the last pass that ran
+// found something near (a pair within the thickness, a collision): a scene in contact never pays for it. After a
+// measure that served to its end, at a reference ahead of the step's start x0 along the motion since that measure's
+// own start (kAhead), so that the next steps move about it rather than away from it; where that does not cover the
+// step, and otherwise, at x0 itself. A measure that served fewer than kPayoff steps makes the next wait for twice as
+// many steps (up to kMostWait).
 #pragma once
 #include <vector>
 
@@ -70,6 +74,7 @@ class Clearance {
   std::vector<std::pair<int, int>> meeting_;  // the pairs of bodies a < b that meet
   bool valid_ = false, near_ = false;
   VecX reference_;                        // x_ref, per particle
+  VecX start_, ahead_;                    // x0 of the step that took the last measure; the reference ahead of one
   double clearance_ = 0, allowance_ = 0;  // G, and the closing a step may have: G less the thickness and the slack
   long served_ = 0;                       // steps skipped since the last measure
   int wait_ = 0, backoff_ = 0;            // passes before the next measure; the wait after a measure that did not pay

@@ -71,29 +71,40 @@ void expectSame(const Outcome& skip, const Outcome& every) {
   EXPECT_EQ(every.stats.passes_skipped + every.stats.searches_skipped + every.stats.clearance_measures, 0);
 }
 
-// The bound itself, against an independent witness: one body of three triangles, self-contact on, thickness 0.02: the
-// top one 0.06 above the origin, the bottom one 0.06 below it, the middle one far aside. A step moves the top one down
-// and the bottom one up by d each (the middle one stays, in the middle of the body's displacements: the worst case of
-// the bound's factor 2), all three by a common random translation, and each particle by a little noise. Whenever points
-// sampled on the two triangles at some instant of the step lie closer than the thickness (an upper bound of their
-// distance: a witness that they come within it), the clearance must not cover the step; it does cover the steps that
-// stay well apart.
-TEST(Clearance, NeverCoversAStepThatBringsTwoElementsWithinTheThickness) {
-  SurfaceMesh mesh;
-  for (int i = 0; i < 9; ++i) mesh.particle.push_back(i);
-  mesh.triangles = {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}};
-  const std::vector<collision::Surface> surfaces{{&mesh, 0, SurfaceContact{0.02, 0.3, true}, 1000.0}};
-  const VecX inverse_mass = VecX::Ones(9);
-  const std::array<Vec3, 3> corner{Vec3(0, 0, 0), Vec3(0.3, 0, 0), Vec3(0, 0, 0.3)};
-  VecX reference(27);
-  for (int t = 0; t < 3; ++t)
-    for (int k = 0; k < 3; ++k)
-      particle(reference, 3 * t + k) = corner[k] + (t == 0   ? Vec3(0, 0.06, 0)
-                                                    : t == 2 ? Vec3(0, -0.06, 0)
-                                                             : Vec3(5, 0, 0));
-  // The least distance between the top and bottom triangles' points sampled at step fraction s.
-  const auto sampled = [](const VecX& x0, const VecX& x1, double s) {
-    const VecX x = (1 - s) * x0 + s * x1;
+// One body of three triangles, self-contact on, thickness 0.02: particles 0-2 the top one, 6-8 the bottom one, 3-5
+// the middle one, far aside.
+struct ThreeTriangles {
+  static SurfaceMesh triangles() {
+    SurfaceMesh m;
+    for (int i = 0; i < 9; ++i) m.particle.push_back(i);
+    m.triangles = {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}};
+    return m;
+  }
+  // The top and bottom ones `apart` above and below the origin, the middle one 5 aside.
+  static VecX at(double apart) {
+    const std::array<Vec3, 3> corner{Vec3(0, 0, 0), Vec3(0.3, 0, 0), Vec3(0, 0, 0.3)};
+    VecX x(27);
+    for (int t = 0; t < 3; ++t)
+      for (int k = 0; k < 3; ++k)
+        particle(x, 3 * t + k) = corner[k] + (t == 0 ? Vec3(0, apart, 0) : t == 2 ? Vec3(0, -apart, 0) : Vec3(5, 0, 0));
+    return x;
+  }
+  SurfaceMesh mesh = triangles();  // (the members below are made in this order, each from those above)
+  std::vector<collision::Surface> surfaces{{&mesh, 0, SurfaceContact{0.02, 0.3, true}, 1000.0}};
+  VecX inverse_mass = VecX::Ones(9);
+  collision::Stats stats;
+  collision::SurfaceNodes nodes{surfaces, inverse_mass};
+  collision::NodeMotion motion;
+  collision::Settings settings;
+  collision::CandidateSearch search{nodes, motion, settings, false, stats};
+  collision::Clearance clearance{nodes, search, false, stats};
+};
+
+// Whether points sampled on the top and bottom triangles at some instant of a straight step from x0 to x1 lie closer
+// than the thickness (an upper bound of their distance: a witness that they come within it).
+bool comeWithinTheThickness(const VecX& x0, const VecX& x1) {
+  for (int k = 0; k <= 8; ++k) {
+    const VecX x = (1 - k / 8.0) * x0 + k / 8.0 * x1;
     std::vector<Vec3> top, bottom;
     constexpr int kSteps = 16;
     for (int i = 0; i <= kSteps; ++i)
@@ -102,22 +113,26 @@ TEST(Clearance, NeverCoversAStepThatBringsTwoElementsWithinTheThickness) {
         top.push_back((1 - u - v) * particle(x, 0) + u * particle(x, 1) + v * particle(x, 2));
         bottom.push_back((1 - u - v) * particle(x, 6) + u * particle(x, 7) + v * particle(x, 8));
       }
-    double least = std::numeric_limits<double>::infinity();
     for (const Vec3& a : top)
-      for (const Vec3& b : bottom) least = std::min(least, (a - b).norm());
-    return least;
-  };
+      for (const Vec3& b : bottom)
+        if ((a - b).norm() < 0.02) return true;
+  }
+  return false;
+}
+
+// The bound itself, against an independent witness (comeWithinTheThickness): the top triangle 0.06 above the origin,
+// the bottom one 0.06 below it. A step moves the top one down and the bottom one up by d each (the middle one stays,
+// in the middle of the body's displacements: the worst case of the bound's factor 2), all three by a common random
+// translation, and each particle by a little noise. Whenever the witness finds the triangles within the thickness, the
+// clearance must not cover the step; it does cover the steps that stay well apart.
+TEST(Clearance, NeverCoversAStepThatBringsTwoElementsWithinTheThickness) {
+  const VecX reference = ThreeTriangles::at(0.06);
   std::mt19937 random(7);
   std::uniform_real_distribution<double> closing(0, 0.1), unit(-1, 1);
   int covered = 0, within = 0;
   for (int trial = 0; trial < 300; ++trial) {
-    collision::Stats stats;
-    collision::SurfaceNodes nodes(surfaces, inverse_mass);
-    collision::NodeMotion motion;
-    collision::Settings settings;
-    collision::CandidateSearch search(nodes, motion, settings, false, stats);
-    collision::Clearance clearance(nodes, search, false, stats);
-    ASSERT_TRUE(clearance.covers(reference, reference));  // measured there: the triangles are 0.12 apart
+    ThreeTriangles body;
+    ASSERT_TRUE(body.clearance.covers(reference, reference));  // measured there: the triangles are 0.12 apart
     const double d = closing(random);
     const Vec3 common(unit(random), unit(random), unit(random));
     VecX x1 = reference;
@@ -127,15 +142,39 @@ TEST(Clearance, NeverCoversAStepThatBringsTwoElementsWithinTheThickness) {
                           : i >= 6 ? Vec3(0, d, 0)
                                    : Vec3::Zero()) +
                          1e-3 * Vec3(unit(random), unit(random), unit(random));
-    bool near = false;
-    for (int k = 0; k <= 8; ++k) near = near || sampled(reference, x1, k / 8.0) < 0.02;
-    const bool covers = clearance.covers(reference, x1);
+    const bool near = comeWithinTheThickness(reference, x1), covers = body.clearance.covers(reference, x1);
     EXPECT_FALSE(near && covers) << "covered a step whose triangles come within the thickness: d = " << d;
     covered += covers;
     within += near;
   }
   EXPECT_GT(covered, 50);
   EXPECT_GT(within, 50);
+}
+
+// The same witness over a run of steps: the top and bottom triangles, 0.6 apart, close in on each other by 2 mm a step
+// each until they pass through each other, all three drifting sideways, each particle with a little noise. The
+// clearance measured again and again, ahead of the step's start once a measure has served to its end (the reference a
+// state the run never passes through), never covers a step the witness finds within the thickness.
+TEST(Clearance, MeasuresAheadNeverCoverAStepThatBringsTwoElementsWithinTheThickness) {
+  ThreeTriangles body;
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  int covered = 0, within = 0;
+  VecX x0 = ThreeTriangles::at(0.3);
+  for (int step = 1; step <= 170; ++step) {
+    VecX x1 = ThreeTriangles::at(0.3 - 0.002 * step);
+    for (int i = 0; i < 9; ++i)
+      particle(x1, i) += Vec3(0.01, 0, 0.004) * step + 1e-4 * Vec3(unit(random), unit(random), unit(random));
+    const bool near = comeWithinTheThickness(x0, x1), covers = body.clearance.covers(x0, x1);
+    EXPECT_FALSE(near && covers) << "covered step " << step << ", whose triangles come within the thickness";
+    covered += covers;
+    within += near;
+    if (!covers) body.clearance.passed(near);
+    x0 = x1;
+  }
+  EXPECT_GT(covered, 100);
+  EXPECT_GT(within, 5);
+  EXPECT_GE(body.stats.clearance_measures, 4);
 }
 
 // cloth_sphere's cloth (the course's scene, 25 x 25, corners pinned) draping over the sphere under explicit Euler at
