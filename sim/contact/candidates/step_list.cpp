@@ -49,6 +49,7 @@ bool StepList::find(Candidates& round) {
   step.end = motion_.nxe;
   step.vf.swap(round.vf);
   step.ee.swap(round.ee);
+  release(round.vf), release(round.ee);  // the last list's room: the round reads the step's lists
   round.step = &step;
   round.drift = 0;
   step.near_min = std::numeric_limits<double>::infinity();
@@ -95,6 +96,9 @@ void StepList::keepMeasured(const Candidates& round, Fn&& measure) {
       list(j++);
     }
   step.ee.resize(j - kept_vf), step.vf.resize(kept_vf);
+  // The lists kept at their size (most of a broad phase's candidates are dropped), the parts let go.
+  step.vf.shrink_to_fit(), step.ee.shrink_to_fit();
+  for (auto& part : parts) release(part);
 }
 
 StepList::Measure StepList::measured(const Candidates& round, int k) const {
@@ -142,6 +146,7 @@ bool StepList::update(Candidates& round) {
   from.clear();
   mergeUnmarked(step.vf, fresh_vf, search_.marks.vertex, search_.marks.triangle, merged_vf, &from, 0);
   mergeUnmarked(step.ee, fresh_ee, search_.marks.edge, search_.marks.edge, merged_ee, &from, int(step.vf.size()));
+  release(fresh_vf), release(fresh_ee);
   if (merged_vf.size() + merged_ee.size() > search_.budget()) return false;
   // Each candidate kept with its measures (an old one: as they were; its boxes did not change), a fresh one measured,
   // and only those a search may test kept (the old ones were: their measures and the margin are the same). Measured
@@ -160,6 +165,7 @@ bool StepList::update(Candidates& round) {
     out.joined = step.joined[i];
     return true;
   });
+  release(merged_vf), release(merged_ee), release(from);  // the old lists, and the merged one's origins
   ++counters_.step_updates;
   return true;
 }

@@ -97,7 +97,7 @@ class StepList {
     std::vector<char> beyond;
     PairList fresh_vf, fresh_ee, merged_vf, merged_ee;
     std::vector<int> from;
-  } update_scratch_;                             // update's, kept from step to step
+  } update_scratch_;                             // update's
   std::vector<std::vector<Kept>> kept_scratch_;  // keepMeasured's kept candidates, per chunk
 };
 
