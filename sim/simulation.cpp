@@ -110,9 +110,10 @@ Simulation::Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> int
   // in_solve = false the pass after the step is known to add energy (docs/energy.md), which no retake mends. An
   // integrator from outside the table has no traits.
   const auto names = integratorNames();
-  energy_retakes_ = std::find(names.begin(), names.end(), integrator_->name()) != names.end() &&
-                    integratorTraits(integrator_->name()).implicit &&
-                    (!collisions_ || integrator_->solvesBodyContact());
+  const bool known = std::find(names.begin(), names.end(), integrator_->name()) != names.end();
+  explicit_ = known && !integratorTraits(integrator_->name()).implicit;
+  energy_retakes_ =
+      known && integratorTraits(integrator_->name()).implicit && (!collisions_ || integrator_->solvesBodyContact());
 }
 
 Simulation::~Simulation() = default;
@@ -149,7 +150,11 @@ std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int split
   const long exact_before = stats.exact_steps + stats.line_search_stops;
   const long pass_before = collisions_ ? collisions_->stats().ccd_hits + collisions_->stats().zone_activations : 0;
   integrator_->step(stepped(), t0, h, x_, v_);
-  system_.resolveCollisions(t1, x_, v_);
+  // An explicit step's resting contact on a collider is stopped without restitution (the approach its own forces
+  // added: contact/colliders/response.h). Backward Euler's bounces are its impact constraints' (on the approach at the
+  // step's start already); its step-end response keeps the old rule: with it, a stiff jelly's friction on a slope
+  // stalled its slide (docs/body-contact.md, "Rest").
+  system_.resolveCollisions(t1, x_, v_, colliders && explicit_ ? &v_before_ : nullptr);
   if (collisions_)
     if (auto failure = collisions_->resolve(x_before_, x_, v_, h, !integrator_->solvesBodyContact())) {
       if (splits > 0) {

@@ -160,9 +160,9 @@ void MassSpringSystem::acceleration(double t, const VecX& x, const VecX& v, VecX
   });
 }
 
-void MassSpringSystem::resolveCollisions(double t, VecX& x, VecX& v) const {
-  wobble::resolveCollisions(particleColliders(), t, x, v, collider_inv_mass_);
-  wobble::resolveCollisions(colliders_, points_, t, x, v, inv_mass_);
+void MassSpringSystem::resolveCollisions(double t, VecX& x, VecX& v, const VecX* v_start) const {
+  wobble::resolveCollisions(particleColliders(), t, x, v, collider_inv_mass_, v_start);
+  wobble::resolveCollisions(colliders_, points_, t, x, v, inv_mass_, v_start);
 }
 
 double MassSpringSystem::colliderWork(double t, double h, const VecX& x0, const VecX& v0, const VecX& x1,

@@ -68,8 +68,9 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   // Restitution and penetration correction, applied to the stored state at the end of each step. Every integrator
   // meets colliders with an embedded surface here and in the contact forces (contact/colliders/weighted_points.h);
   // backward Euler's constraints hold particles only, so an embedded surface's impacts are resolved here after its
-  // solve.
-  void resolveCollisions(double t, VecX& x, VecX& v) const;
+  // solve. v_start: the velocities at the step's start, whose approach alone bounces (resting contact does not;
+  // contact/colliders/response.h); nullptr: every approach at the end bounces.
+  void resolveCollisions(double t, VecX& x, VecX& v, const VecX* v_start = nullptr) const;
 
   // Work done on the bodies by moving colliders over a step from (x0, v0) at t to (x1, v1) at t + h (after contact
   // resolution): over the particles within epsilon of a collider at either end (an embedded point's: its cell's

@@ -13,14 +13,23 @@ std::vector<int>& nearScratch() {
 }
 
 // The step end's velocity change of a point within the band (restitution on its approach), and its move onto the
-// surface when it is below it.
+// surface when it is below it. v_start (when known): the point's velocity at the step's start. The bounce is the
+// restitution times the approach the point brought into the step, at most the end's: the approach the step's own
+// forces added (a resting point's load, a h a step) is resting contact, stopped with restitution 0 (Guendelman,
+// Bridson & Fedkiw 2003: contact apart from the collisions), so a point resting on a bouncy surface does
+// not hop. An impact brings its approach from the step's start, and keeps its bounce (less the speed one step's
+// acceleration adds, at most).
 struct Response {
   Vec3 dv = Vec3::Zero(), dx = Vec3::Zero();
 };
-Response response(const SurfacePoint& s, const ContactParams& c, const Vec3& v) {
+Response response(const SurfacePoint& s, const ContactParams& c, const Vec3& v, const Vec3* v_start) {
   Response r;
   const double vn = s.normal.dot(v - s.velocity);
-  if (vn < 0) r.dv = -(1 + c.restitution) * vn * s.normal;
+  if (vn < 0) {
+    double approach = -vn;
+    if (v_start) approach = std::min(approach, std::max(0.0, -s.normal.dot(*v_start - s.velocity)));
+    r.dv = (-vn + c.restitution * approach) * s.normal;
+  }
   if (s.distance < 0) r.dx = -s.distance * s.normal;
   return r;
 }
@@ -74,7 +83,7 @@ void addContactForces(Colliders colliders, double t, const VecX& x, const VecX& 
   }
 }
 
-void resolveCollisions(Colliders colliders, double t, VecX& x, VecX& v, const VecX& inv_mass) {
+void resolveCollisions(Colliders colliders, double t, VecX& x, VecX& v, const VecX& inv_mass, const VecX* v_start) {
   std::vector<int>& near = nearScratch();
   for (const auto& collider : colliders) {
     const ContactParams& c = collider->contact();
@@ -83,7 +92,8 @@ void resolveCollisions(Colliders colliders, double t, VecX& x, VecX& v, const Ve
       if (inv_mass[i] == 0) continue;
       const auto s = collider->query(t, particle(x, i));
       if (!s || s->distance >= c.epsilon) continue;
-      const Response r = response(*s, c, particle(v, i));
+      const Vec3 start = v_start ? Vec3(particle(*v_start, i)) : Vec3::Zero();
+      const Response r = response(*s, c, particle(v, i), v_start ? &start : nullptr);
       particle(v, i) += r.dv;
       particle(x, i) += r.dx;
     }
@@ -166,7 +176,7 @@ void addContactForces(Colliders colliders, const WeightedPoints& points, double 
 }
 
 void resolveCollisions(Colliders colliders, const WeightedPoints& points, double t, VecX& x, VecX& v,
-                       const VecX& inv_mass) {
+                       const VecX& inv_mass, const VecX* v_start) {
   if (points.empty()) return;
   thread_local VecX at;
   thread_local CellBoxes cells;
@@ -179,7 +189,8 @@ void resolveCollisions(Colliders colliders, const WeightedPoints& points, double
       if (points[p].inverse_mass == 0) continue;
       const auto s = collider->query(t, points.blend(x, p));  // where the points before it left it
       if (!s || s->distance >= c.epsilon) continue;
-      const Response r = response(*s, c, points.blend(v, p));
+      const Vec3 start = v_start ? points.blend(*v_start, p) : Vec3::Zero();
+      const Response r = response(*s, c, points.blend(v, p), v_start ? &start : nullptr);
       points.shift(p, r.dv, inv_mass, v);
       points.shift(p, r.dx, inv_mass, x);
     }

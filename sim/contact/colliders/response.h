@@ -7,9 +7,11 @@
 //   that is within the cone mu Fn the contact sticks, otherwise it slides with kinetic friction -mu Fn vT/|vT|.
 //   With stick_time = 2 h the stopping term is stable under every explicit method here (|R(-1/2)| < 1), and
 //   unlike a pure kinetic law it cannot chatter around vT = 0 and creep downhill.
-// At step ends only (the stored state): a particle within epsilon and approaching the surface has its relative
-//   normal velocity reversed and scaled by the restitution, v_n' = u_n - e (v_n - u_n); one below the surface is
-//   moved back onto it.
+// At step ends only (the stored state): a particle within epsilon and approaching the surface leaves it with its
+//   restitution's bounce, v_n' = u_n + e min(-(v_n - u_n), -(v0_n - u_n)) (v0: its velocity at the step's start, when
+//   known): only the approach it brought into the step bounces; what the step's own forces added (the load of a
+//   resting particle) is resting contact, stopped with restitution 0 (Guendelman, Bridson & Fedkiw 2003). One below
+//   the surface is moved back onto it.
 #pragma once
 #include <memory>
 #include <span>
@@ -44,7 +46,9 @@ Vec3 supportForce(const SurfacePoint& s, const ContactParams& c, const Vec3& f, 
 void addContactForces(Colliders colliders, double t, const VecX& x, const VecX& v, const VecX& mass,
                       const VecX& inv_mass, double stick_time, VecX& f);
 
-void resolveCollisions(Colliders colliders, double t, VecX& x, VecX& v, const VecX& inv_mass);
+// v_start: the velocities at the step's start (nullptr: unknown, every approach bounces).
+void resolveCollisions(Colliders colliders, double t, VecX& x, VecX& v, const VecX& inv_mass,
+                       const VecX* v_start = nullptr);
 
 // The same for points riding on particles (contact/colliders/weighted_points.h: a mesh jelly's surface): each point
 // meets the colliders as a particle of the point's mass would, at its own position and velocity, and the force, impulse
@@ -54,7 +58,7 @@ void resolveCollisions(Colliders colliders, double t, VecX& x, VecX& v, const Ve
 void addContactForces(Colliders colliders, const WeightedPoints& points, double t, const VecX& x, const VecX& v,
                       const VecX& inv_mass, double stick_time, VecX& f, std::vector<ReleasedSupport>* added = nullptr);
 void resolveCollisions(Colliders colliders, const WeightedPoints& points, double t, VecX& x, VecX& v,
-                       const VecX& inv_mass);
+                       const VecX& inv_mass, const VecX* v_start = nullptr);
 
 // Each cell's box in one state (WeightedPoints::cellBounds), computed when a collider first needs it: a plane never
 // does. Cleared by its owner whenever the state changes.
