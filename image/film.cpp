@@ -15,7 +15,7 @@ Film Film::unfilled(int w, int h) {
   // Eigen's vectors have no default value: sizing them writes nothing.
   film.color.resize(n), film.albedo.resize(n), film.normal.resize(n), film.diffuse.resize(n);
   film.depth.resize(n), film.variance_diffuse.resize(n), film.variance_other.resize(n), film.blur.resize(n);
-  film.samples.resize(n);
+  film.motion.resize(n), film.samples.resize(n);
   return film;
 }
 

@@ -11,6 +11,9 @@
 //            for colour - diffuse: sample variance / samples; -1 where a pixel has a single sample
 //   blur     mean over the samples of the radius in pixels over which the lens spreads the first hit (its circle of
 //            confusion, camera.h; 0 for a pinhole): the denoiser mixes a blurred pixel with those in its blur
+//   motion   mean over the samples of how far the first hit's image moves while the shutter is open, in pixels (x
+//            right, y down; camera.h, screenMotion): zero for the sky and without motion blur. The denoiser mixes a
+//            pixel so blurred with those along its motion
 //   samples  samples taken in the pixel (adaptive sampling varies it)
 // Pixels are stored row-major, row 0 at the top.
 #pragma once
@@ -34,6 +37,7 @@ struct Film {
   std::vector<Color> diffuse;
   std::vector<float> variance_diffuse, variance_other;
   std::vector<float> blur;
+  std::vector<Eigen::Vector2f> motion;
   std::vector<std::uint32_t> samples;
 
   Film() = default;
@@ -48,6 +52,7 @@ struct Film {
     depth[i] = std::numeric_limits<float>::infinity();
     variance_diffuse[i] = variance_other[i] = -1.0f;
     blur[i] = 0;
+    motion[i] = Eigen::Vector2f::Zero();
   }
   std::size_t index(int x, int y) const { return std::size_t(y) * width + x; }
 };

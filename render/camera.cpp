@@ -63,4 +63,19 @@ void Camera::differentials(const Eigen::Vector3f& d, Eigen::Vector3f& ddx, Eigen
   ddy = (step_y_ - d * d.dot(step_y_)) * inv_length;
 }
 
+Eigen::Vector2f Camera::screenMotion(const Eigen::Vector3f& p, const Eigen::Vector3f& velocity, float time) const {
+  // From the eye at ray time t (camera.h: position - (1 - t) shutter_motion) to the point then.
+  const auto film = [&](float t, Eigen::Vector2f& at) {
+    const Eigen::Vector3f v = p + (t - time) * velocity - params_.position + (1 - t) * params_.shutter_motion;
+    const float z = v.dot(forward_);
+    if (!(z > 0)) return false;
+    at = Eigen::Vector2f((v.dot(right_) / z + tan_half_x_) / (2 * tan_half_x_) * static_cast<float>(params_.width),
+                         (tan_half_y_ - v.dot(up_) / z) / (2 * tan_half_y_) * static_cast<float>(params_.height));
+    return true;
+  };
+  Eigen::Vector2f open, close;
+  if (!film(0, open) || !film(1, close)) return Eigen::Vector2f::Zero();
+  return close - open;
+}
+
 }  // namespace wobble::render

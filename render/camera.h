@@ -73,6 +73,11 @@ class Camera {
     return params_.aperture * std::abs(1.0f / focus_ - inv) * static_cast<float>(params_.height) / (2 * tan_half_y_);
   }
 
+  // How far, in pixels (x right, y down), the image of a point moves while the shutter is open: the point p, seen at
+  // ray time `time`, moving by `velocity` per unit of ray time (SurfaceHit::dpdt), and the eye by shutter_motion.
+  // Zero where the point is behind the eye at either end.
+  Eigen::Vector2f screenMotion(const Eigen::Vector3f& p, const Eigen::Vector3f& velocity, float time) const;
+
   const CameraParams& params() const { return params_; }
   int width() const { return params_.width; }
   int height() const { return params_.height; }

@@ -68,6 +68,7 @@ struct Signal {
 struct Guide {
   Plane cls, z, gx, gy, nx, ny, nz;  // cls: 1 surface, 0 sky, -1 padding
   Plane blur, order;                 // the lens's blur radius (pixels); depth for occlusion, the sky farthest
+  Plane mx, my, whole;               // the motion over the shutter (pixels); 1 where blurred by a pixel or more
 };
 
 // fn(begin, end) over [0, n) in blocks of 64 Ki values, on threads: for filling and copying whole planes.
@@ -97,7 +98,7 @@ struct Workspace {
     };
     fill(guide.cls, -1), fill(guide.z, 0), fill(guide.gx, 0), fill(guide.gy, 0);
     fill(guide.nx, 0), fill(guide.ny, 0), fill(guide.nz, 1);
-    fill(guide.blur, 0), fill(guide.order, 0);
+    fill(guide.blur, 0), fill(guide.order, 0), fill(guide.mx, 0), fill(guide.my, 0), fill(guide.whole, 0);
     for (Signal* signal : {&diffuse, &other, &next})
       for (Plane* plane : {&signal->r, &signal->g, &signal->b, &signal->var}) fill(*plane, 0);
     fill(inv, 0), fill(lum, 0), fill(filled, 0);
@@ -126,7 +127,7 @@ inline float lum(float r, float g, float b) { return 0.2126f * r + 0.7152f * g +
 // The planes one pass reads, at the first pixel of a row span.
 struct TapInput {
   const float *cls, *z, *gx, *gy, *nx, *ny, *nz;  // guides
-  const float *blur, *order;                      // depth of field (read when kBlur)
+  const float *blur, *order, *mx, *my, *whole;    // depth of field and motion blur (read when kBlur)
   const float *r, *g, *b, *var;                   // the signal
   const float* inv;                               // 1 / (sigma_l sqrt(blurred variance) + eps) at the output pixel
 };
@@ -145,13 +146,16 @@ struct Taps {
 // One iteration for a span of n output pixels: every tap's weighted value, weight and squared-weight variance,
 // summed in registers and written once (the taps in the inner loop, so each pixel's own guides are loaded once).
 // kTaps is the tap count, a constant so that the inner loop unrolls and the outer one vectorises.
-// Depth of field (kBlur): a pixel's lens samples see, near an edge, the nearer surface or what lies behind it, in
-// shares that change over the nearer surface's blur (its circle of confusion, in pixels), not from pixel to pixel.
-// So a tap q counts with its kernel weight alone, whatever the surfaces, when it lies within the blur of the nearer
-// of x and q, if that is a pixel or more: a blurred foreground and what is seen past it mix both ways, an in-focus
-// edge stays sharp against a blurred background (its own blur is small). Both must carry their whole colour: blurred
-// pixels (not demodulated, denoise() below) and the sky. Otherwise the usual weights, between surfaces alike blurred
-// or sharp; sky pixels no tap reaches stay as rendered. Without kBlur nothing of this is read.
+// Depth of field and motion blur (kBlur): a pixel's lens or shutter samples see, near an edge, the nearer surface or
+// what lies behind it, in shares that change over the nearer surface's blur, not from pixel to pixel: over its circle
+// of confusion (in pixels), and along the way its image moves while the shutter is open. So a tap q counts with its
+// kernel weight alone, whatever the surfaces, when it lies within the blur of the nearer of x and q, if that is a
+// pixel or more: within the circle, or within half the motion along it (and within 30 degrees of its direction, so
+// that one pair of the 8 tap directions always qualifies). A blurred foreground and what is seen past it mix both
+// ways; an in-focus or still edge stays sharp against a blurred background (its own blur is small). Both must carry
+// their whole colour: blurred pixels (not demodulated, denoise() below) and the sky. Otherwise the usual weights,
+// between surfaces alike blurred or sharp; sky pixels no tap reaches stay as rendered. Without kBlur nothing of this
+// is read.
 template <int kTaps, bool kBlur>
 __attribute__((target_clones("avx512f", "avx2", "default"))) void filterSpan(const TapInput in, const TapSums out,
                                                                              int n, const Taps taps, float centre,
@@ -161,6 +165,7 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void filterSpan(con
   const float* __restrict cls = in.cls, * __restrict z = in.z, * __restrict gx = in.gx, * __restrict gy = in.gy;
   const float* __restrict nx = in.nx, * __restrict ny = in.ny, * __restrict nz = in.nz;
   const float* __restrict rb = in.blur, * __restrict zo = in.order;
+  const float* __restrict mx = in.mx, * __restrict my = in.my, * __restrict whole = in.whole;
   const float* __restrict ir = in.r, * __restrict ig = in.g, * __restrict ib = in.b, * __restrict iv = in.var;
   const float* __restrict inv = in.inv;
   float* __restrict sr = out.r, * __restrict sg = out.g, * __restrict sb = out.b, * __restrict sv = out.var;
@@ -179,11 +184,18 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void filterSpan(con
       const float l = std::abs(lp - lum(ir[q], ig[q], ib[q]));
       float w;
       if constexpr (kBlur) {
-        const bool bx = rb[x] >= 1.0f, bq = rb[q] >= 1.0f;
-        const bool whole_x = bx || cls[x] == 0.0f, whole_q = bq || cls[q] == 0.0f;
-        const float near = zo[q] <= zo[x] ? rb[q] : rb[x];  // the blur of the nearer of the two
-        const bool spread = whole_x && whole_q && near >= 1.0f && taps.d2[t] <= near * near;
-        same = bx == bq && cls[x] == 1.0f ? same : 0.0f;
+        // Bitwise & and |, not && and ||: no branches, so the loop vectorises.
+        const bool bx = whole[x] != 0.0f, bq = whole[q] != 0.0f;
+        const bool whole_x = bx | (cls[x] == 0.0f), whole_q = bq | (cls[q] == 0.0f);
+        // The blur of the nearer of the two: the lens's, and the motion's along (d.m) and across (d x m) it.
+        const bool q_nearer = zo[q] <= zo[x];
+        const float near = q_nearer ? rb[q] : rb[x];
+        const float mnx = q_nearer ? mx[q] : mx[x], mny = q_nearer ? my[q] : my[x], m2 = mnx * mnx + mny * mny;
+        const float along = taps.dx[t] * mnx + taps.dy[t] * mny, across = taps.dx[t] * mny - taps.dy[t] * mnx;
+        const bool lens = (near >= 1.0f) & (taps.d2[t] <= near * near);
+        const bool motion = (m2 >= 1.0f) & (4 * along * along + across * across <= m2 * m2);
+        const bool spread = whole_x & whole_q & (lens | motion);
+        same = (bx == bq) & (cls[x] == 1.0f) ? same : 0.0f;
         w = spread ? taps.k[t] : same * fastExp(-geometry - l * inv[x]);
       } else {
         w = same * fastExp(-geometry - l * inv[x]);
@@ -192,10 +204,10 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void filterSpan(con
       wsum += w, var += w * w * iv[q];
     }
     // Only surfaces are filtered: the sky seen directly is exact up to anti-aliasing, and stays as rendered (unless
-    // the lens blurs it).
+    // the lens or the motion of what is in front blurs it).
     const float iw = 1.0f / wsum;
     bool surface = cls[x] == 1.0f;
-    if constexpr (kBlur) surface = surface || wsum > centre;  // the sky where a blurred tap reaches it
+    if constexpr (kBlur) surface = surface | (wsum > centre);  // the sky where a blurred tap reaches it
     sr[x] = surface ? r * iw : ir[x], sg[x] = surface ? g * iw : ig[x], sb[x] = surface ? b * iw : ib[x];
     sv[x] = surface ? var * iw * iw : iv[x];
   }
@@ -266,6 +278,41 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void inverseDeviati
   }
 }
 
+// The pixels a motion-blurred edge sweeps (1) over the shutter. An edge pixel sees the sky where a neighbour sees a
+// surface or the reverse, or moves a pixel or more differently from it; the band is the pixels along an edge pixel's
+// motion, half of it either way, whatever they see themselves (a still background's pixels too). Only there do one
+// instant's samples dither between what is in front and what is behind; elsewhere a moving surface's pixels agree
+// with their neighbours, and the usual weights (and the texture divided out) serve them better. Marked in pixel
+// order: the same whatever the threads.
+std::vector<char> sweptByMotion(const image::Film& film) {
+  const int w = film.width, h = film.height;
+  std::vector<char> edge(film.motion.size(), 0), band(film.motion.size(), 0);
+  forRows(0, h, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      const std::size_t i = film.index(x, y);
+      const bool sky = !std::isfinite(film.depth[i]);
+      const auto differs = [&](std::size_t q) {
+        return !std::isfinite(film.depth[q]) != sky || (film.motion[q] - film.motion[i]).squaredNorm() >= 1.0f;
+      };
+      edge[i] = (x > 0 && differs(i - 1)) || (x + 1 < w && differs(i + 1)) || (y > 0 && differs(i - w)) ||
+                (y + 1 < h && differs(i + w));
+    }
+  });
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::size_t i = film.index(x, y);
+      const Eigen::Vector2f m = film.motion[i];
+      if (!edge[i] || m.squaredNorm() < 1.0f) continue;
+      const int steps = static_cast<int>(std::ceil(0.5f * m.norm()));  // at most a pixel apart
+      for (int k = -steps; k <= steps; ++k) {
+        const Eigen::Vector2f at = Eigen::Vector2f(float(x), float(y)) + (0.5f * float(k) / float(steps)) * m;
+        const int qx = static_cast<int>(std::lround(at.x())), qy = static_cast<int>(std::lround(at.y()));
+        if (qx >= 0 && qy >= 0 && qx < w && qy < h) band[film.index(qx, qy)] = 1;
+      }
+    }
+  return band;
+}
+
 }  // namespace
 
 std::vector<Color> denoise(const image::Film& film, const DenoiseSettings& settings) {
@@ -273,7 +320,8 @@ std::vector<Color> denoise(const image::Film& film, const DenoiseSettings& setti
   const std::size_t n = std::size_t(w) * h;
   if (w <= 0 || h <= 0 || film.color.size() != n || film.albedo.size() != n || film.normal.size() != n ||
       film.depth.size() != n || film.diffuse.size() != n || film.variance_diffuse.size() != n ||
-      film.variance_other.size() != n || (!film.blur.empty() && film.blur.size() != n))
+      film.variance_other.size() != n || (!film.blur.empty() && film.blur.size() != n) ||
+      (!film.motion.empty() && film.motion.size() != n))
     throw std::invalid_argument("denoise: empty or inconsistent film");
   if (settings.iterations < 0 || settings.iterations > 10 || settings.radius < 1 || settings.radius > 2 ||
       !(settings.sigma_luminance > 0) || !(settings.sigma_normal >= 0) || !(settings.sigma_depth > 0) ||
@@ -296,27 +344,35 @@ std::vector<Color> denoise(const image::Film& film, const DenoiseSettings& setti
   // Only surfaces need filtering (the sky seen directly is exact up to anti-aliasing), and of `other` only where
   // it is not zero: the coat's reflections (usually a small part of the frame).
   std::vector<Window> row_surfaces(h), row_coated(h);  // per row, merged below (rows are filled in parallel)
-  // Depth of field: pixels the lens blurs by a pixel or more are filtered whole (colour in `other`, no demodulation:
-  // their texture is blurred anyway, and a blurred pixel whose sample saw the sky has no albedo to divide by).
+  // Depth of field and motion blur: pixels the lens blurs by a pixel or more, and those a moving edge sweeps
+  // (sweptByMotion), are filtered whole (colour in `other`, no demodulation: their texture is blurred anyway,
+  // and a blurred pixel whose sample saw the sky has no albedo to divide by).
   const bool lens =
       !film.blur.empty() && std::any_of(film.blur.begin(), film.blur.end(), [](float r) { return r >= 1.0f; });
-  std::vector<char> row_blurred(h, 0);
+  const bool moving = !film.motion.empty() && std::any_of(film.motion.begin(), film.motion.end(),
+                                                          [](const auto& m) { return m.squaredNorm() >= 1.0f; });
+  const bool blur_any = lens || moving;
+  const std::vector<char> swept = moving ? sweptByMotion(film) : std::vector<char>();
+  std::vector<Window> row_blurred(h);  // per row, the blurred pixels' columns
   forRows(0, h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       const std::size_t i = film.index(x, y), p = at(x, y);
       const bool sky = !std::isfinite(film.depth[i]);
       const float blur = lens ? film.blur[i] : 0.0f;
+      const Eigen::Vector2f motion = moving ? film.motion[i] : Eigen::Vector2f::Zero();
       guide.cls.v[p] = sky ? 0.0f : 1.0f;
       guide.blur.v[p] = blur, guide.order.v[p] = sky ? std::numeric_limits<float>::max() : film.depth[i];
-      const bool blurred = blur >= 1.0f;
-      if (blurred) row_blurred[y] = 1;
+      guide.mx.v[p] = motion.x(), guide.my.v[p] = motion.y();
+      const bool blurred = blur >= 1.0f || (moving && swept[i]);
+      guide.whole.v[p] = blurred ? 1.0f : 0.0f;
+      if (blurred) row_blurred[y].add(x, y);
       const Color d =
           blurred ? Color::Zero() : Color(film.diffuse[i].cwiseQuotient(film.albedo[i].cwiseMax(kAlbedoFloor)));
       const Color o = blurred ? film.color[i] : Color(film.color[i] - film.diffuse[i]);
       guide.z.v[p] = sky ? 0.0f : film.depth[i];
       guide.nx.v[p] = sky ? 0.0f : film.normal[i].x(), guide.ny.v[p] = sky ? 0.0f : film.normal[i].y();
       guide.nz.v[p] = sky ? 1.0f : film.normal[i].z();
-      if (!sky || lens) {
+      if (!sky || lens || blurred) {
         row_surfaces[y].add(x, y);
         if (!o.isZero()) row_coated[y].add(x, y);
       }
@@ -357,7 +413,7 @@ std::vector<Color> denoise(const image::Film& film, const DenoiseSettings& setti
       for (int x = 0; x < w; ++x) {
         const std::size_t p = at(x, y);
         if (film.samples[film.index(x, y)] >= std::uint32_t(settings.well_sampled) && guide.cls.v[p] == 1.0f &&
-            guide.blur.v[p] < 1.0f)
+            guide.whole.v[p] == 0.0f)
           held.push_back(p);
       }
 
@@ -365,7 +421,6 @@ std::vector<Color> denoise(const image::Film& film, const DenoiseSettings& setti
   const float b1[3] = {1.0f / 4, 1.0f / 2, 1.0f / 4};
   const float* kernel = settings.radius == 2 ? b3 : b1;
   const int r = settings.radius;
-  const int reach = pad;  // the farthest tap of any iteration
   Plane& inv = ws.inv;
   // One a-trous iteration of one signal over its window, from `in` into `out` (pixels outside the window keep their
   // values: both buffers start equal and only the window is written). With `spans`, each row only over its own span
@@ -387,23 +442,32 @@ std::vector<Color> denoise(const image::Film& film, const DenoiseSettings& setti
       const Window& row = spans ? (*spans)[y] : window;
       if (row.empty()) return;
       inverseDeviation(in.var, inv, settings.sigma_luminance, stride, row.x0 + pad, row.x1 + pad, y + pad);
-      const std::size_t first = at(row.x0, y);
-      const int span = row.x1 - row.x0;
-      const TapInput tap_in{guide.cls.v.data() + first, guide.z.v.data() + first,    guide.gx.v.data() + first,
-                            guide.gy.v.data() + first,  guide.nx.v.data() + first,   guide.ny.v.data() + first,
-                            guide.nz.v.data() + first,  guide.blur.v.data() + first, guide.order.v.data() + first,
-                            in.r.v.data() + first,      in.g.v.data() + first,       in.b.v.data() + first,
-                            in.var.v.data() + first,    inv.v.data() + first};
-      const TapSums sums{out.r.v.data() + first, out.g.v.data() + first, out.b.v.data() + first,
-                         out.var.v.data() + first};
       const float centre = kernel[r] * kernel[r];
       const float sn = settings.sigma_normal, sz = settings.sigma_depth;
-      // Rows with no blurred pixel within the filter's reach take the plain kernel.
-      bool blur_near = false;
-      for (int dy = -reach; dy <= reach && lens && !blur_near; ++dy)
-        blur_near = y + dy >= 0 && y + dy < h && row_blurred[y + dy];
-      if (r == 1) (blur_near ? filterSpan<8, true> : filterSpan<8, false>)(tap_in, sums, span, taps, centre, sn, sz);
-      else (blur_near ? filterSpan<24, true> : filterSpan<24, false>)(tap_in, sums, span, taps, centre, sn, sz);
+      // Columns [x0, x1) of the row, with or without the blur's rules.
+      const auto filter = [&](int x0, int x1, bool blur) {
+        if (x1 <= x0) return;
+        const std::size_t first = at(x0, y);
+        const TapInput tap_in{guide.cls.v.data() + first, guide.z.v.data() + first,    guide.gx.v.data() + first,
+                              guide.gy.v.data() + first,  guide.nx.v.data() + first,   guide.ny.v.data() + first,
+                              guide.nz.v.data() + first,  guide.blur.v.data() + first, guide.order.v.data() + first,
+                              guide.mx.v.data() + first,  guide.my.v.data() + first,   guide.whole.v.data() + first,
+                              in.r.v.data() + first,      in.g.v.data() + first,       in.b.v.data() + first,
+                              in.var.v.data() + first,    inv.v.data() + first};
+        const TapSums sums{out.r.v.data() + first, out.g.v.data() + first, out.b.v.data() + first,
+                           out.var.v.data() + first};
+        if (r == 1) (blur ? filterSpan<8, true> : filterSpan<8, false>)(tap_in, sums, x1 - x0, taps, centre, sn, sz);
+        else (blur ? filterSpan<24, true> : filterSpan<24, false>)(tap_in, sums, x1 - x0, taps, centre, sn, sz);
+      };
+      // Only columns with a blurred pixel within this iteration's taps take the blur's rules (elsewhere they give
+      // the plain kernel's values, slower).
+      const int taps_reach = r * step;
+      Window near;
+      for (int dy = -taps_reach; dy <= taps_reach && blur_any; ++dy)
+        if (y + dy >= 0 && y + dy < h) near.merge(row_blurred[y + dy]);
+      const int b0 = near.empty() ? row.x1 : std::clamp(near.x0 - taps_reach, row.x0, row.x1);
+      const int b1x = near.empty() ? row.x1 : std::clamp(near.x1 + taps_reach, b0, row.x1);
+      filter(row.x0, b0, false), filter(b0, b1x, true), filter(b1x, row.x1, false);
     });
   };
   using Job = std::tuple<Signal*, Window, const std::vector<Window>*>;

@@ -15,7 +15,11 @@
 // (path_tracer.h, tracePathSplit). Depth of field: the film's blur layer (each sample's circle of confusion, pixels);
 // pixels blurred by a pixel or more are filtered whole (not demodulated) and mixed with every neighbour within the
 // blur of the nearer of the two, the sky included, so an out-of-focus edge is averaged rather than kept as the dither
-// one lens sample a pixel leaves (filterSpan in denoiser.cpp).
+// one lens sample a pixel leaves (filterSpan in denoiser.cpp). Motion blur alike: the film's motion layer (how far
+// each sample's first hit moves on the image over the shutter, pixels); where a moving edge sweeps (a pixel next to
+// one that sees the sky instead of a surface, or moves a pixel or more differently, and the pixels along its motion,
+// half of it either way) pixels are filtered whole and mixed within the motion of the nearer of the two (half of it
+// along the motion, all of it across), so a fast edge is averaged rather than dithered by one instant a pixel.
 // Well-sampled pixels (at least `well_sampled` samples, as adaptive sampling gives where the light is noisy, such as
 // the sky-lit shade under a cloth) are changed by the first `well_sampled_iterations` iterations only (a reach of 3
 // pixels with the 3 x 3 kernel): their own noise is already small, and the wide iterations only add bias there. Their
@@ -24,7 +28,7 @@
 // seen through a gap is a large part of the pixel, and at a silhouette the pixel's coverage adds its own spread: they
 // would lift a thin shadow (the contact shadow under a draped cloth's hem, by up to 0.19 of full scale). The reach
 // following the sample count is the idea of Rousselle, Knaus and Zwicker 2011 (a filter scale per pixel from its error
-// estimate), reduced to one step. Lens-blurred pixels keep every iteration (their blur is the filter's to spread).
+// estimate), reduced to one step. Lens- and motion-blurred pixels keep every iteration (their blur is the filter's to spread).
 // Parameters (DenoiseSettings): iterations, radius (1: 3 x 3 kernel, 2: 5 x 5; the filter reaches
 // radius (2^iterations - 1) pixels), sigma_luminance, sigma_normal, sigma_depth, well_sampled (0: off),
 // well_sampled_iterations. Deterministic: every output pixel is a fixed sum over its neighbours.

@@ -240,6 +240,7 @@ PathResult Path::trace() {
       addEscapedLight(vertex);
       break;
     }
+    if (vertex == 0) result_.velocity = hit->dpdt;  // the guides' point: the first hit (tracePathSplit too)
     // Gelatine's clear interface, unless its print layer is drawn; else a surface with a BSDF.
     const Material& material = scene_.material(hit->material);
     const Branch branch = vertex == 0 && material.dielectric ? camera_.branch : Branch::Drawn;
@@ -570,6 +571,7 @@ PathResult tracePathSplit(const PathContext& context, const Ray& ray, CameraSamp
   sum.hit = true;
   sum.normal = first.front_normal, sum.position = first.front_position;
   sum.front_normal = first.front_normal, sum.front_position = first.front_position;
+  sum.velocity = first.velocity;
   return sum;
 }
 

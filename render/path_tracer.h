@@ -94,6 +94,9 @@ struct PathResult {
   Color albedo = Color::Zero();
   Eigen::Vector3f normal = Eigen::Vector3f::Zero();  // shading normal, turned towards the camera
   Eigen::Vector3f position = Eigen::Vector3f::Zero();
+  // How the first hit's point (the guides' position) moves over the whole shutter, per unit of ray time (its
+  // SurfaceHit::dpdt: zero for a still shape), for the film's motion layer.
+  Eigen::Vector3f velocity = Eigen::Vector3f::Zero();
   bool hit = false;
   std::uint32_t rays = 0;  // rays traced (intersection and shadow), for statistics
   // The camera ray met gelatine first: its print coverage and (smooth interface) Fresnel reflectance there.

@@ -161,6 +161,8 @@ image::Film render(const Scene& scene, const Camera& camera, const RenderSetting
               const float depth = r.hit ? camera.depth(r.position) : std::numeric_limits<float>::infinity();
               film.depth[i] = std::min(film.depth[i], depth);
               if (lens) film.blur[i] += camera.blurRadius(depth);
+              if (settings.motion_blur && r.hit)
+                film.motion[i] += camera.screenMotion(r.position, r.velocity, ray.time);
               rays += r.rays;
             }
             film.samples[i] = std::uint32_t(target);
@@ -229,6 +231,7 @@ image::Film render(const Scene& scene, const Camera& camera, const RenderSetting
         film.albedo[i] *= inv;
         film.normal[i] *= inv;
         film.blur[i] *= inv;
+        film.motion[i] *= inv;
         film.variance_diffuse[i] = varianceOfMean(state[i].diffuse_sum, state[i].diffuse_sq, n);
         film.variance_other[i] = varianceOfMean(state[i].other_sum, state[i].other_sq, n);
       }

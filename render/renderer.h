@@ -27,7 +27,8 @@
 //   tile_size          tiles of tile_size^2 pixels are the units of parallel work (tbb::parallel_for)
 //   motion_blur        trace each sample at its own instant of the shutter (Ray::time, drawn from the sampler's kTime
 //                      slot, sampler.h), so shapes with several poses and a moving camera blur (scene.h, camera.h);
-//                      false: every ray at time 0, and the same bytes as a renderer without motion blur
+//                      false: every ray at time 0, and the same bytes as a renderer without motion blur. With it,
+//                      the film's motion layer records how far each first hit moves on the image (Camera::screenMotion)
 //   frame              animation frame index: seeds the per-pixel sample streams, so consecutive frames get
 //                      different noise and the same frame is always the same
 // Determinism: every pixel's samples are a function of (pixel, frame, sample index) only, each pixel is computed by

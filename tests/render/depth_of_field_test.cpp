@@ -4,8 +4,7 @@
 // must average them over the lens's blur (denoiser.h: the film's blur layer), as the converged picture does.
 // Oracle: the converged picture (256 lens samples a pixel, not denoised). Measure of dither: along the edge the
 // converged picture is the same in every column, so the mean squared difference between horizontally neighbouring
-// pixels in the edge's band is noise: the denoised picture's must be near the converged one's.
-#include <cmath>
+// pixels in the edge's band is noise: the denoised picture's must be near the converged one's (blurred_edge.h).
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -14,72 +13,28 @@
 #include "render/denoiser.h"
 #include "render/renderer.h"
 #include "render/scene.h"
+#include "tests/render/blurred_edge.h"
 
 namespace wobble::render {
 namespace {
 
-using Eigen::Vector3f;
+using testing::edge;
+using testing::EdgeFigures;
 
 Scene boardAgainstTheSky() {
   Scene scene;
   scene.addQuad("board", Quad{{0, 0, 2}, {0, 0, 1}, 4, 1},
                 scene.addMaterial(Material::diffuse("board", Color(0.5f, 0.3f, 0.2f))));
-  SunLight sun;
-  sun.direction = Vector3f(0.3f, 1, 0.8f);
-  scene.lights.suns = {sun};
+  scene.lights.suns = {testing::boardSun()};
   scene.commit();
   return scene;
 }
 
 Camera camera(float aperture) {
-  CameraParams cp;
-  cp.position = {0, 2.3f, 6};
-  cp.look_at = {0, 2.3f, -10};
-  cp.vfov_deg = 30;
-  cp.width = 96;
-  cp.height = 64;
+  CameraParams cp = testing::boardCamera();
   cp.aperture = aperture;  // the board's edge is spread over about 4 pixels; the sky by 0.4
   cp.focus = 50;
   return Camera(cp);
-}
-
-double luminance8(const image::Image8& im, int x, int y) {
-  return (0.2126 * im.at(x, y, 0) + 0.7152 * im.at(x, y, 1) + 0.0722 * im.at(x, y, 2)) / 255.0;
-}
-
-struct EdgeFigures {
-  double dither = 0, rmse = 0;  // mean squared neighbour difference along the band; RMSE against the reference
-  int rows = 0;
-};
-
-// The band: rows whose converged mean lies between 5% and 95% of the way from the board to the sky.
-EdgeFigures edge(const image::Image8& image, const image::Image8& reference) {
-  const int w = reference.width, h = reference.height;
-  std::vector<double> row(h, 0);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) row[y] += luminance8(reference, x, y) / w;
-  const double sky = row[0], board = row[h - 1];
-  EdgeFigures f;
-  int pairs = 0, pixels = 0;
-  for (int y = 0; y < h; ++y) {
-    const double s = (row[y] - board) / (sky - board);
-    if (s < 0.05 || s > 0.95) continue;
-    ++f.rows;
-    for (int x = 0; x < w; ++x) {
-      if (x > 0) {
-        const double d = luminance8(image, x, y) - luminance8(image, x - 1, y);
-        f.dither += d * d, ++pairs;
-      }
-      for (int c = 0; c < 3; ++c) {
-        const double d = (double(image.at(x, y, c)) - double(reference.at(x, y, c))) / 255.0;
-        f.rmse += d * d;
-      }
-      ++pixels;
-    }
-  }
-  f.dither /= pairs;
-  f.rmse = std::sqrt(f.rmse / (3.0 * pixels));
-  return f;
 }
 
 // Measured: converged dither 5e-6 (its own noise); one sample denoised 1.5e-4, RMSE 0.031 over the band. Without the
