@@ -279,6 +279,7 @@ void BackwardEuler::newton(const ForceJacobian& jacobian, double t, double h, co
   // The line search's merit: the incremental potential where the system offers its share (else NaN: the residual).
   double phi = options_.line_search == LineSearch::Potential ? potential(jacobian, h, dv_, mass)
                                                              : std::numeric_limits<double>::quiet_NaN();
+  int pair_rounds = 0;
   while (norm > options_.newton_tolerance * std::max(1.0, newton_.v1.lpNorm<Eigen::Infinity>()) &&
          stats_.last_linear_solves < options_.newton_max_iterations) {
     assemble(jacobian, t + h, newton_.x1, newton_.v1, h, nullptr, nullptr);
@@ -334,6 +335,18 @@ void BackwardEuler::newton(const ForceJacobian& jacobian, double t, double h, co
       ++stats_.line_search_stops;
       residual(jacobian, t, h, x, v, dv_, mass, newton_.r);  // the scratch's x1, v1 back at the iterate
       break;
+    }
+    // The active set at the iterate's end: Newton moves the end away from the linearized solves', and a pair it
+    // presses that the set does not hold would be left to the pass after the step, whose impulses on the surface
+    // alone make energy (docs/energy.md). A change means another potential: its residual and merit afresh.
+    bool settled = true;
+    if (pair_rounds < kBodyPasses && (setEnd(h, x, v), pressPairs(jacobian, t, h, x, v, settled)) > 0) {
+      ++pair_rounds;
+      ++stats_.newton_pair_updates;
+      applyPairs(h, x, v);
+      norm = residual(jacobian, t, h, x, v, dv_, mass, newton_.r);
+      if (std::isfinite(phi)) phi = potential(jacobian, h, dv_, mass);
+      if (!settled) continue;
     }
     if (until_energy_kept && !madeUpEnergy(jacobian, t, h, x, v)) break;
   }

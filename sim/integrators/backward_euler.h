@@ -43,12 +43,13 @@
 // after that first step, iterate Newton on the full nonlinear equations (contact still held at its start value) with a
 // backtracking line search on the step's incremental potential, of which the step is the minimizer (Gast et al. 2015;
 // as IPC's Newton iteration, Li et al. 2020: a Newton step that would raise it is not taken, so the iteration cannot
-// make energy the potential does not have; line_search = residual: on the residual's norm), until max |M^-1 residual|
-// <= newton_tolerance * max(1, max |v1|), at most newton_max_iterations linear solves (the damper's x-dependence is not
-// in the Jacobian, so convergence is linear rather than quadratic when dampers act; it still converges to the exact
-// backward-Euler step). The error rule (cg_error_fraction = eta > 0, without newton): the solve also stops once its
-// error is at most eta times the step's own. Backward Euler's local error in v is about (h^2 / 2) a' ~ |dv_n -
-// dv_(n-1)| / 2, estimated from the last two steps' velocity changes without an extra solve.
+// make energy the potential does not have; line_search = residual: on the residual's norm; after each Newton step the
+// pairs its end presses are searched for and the active set updated, as after a linearized solve), until
+// max |M^-1 residual| <= newton_tolerance * max(1, max |v1|), at most newton_max_iterations linear solves (the damper's
+// x-dependence is not in the Jacobian, so convergence is linear rather than quadratic when dampers act; it still
+// converges to the exact backward-Euler step). The error rule (cg_error_fraction = eta > 0, without newton): the solve
+// also stops once its error is at most eta times the step's own. Backward Euler's local error in v is about (h^2 / 2)
+// a' ~ |dv_n - dv_(n-1)| / 2, estimated from the last two steps' velocity changes without an extra solve.
 #pragma once
 #include <cmath>
 #include <vector>
@@ -126,6 +127,10 @@ class BackwardEuler final : public Integrator {
   static Vec3 tangentialSlide(const ContactConstraint& c, double h, const VecX& v);
   // The pairs' terms (PenaltyPairs::update) for the solved end x1.
   std::size_t updatePairs(const ForceJacobian& jacobian, double h, const VecX& x0, const VecX& x1, bool first);
+  // At the solved end end_x_: the pairs it presses searched for (colliders' and between bodies) and the active set
+  // updated (updatePairs); returns how many pairs changed, settled: fewer than kSettledShare of those within reach.
+  std::size_t pressPairs(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v,
+                         bool& settled);
   // The active pairs' terms into the matrix and the right-hand side (PenaltyPairs::apply).
   void applyPairs(double h, const VecX& x, const VecX& v);
   // The further solves while the solved step ends a particle inside a surface or changes which pairs are pressed.

@@ -61,15 +61,8 @@ void BackwardEuler::solveImpacts(const ForceJacobian& jacobian, double t, double
   for (int pass = 0; pass < (pairs_.empty() ? kImpactPasses : kBodyPasses); ++pass) {
     setEnd(h, x, v);
     const bool impacts = jacobian.impactConstraints(t, h, x, v, end_x_, end_v_, contacts_);
-    const bool found = jacobian.colliderPairs(t, h, x, v, end_x_, pairs_.list());
-    PairJoin pressed = PenaltyPairs::pressed();
-    const std::size_t changes =
-        ((options_.body_contact_in_solve && jacobian.bodyContacts(x, end_x_, pairs_.list(), pressed)) || found ||
-         !pairs_.empty())
-            ? updatePairs(jacobian, h, x, end_x_, false)
-            : 0;
-    // Of the pairs within reach, handed over or not (the solve's are a few of them: PairJoin).
-    const bool settled = double(changes) < kSettledShare * double(pairs_.size() + pressed.held_back);
+    bool settled = true;
+    const std::size_t changes = pressPairs(jacobian, t, h, x, v, settled);
     if (!impacts && (changes == 0 || settled)) return;
     const bool pairs = changes > 0;
     error_.history = 0;  // this step's dv carries impulses: not the smooth error's measure
@@ -90,6 +83,21 @@ void BackwardEuler::solveImpacts(const ForceJacobian& jacobian, double t, double
     solve(rhs_, dv_, absolute);
   }
 }
+
+std::size_t BackwardEuler::pressPairs(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v,
+                                      bool& settled) {
+  const bool found = jacobian.colliderPairs(t, h, x, v, end_x_, pairs_.list());
+  PairJoin pressed = PenaltyPairs::pressed();
+  const std::size_t changes =
+      ((options_.body_contact_in_solve && jacobian.bodyContacts(x, end_x_, pairs_.list(), pressed)) || found ||
+       !pairs_.empty())
+          ? updatePairs(jacobian, h, x, end_x_, false)
+          : 0;
+  // Of the pairs within reach, handed over or not (the solve's are a few of them: PairJoin).
+  settled = double(changes) < kSettledShare * double(pairs_.size() + pressed.held_back);
+  return changes;
+}
+
 std::size_t BackwardEuler::updatePairs(const ForceJacobian& jacobian, double h, const VecX& x0, const VecX& x1,
                                        bool first) {
   return pairs_.update(jacobian.inverseMass(), h, x0, x1, first, parallel_);

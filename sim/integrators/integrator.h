@@ -72,6 +72,8 @@ struct IntegratorStats {
   // backward-euler: Newton iterations that stopped because no step along their direction lowered the incremental
   // potential (line_search = potential)
   long line_search_stops = 0;
+  // backward-euler: Newton iterates whose end changed which contact pairs are pressed (the active set taken anew)
+  long newton_pair_updates = 0;
   long exact_steps = 0;  // backward-euler without newton: steps whose linearized solve made up energy,
                          // solved exactly instead (ForceJacobian::energyMadeUp)
   // backward-euler, contact between bodies in the solve (run.json's body_contact, docs/body-contact.md):
