@@ -148,6 +148,20 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
   io::writeTextFile(r.out / "run.json", j.dump(2) + "\n");
 }
 
+// The progress line's note: the steps taken again so far, in halves for their energy (docs/energy.md) or for contact
+// between bodies (docs/body-contact.md); empty while there are none.
+std::string retakeNote(const Simulation& sim) {
+  std::string note;
+  const auto count = [&](long n, const char* why) {
+    if (n == 0) return;
+    note +=
+        (note.empty() ? "" : ", ") + std::to_string(n) + (n == 1 ? " step" : " steps") + " retaken in halves " + why;
+  };
+  count(sim.energyRetakes(), "(energy)");
+  count(sim.splitSteps(), "(contact)");
+  return note;
+}
+
 }  // namespace
 
 RunReport runScene(const RunOptions& options) {
@@ -230,7 +244,7 @@ RunReport runScene(const RunOptions& options) {
         report.seconds_render += secondsSince(start);
       }
     }
-    if (progress) progress->update(frame);
+    if (progress) progress->update(frame, retakeNote(sim));
   }
   if (progress) progress->finish();
   for (const auto& cache : caches) cache->finish();  // the frames written, also after a blow-up or an interrupt

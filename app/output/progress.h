@@ -1,5 +1,6 @@
-// A one-line progress report (frame k of n, elapsed, remaining) on a terminal; silent when stderr is not one.
-// unit names what is counted ("frame" by default; the studies count runs).
+// A one-line progress report (frame k of n, elapsed, remaining, and what the run wants seen meanwhile, e.g. steps it
+// took again) on a terminal; silent when stderr is not one. unit names what is counted ("frame" by default; the
+// studies count runs).
 #pragma once
 #include <chrono>
 #include <string>
@@ -9,7 +10,8 @@ namespace wobble {
 class Progress {
  public:
   Progress(std::string what, int total, std::string unit = "frame");  // enabled only when stderr is a terminal
-  void update(int done);
+  // note: appended to the line when not empty.
+  void update(int done, const std::string& note = {});
   void finish();  // ends the line so later messages start on their own
 
  private:
