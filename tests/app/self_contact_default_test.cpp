@@ -1,6 +1,6 @@
 // A jelly among other bodies collides with itself by default (docs/body-contact.md, "Self-contact"). Oracle: the
 // independent triangle-triangle test of tests/sim/triangle_intersection.h (Moller 1997). Two soft jellies in a well
-// barely wider than they are, the upper four times heavier: it lands on the lower one and presses it into the well,
+// barely wider than they are, the upper twenty times heavier: it lands on the lower one and presses it into the well,
 // whose surface folds. With the shipped defaults (no self_contact key) no two of the lower jelly's triangles
 // intersect at any frame; with self_contact = false (the control, so that the test can fail) they do.
 #include <gtest/gtest.h>
