@@ -317,14 +317,14 @@ void Path::addEscapedLight(int vertex) {
   if (vertex > 0) {
     if (context_.settings.sample_sky && previous_sampled_sky_)
       light *= powerHeuristic(previous_pdf_, context_.background.pdf(ray_.direction));
-    // Through smooth gelatine alone from a surface that read the caustic map: the map's light.
+    // Through smooth gelatine alone from a surface that read the caustic map, the suns are the map's light.
     const bool caustic = caustic_receiver_ && chain_interfaces_ > 0;
-    for (const SunCone& sun : context_.suns) {
-      if (caustic) break;
-      const LightHit h = sunInDirection(sun, ray_.direction);
-      if (h.pdf > 0 && (context_.settings.mis || !lights_weighed))
-        light += h.radiance * (lights_weighed ? powerHeuristic(previous_pdf_, h.pdf) : 1.0f);
-    }
+    if (!caustic)
+      for (const SunCone& sun : context_.suns) {
+        const LightHit h = sunInDirection(sun, ray_.direction);
+        if (h.pdf > 0 && (context_.settings.mis || !lights_weighed))
+          light += h.radiance * (lights_weighed ? powerHeuristic(previous_pdf_, h.pdf) : 1.0f);
+      }
   }
   arrive(light, vertex > 1);  // found by the ray leaving vertex - 1
 }
