@@ -114,14 +114,13 @@ void BackwardEuler::step(const Dynamics& dynamics, double t, double h, VecX& x, 
     // colliders or pairs between bodies at its start, or an impact or a change of pairs within it, in it or in the step
     // before (a stiff body leaving a surface it bounced off), which is where the linearization fails; a step in free
     // flight pays nothing.
-    const bool contact = stats_.last_linear_solves > 1 || !contacts_.empty() || !released_.empty() || !pairs_.empty();
-    if ((contact || contact_before_) && madeUpEnergy(*jacobian, t, h, x, v)) {
+    if ((contactActed() || contact_before_) && madeUpEnergy(*jacobian, t, h, x, v)) {
       ++stats_.exact_steps;
       error_.history = 0;  // this step's dv is Newton's: not the smooth error's measure
       newton(*jacobian, t, h, x, v, mass, true);
     }
   }
-  contact_before_ = stats_.last_linear_solves > 1 || !contacts_.empty() || !released_.empty() || !pairs_.empty();
+  contact_before_ = contactActed();
   pairs_.carry(h, x, v, dv_);
 
   forEachChunk(n_, parallel_, [&](int begin, int end) {

@@ -135,6 +135,11 @@ class BackwardEuler final : public Integrator {
   void applyPairs(double h, const VecX& x, const VecX& v);
   // The further solves while the solved step ends a particle inside a surface or changes which pairs are pressed.
   void solveImpacts(const ForceJacobian& jacobian, double t, double h, const VecX& x, const VecX& v, double absolute);
+  // Whether contact acted in the step so far: constraints on colliders or pairs between bodies, or a further solve
+  // (an impact, a change of pairs).
+  bool contactActed() const {
+    return stats_.last_linear_solves > 1 || !contacts_.empty() || !released_.empty() || !pairs_.empty();
+  }
 
   // Armijo's sufficient decrease: a Newton step is taken once it lowers the potential by this share of its slope's
   // prediction (Nocedal & Wright's usual 1e-4).
