@@ -62,6 +62,12 @@ class WithBodyContact final : public Dynamics, public ForceJacobian {
   collision::BodyCollisions& pass_;
 };
 
+// The traits of an integrator of the table; nullptr for one from outside it (as tests make), which has none.
+const IntegratorTraits* tableTraits(std::string_view name) {
+  const auto names = integratorNames();
+  return std::find(names.begin(), names.end(), name) != names.end() ? &integratorTraits(name) : nullptr;
+}
+
 // Whether a free particle of x lies inside a collider at t, deeper than its contact band: a body placed there is pushed
 // out by the collider's constraints within the step, energy the collider gives (not the step's to keep).
 bool insideCollider(const MassSpringSystem& system, double t, const VecX& x) {
@@ -109,11 +115,9 @@ Simulation::Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> int
   // evaluations, against which the energy at its ends is cheap), where it keeps the bodies apart itself: with [contact]
   // in_solve = false the pass after the step is known to add energy (docs/energy.md), which no retake mends. An
   // integrator from outside the table has no traits.
-  const auto names = integratorNames();
-  const bool known = std::find(names.begin(), names.end(), integrator_->name()) != names.end();
-  explicit_ = known && !integratorTraits(integrator_->name()).implicit;
-  energy_retakes_ =
-      known && integratorTraits(integrator_->name()).implicit && (!collisions_ || integrator_->solvesBodyContact());
+  const IntegratorTraits* traits = tableTraits(integrator_->name());
+  explicit_ = traits && !traits->implicit;
+  energy_retakes_ = traits && traits->implicit && (!collisions_ || integrator_->solvesBodyContact());
 }
 
 Simulation::~Simulation() = default;
@@ -254,10 +258,9 @@ std::string EnergyGain::message(double dt) const {
   out << " (gained " << gained() << " J, " << gained() / std::max(std::abs(start), 1e-300)
       << " times the start's; allowed " << margin << " J, docs/energy.md). Try a smaller time step (--dt " << dt / 4
       << ")";
-  const auto names = integratorNames();  // (an integrator from outside the table, as tests make, has no traits)
-  const bool known = std::find(names.begin(), names.end(), integrator) != names.end();
-  if (!known || !integratorTraits(integrator).a_stable)  // one stable at any step (integrator.h): not what gained it
-    for (const std::string_view name : names)
+  const IntegratorTraits* traits = tableTraits(integrator);
+  if (!traits || !traits->a_stable)  // one stable at any step (integrator.h): not what gained it
+    for (const std::string_view name : integratorNames())
       if (integratorTraits(name).a_stable) out << ", " << name << " (--integrator " << name << ")";
   if (contact_solve_off) out << ", contact between bodies in the solve ([contact] in_solve = true)";
   if (linearized) out << ", the exact step instead of its linearization ([simulation] newton = true)";
