@@ -94,8 +94,8 @@ inline double penaltyRestGap(double start_gap, double recovery) { return std::mi
 // The band around a pair's rest gap within which backward Euler's active set leaves its activity as it is: slack times
 // the pair's distance at the step's start (thickness + start_gap), at most slack times the thickness. Scaled by the
 // distance left, not the thickness alone: a band of a quarter of the thickness around the rest gap of a pair nearly
-// touching reaches past contact, so the solve could never press it; it was left to the pass after the step, whose
-// impulses on the touching particles alone fed a resting stack energy every step (docs/body-contact.md, "Rest").
+// touching reaches past contact, so the solve could never press it and would leave it to the pass after the step,
+// whose impulses on the touching particles alone feed a resting stack energy every step (docs/body-contact.md, "Rest").
 inline double activeSlack(double slack, double start_gap, double thickness) {
   return slack * std::clamp(thickness + start_gap, 0.0, thickness);
 }

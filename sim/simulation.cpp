@@ -156,8 +156,8 @@ std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int split
   integrator_->step(stepped(), t0, h, x_, v_);
   // An explicit step's resting contact on a collider is stopped without restitution (the approach its own forces
   // added: contact/colliders/response.h). Backward Euler's bounces are its impact constraints' (on the approach at the
-  // step's start already); its step-end response keeps the old rule: with it, a stiff jelly's friction on a slope
-  // stalled its slide (docs/body-contact.md, "Rest").
+  // step's start already); its step-end response bounces every approach at the end: the resting-contact rule there
+  // would stall a stiff jelly's slide on a slope under friction (docs/body-contact.md, "Rest").
   system_.resolveCollisions(t1, x_, v_, colliders && explicit_ ? &v_before_ : nullptr);
   if (collisions_)
     if (auto failure = collisions_->resolve(x_before_, x_, v_, h, !integrator_->solvesBodyContact())) {

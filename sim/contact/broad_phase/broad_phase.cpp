@@ -140,7 +140,7 @@ bool lookUp(const HashGrid& grid, const std::vector<Box>& queries, const std::ve
   });
   if (found > limit) return false;
   // out at its final size at once, each part let go as soon as it is in: a list grown by doubling beside parts grown
-  // so held up to four times its bytes at a landing.
+  // so would hold up to four times its bytes at a landing.
   out.reserve(found);
   for (auto& part : parts) {
     out.insert(out.end(), part.begin(), part.end());

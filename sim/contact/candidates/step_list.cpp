@@ -64,8 +64,7 @@ bool StepList::find(Candidates& round) {
 
 template <class Fn>
 void StepList::keepMeasured(const Candidates& round, Fn&& measure) {
-  // Each candidate measured on threads, chunk by chunk, and only those kept kept with their measures (most are
-  // dropped: arrays of every candidate's measures took most of a large cloth's memory at a landing).
+  // Each candidate measured on threads, chunk by chunk; only the kept ones held, with their measures (step_list.h).
   const int n = round.count(), chunk = particleChunk(n), chunks = (n + chunk - 1) / chunk;
   auto& parts = kept_scratch_;
   if (int(parts.size()) < chunks) parts.resize(chunks);

@@ -69,7 +69,7 @@ class StepList {
   // measure(k, Kept&) keeps, in order, with the measures it gives; near_min lowered by theirs. Only the candidates
   // in a list stay: any other can pass no test at an end the list serves, and is measured again only if update finds
   // it again. Measured on threads, chunk by chunk, and only the kept ones held: arrays of every candidate's measures
-  // took most of a large cloth's memory at a landing.
+  // would take most of a large cloth's memory at a landing.
   template <class Fn>
   void keepMeasured(const Candidates& round, Fn&& measure);
   // Brings the step's own list (found by a broad phase for this start) to the end nxe when some nodes' ends lie
