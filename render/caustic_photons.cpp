@@ -59,9 +59,8 @@ std::optional<CausticPhoton> tracePhoton(const Scene& scene, Ray ray, Color powe
     const auto hit = scene.intersect(ray, leaving);
     if (medium) {  // absorption on the way; a scattering event ends the chain (the path tracer's)
       const float t = hit ? hit->t : std::numeric_limits<float>::infinity();
-      if (medium->scatter > 0 && -std::log1p(-random.next()) / medium->scatter < t) return std::nullopt;
-      if (!hit) return std::nullopt;
-      power = power.cwiseProduct((-medium->absorption * t).array().exp().matrix());
+      if (medium->scatter > 0 && medium->freeFlight(random.next()) < t) return std::nullopt;
+      if (hit) power = power.cwiseProduct(medium->transmittance(t));
     }
     if (!hit) return std::nullopt;
     const Material& material = scene.material(hit->material);

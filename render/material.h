@@ -22,6 +22,7 @@
 // Every surface is shaded two-sided (the normal is turned towards the viewer), so a cloth shows the same material on
 // both sides and a closed jelly's inside is never seen anyway.
 #pragma once
+#include <cmath>
 #include <memory>
 #include <string>
 
@@ -52,6 +53,10 @@ struct Material {
   Color baseColor(const Eigen::Vector2f& uv, const TextureFootprint& footprint) const {
     return texture ? Color(color.cwiseProduct(texture->evalFootprint(uv, footprint))) : color;
   }
+  // Inside the body: Beer-Lambert transmittance over a distance t, and the distance to the next scattering event
+  // for a uniform u in [0, 1) (draw u only where scatter > 0).
+  Color transmittance(float t) const { return (-absorption * t).array().exp().matrix(); }
+  float freeFlight(float u) const { return -std::log1p(-u) / scatter; }
 
   static Material diffuse(std::string name, const Color& color) { return {std::move(name), color, nullptr}; }
   static Material textured(std::string name, std::shared_ptr<const Texture> texture) {

@@ -267,14 +267,13 @@ Path::Step Path::travelMedium(int vertex, const std::optional<SurfaceHit>& hit) 
   const float t_hit = hit ? hit->t : std::numeric_limits<float>::infinity();
   float t = t_hit;
   if (medium.scatter > 0) {
-    const float u = sampler_.get1D(sample_, SampleLayout::medium(vertex));
-    t = std::min(t_hit, -std::log1p(-u) / medium.scatter);
+    t = std::min(t_hit, medium.freeFlight(sampler_.get1D(sample_, SampleLayout::medium(vertex))));
   }
   if (!hit && t == t_hit) {  // left through an open surface: no longer inside anything
     medium_ = nullptr;
     return Step::Shade;
   }
-  weigh((-medium.absorption * t).array().exp().matrix());
+  weigh(medium.transmittance(t));
   if (!(t < t_hit)) return Step::Shade;
   weigh(medium.scatter_albedo);
   const Eigen::Vector3f p = ray_.at(t);
