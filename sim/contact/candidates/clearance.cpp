@@ -18,8 +18,7 @@ std::atomic<bool> skip_while_apart{true};
 constexpr double kMarginThicknesses = 5;
 // A measure that served to its end measures again ahead of the step's start x0 by this much of the motion since the
 // start of the last: x_ref = x0 + kAhead (x0 - that start). The motion going on so, the next steps' states lie on both
-// sides of x_ref, nearer it than to x0, and the measure serves longer (cloth_sphere's first second: 15 measures
-// against 18 at x0).
+// sides of x_ref, nearer it than to x0, and the measure serves longer than one taken at x0.
 constexpr double kAhead = 0.5;
 // A measure that served fewer steps than this did not pay: the next one waits (twice as long each time).
 constexpr long kPayoff = 8;
