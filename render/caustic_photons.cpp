@@ -20,20 +20,6 @@ namespace wobble::render {
 
 namespace {
 
-// The sphere around every gelatine shape's bounds (over the shutter); radius 0: no gelatine in the scene.
-struct Target {
-  Eigen::Vector3f centre = Eigen::Vector3f::Zero();
-  float radius = 0;
-};
-
-Target gelatineTarget(const Scene& scene) {
-  Bounds box;
-  for (std::size_t id = 0; id < scene.shapeCount(); ++id)
-    if (scene.material(scene.shapeView(ShapeId(id)).material).dielectric) box.extend(scene.bounds(ShapeId(id)));
-  if (box.isEmpty()) return {};
-  return {box.center(), 0.5f * box.diagonal().norm() * 1.001f};
-}
-
 // The later random choices of a photon (Fresnel, print, free path): hashed uniform numbers in [0, 1).
 class PhotonRandom {
  public:
@@ -86,18 +72,25 @@ std::optional<CausticPhoton> tracePhoton(const Scene& scene, Ray ray, Color powe
 
 }  // namespace
 
+CausticTarget CausticTarget::of(const Scene& scene) {
+  Bounds box;
+  for (std::size_t id = 0; id < scene.shapeCount(); ++id)
+    if (scene.material(scene.shapeView(ShapeId(id)).material).dielectric) box.extend(scene.bounds(ShapeId(id)));
+  if (box.isEmpty()) return {};
+  return {box.center(), 0.5f * box.diagonal().norm() * 1.001f};
+}
+
 void CausticMaps::cover(int samples) {
   const std::uint32_t count =
       std::clamp<std::uint32_t>((std::uint32_t(std::max(1, samples)) + kSamplesPerMap - 1) / kSamplesPerMap, 1,
                                 kMaxMaps);
   while (maps_.size() < count)
-    maps_.push_back(CausticMap::shoot(*scene_, settings_, frame_, motion_blur_, std::uint32_t(maps_.size())));
+    maps_.push_back(CausticMap::shoot(*scene_, target_, settings_, frame_, motion_blur_, std::uint32_t(maps_.size())));
 }
 
-CausticMap CausticMap::shoot(const Scene& scene, const CausticSettings& settings, std::uint32_t frame, bool motion_blur,
-                             std::uint32_t index) {
+CausticMap CausticMap::shoot(const Scene& scene, const CausticTarget& target, const CausticSettings& settings,
+                             std::uint32_t frame, bool motion_blur, std::uint32_t index) {
   CausticMap map;
-  const Target target = gelatineTarget(scene);
   if (settings.photons <= 0 || !(target.radius > 0) || scene.lights.suns.empty()) return map;
   map.radius_ = settings.radius;
   const std::size_t n = std::size_t(settings.photons);

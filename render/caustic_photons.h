@@ -51,13 +51,22 @@ struct CausticPhoton {
   Color power;         // flux (W)
 };
 
+// The sphere the photons are shot at: around every gelatine shape's bounds over the shutter. One per committed
+// scene, shared by its maps.
+struct CausticTarget {
+  Eigen::Vector3f centre = Eigen::Vector3f::Zero();
+  float radius = 0;  // 0: no gelatine in the scene
+  static CausticTarget of(const Scene& scene);
+};
+
 class CausticMap {
  public:
   CausticMap() = default;
-  // Shoots the photons of every sun of a committed scene. motion_blur: each photon at its own instant of the shutter
-  // (Ray::time), as the camera's samples; else at time 0. `index`: which of a frame's maps (CausticMaps).
-  static CausticMap shoot(const Scene& scene, const CausticSettings& settings, std::uint32_t frame, bool motion_blur,
-                          std::uint32_t index = 0);
+  // Shoots the photons of every sun of a committed scene at its target (CausticTarget::of(scene)). motion_blur: each
+  // photon at its own instant of the shutter (Ray::time), as the camera's samples; else at time 0. `index`: which of
+  // a frame's maps (CausticMaps).
+  static CausticMap shoot(const Scene& scene, const CausticTarget& target, const CausticSettings& settings,
+                          std::uint32_t frame, bool motion_blur, std::uint32_t index = 0);
 
   bool empty() const { return photons_.empty(); }
   std::size_t size() const { return photons_.size(); }
@@ -99,7 +108,11 @@ class CausticMaps {
  public:
   static constexpr std::uint32_t kSamplesPerMap = 4, kMaxMaps = 32;
   CausticMaps(const Scene& scene, const CausticSettings& settings, std::uint32_t frame, bool motion_blur)
-      : scene_(&scene), settings_(settings), frame_(frame), motion_blur_(motion_blur) {}
+      : scene_(&scene),
+        target_(CausticTarget::of(scene)),
+        settings_(settings),
+        frame_(frame),
+        motion_blur_(motion_blur) {}
   // Shoots the maps that samples 0 .. samples - 1 read and are not there yet (the renderer, before each pass).
   void cover(int samples);
   // The map of a sample below what cover() was given.
@@ -108,6 +121,7 @@ class CausticMaps {
 
  private:
   const Scene* scene_;
+  CausticTarget target_;
   CausticSettings settings_;
   std::uint32_t frame_;
   bool motion_blur_;

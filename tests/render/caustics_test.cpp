@@ -148,9 +148,9 @@ TEST(Caustics, SameBytesWhateverThreadsAndTiles) {
   for (std::size_t i = 1; i < films.size(); ++i) EXPECT_TRUE(films[i].color == films[0].color) << i;
   const CausticMap one = [&] {
     const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
-    return CausticMap::shoot(scene, settings.caustics, 0, false);
+    return CausticMap::shoot(scene, CausticTarget::of(scene), settings.caustics, 0, false);
   }();
-  const CausticMap two = CausticMap::shoot(scene, settings.caustics, 0, false);
+  const CausticMap two = CausticMap::shoot(scene, CausticTarget::of(scene), settings.caustics, 0, false);
   ASSERT_GT(one.size(), 1000u);
   ASSERT_EQ(one.size(), two.size());
   for (std::size_t i = 0; i < one.size(); ++i) ASSERT_TRUE(one.photons()[i].p == two.photons()[i].p) << i;
