@@ -139,7 +139,7 @@ void addStability(CLI::App& study, int& status) {
   for (const ContactCase& c : contactCases()) {
     cases +=
         (cases.empty() ? "" : "; ") + c.key + ": " + c.title + ", ks " + io::formatNumber(c.runs.front()[0]) + ", dt";
-    for (const auto& run : c.runs) cases += " " + io::formatNumber(run[1], 3);
+    for (const auto& run : c.runs) cases.append(" ").append(io::formatNumber(run[1], 3));
     cases += " s";
   }
   cmd->add_option("--contact", *contact, "Contact cases to run (default: all): " + cases)->delimiter(',');

@@ -178,7 +178,7 @@ const std::vector<std::string> kPerceptualOptions = {
 std::string oneDash(const std::string& options) {
   std::string out;
   std::istringstream words(options);
-  for (std::string w; words >> w;) out += (out.empty() ? "" : " ") + (w.starts_with("--") ? w.substr(1) : w);
+  for (std::string w; words >> w;) out.append(out.empty() ? "" : " ").append(w, w.starts_with("--") ? 1 : 0);
   return out;
 }
 
@@ -203,7 +203,7 @@ class IdiffConformance : public testing::ScratchDir {
     for (const FilePair& p : pairs) {
       table << "  " << p.name << ":";
       for (const std::string& two_dashes : options) {
-        const std::string files = " " + p.a.string() + " " + p.b.string(), o = oneDash(two_dashes);
+        const std::string files = " " + p.a.native() + " " + p.b.native(), o = oneDash(two_dashes);
         const int status = std::system((idiff_->string() + " " + o + files + " > " + idiff_log.string()).c_str());
         const int expected = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
         int got = 0;
@@ -381,7 +381,7 @@ TEST_F(IdiffConformance, OutputOptionsInIdiffSpelling) {
     for (const char* o : {"-o {}", "-od -o {}", "-abs -scale 10 -o {}", "-a -fail 0.02 -o {}", "-q",
                           "-q -fail 0.02 -warn 0.01 -warnpercent 5", "-a -v"}) {
       std::string command = o;
-      const std::string files = " " + p.a.string() + " " + p.b.string();
+      const std::string files = " " + p.a.native() + " " + p.b.native();
       const auto run = [&](const std::string& program, const fs::path& difference, const fs::path& to) {
         std::string c = command;
         if (const auto at = c.find("{}"); at != std::string::npos) c.replace(at, 2, difference.string());
