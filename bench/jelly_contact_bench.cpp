@@ -9,19 +9,20 @@
 //   onto the lower, landing at about 0.5 s and coming to rest: each iteration the run from the start to 1.5 s, with
 //   both jellies' self-contact off (s = 0) and on (1, the default of a jelly among other bodies); i = 0: backward
 //   Euler at 1/60 s, 1: RK4 at 1e-3 s (the scene's own integrator).
-//   BM_WellSelfContact/s: two soft jellies pressed into a well barely wider than they are (the squeeze that folds the
-//   lower one through itself without self-contact: tests/app/self_contact_default_test.cpp), backward Euler at 1/60
-//   s, each iteration the run from the start to 3 s.
+//   BM_WellSelfContact/s: bench/scenes/jelly_well.toml, two soft jellies pressed into a well barely wider than they
+//   are (the squeeze that folds the lower one through itself without self-contact:
+//   tests/app/self_contact_default_test.cpp), with self-contact off (s = 0) and at the shipped default (1), backward
+//   Euler at 1/60 s, each iteration the run from the start to 3 s.
 // Wall time (each iteration one run; setup untimed) and the process's CPU time (both threads).
-// Run: taskset -c 0,1 build/jelly_contact_bench (two cores).
+// Run from the project root: taskset -c 0,1 build/jelly_contact_bench (two cores).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 #include <memory>
+#include <string>
+#include <vector>
 
-#include "sim/bodies/jelly.h"
-#include "sim/contact/colliders/box.h"
-#include "sim/contact/colliders/plane.h"
+#include "app/scene/scene_file.h"
 #include "sim/simulation.h"
 #include "tests/sim/jelly_shot.h"
 #include "tests/sim/jelly_stack.h"
@@ -29,6 +30,8 @@
 
 namespace wobble {
 namespace {
+
+constexpr const char* kWell = "bench/scenes/jelly_well.toml";
 
 // Runs a fresh copy of `build`'s system to `end`, timed; counters per step of the last run.
 template <class Build>
@@ -68,27 +71,15 @@ void BM_JellySelfContact(benchmark::State& state) {
   else runs(state, build, "rk4", {}, 1e-3, 1.5);
 }
 
-// tests/app/self_contact_default_test.cpp's well: a light jelly (ks 100) on the floor between two walls 0.8 m apart,
-// a jelly twenty times heavier dropped onto it.
-std::unique_ptr<MassSpringSystem> well(bool self_contact) {
-  auto system = std::make_unique<MassSpringSystem>();
-  JellyParams low{.n = 5, .size = 0.76, .mass = 0.1, .ks = 100, .kd = 1, .center = Vec3(0, 0.4, 0)};
-  JellyParams high = low;
-  high.mass = 2;
-  high.center = Vec3(0, 1.4, 0);
-  high.rotation_axis = Vec3::UnitY();
-  high.rotation_deg = 20;
-  testing::addJellies(*system, {{"low", low}, {"high", high}}, self_contact);
-  system->addCollider(std::make_unique<PlaneCollider>("floor", ContactParams{}, Vec3::Zero(), Vec3::UnitY()));
-  for (const double side : {-0.65, 0.65})
-    system->addCollider(
-        std::make_unique<BoxCollider>("wall", ContactParams{}, Vec3(side, 1.5, 0), Vec3(0.5, 3.0, 3.0)));
-  return system;
-}
-
+// bench/scenes/jelly_well.toml (tests/app/self_contact_default_test.cpp's well), read as `wobble run` reads it, with
+// both jellies' self-contact off or at the shipped default (on), under the scene's own integrator and step.
 void BM_WellSelfContact(benchmark::State& state) {
+  const std::vector<std::string> off = {"bodies.low.self_contact=false", "bodies.high.self_contact=false"};
+  const std::vector<std::string> sets = state.range(0) != 0 ? std::vector<std::string>{} : off;
+  const SceneFile scene = loadScene(kWell, sets);
   runs(
-      state, [&] { return well(state.range(0) != 0); }, "backward-euler", {}, 1.0 / 60, 3.0);
+      state, [&] { return loadScene(kWell, sets).system; }, scene.integrator.c_str(), scene.integrator_options,
+      scene.dt, scene.duration);
 }
 
 void perRun(benchmark::internal::Benchmark* b) {

@@ -1,8 +1,9 @@
 // A jelly among other bodies collides with itself by default (docs/body-contact.md, "Self-contact"). Oracle: the
 // independent triangle-triangle test of tests/sim/triangle_intersection.h (Moller 1997). Two soft jellies in a well
-// barely wider than they are, the upper twenty times heavier: it lands on the lower one and presses it into the well,
-// whose surface folds. With the shipped defaults (no self_contact key) no two of the lower jelly's triangles
-// intersect at any frame; with self_contact = false (the control, so that the test can fail) they do.
+// barely wider than they are (bench/scenes/jelly_well.toml), the upper twenty times heavier: it lands on the lower one
+// and presses it into the well, whose surface folds. With the shipped defaults (no self_contact key) no two of the
+// lower jelly's triangles intersect at any frame; with self_contact = false (the control, so that the test can fail)
+// they do.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,55 +16,12 @@
 namespace wobble {
 namespace {
 
-constexpr const char* kWell = R"(
-[simulation]
-integrator = "backward-euler"
-dt = 0.0166666666666667
-duration = 3.0
-fps = 30
-
-[bodies.low]
-type = "jelly"
-n = 5
-size = 0.76
-mass = 0.1
-ks = 100.0
-kd = 1.0
-center = [0.0, 0.40, 0.0]
-
-[bodies.high]
-type = "jelly"
-n = 5
-size = 0.76
-mass = 2.0
-ks = 100.0
-kd = 1.0
-center = [0.0, 1.4, 0.0]
-rotation_axis = [0.0, 1.0, 0.0]
-rotation_deg = 20.0
-
-[colliders.floor]
-type = "plane"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 1.0, 0.0]
-
-[colliders.left]
-type = "box"
-center = [-0.65, 1.5, 0.0]
-size = [0.5, 3.0, 3.0]
-
-[colliders.right]
-type = "box"
-center = [0.65, 1.5, 0.0]
-size = [0.5, 3.0, 3.0]
-)";
-
 class SelfContactDefault : public testing::ScratchDir {
  protected:
   // The lower jelly's most intersecting pairs of its own triangles at any frame.
   int worstFold(const std::vector<std::string>& sets) {
     RunOptions o;
-    o.scene = write("well.toml", kWell);
+    o.scene = testing::sourceDir() / "bench/scenes/jelly_well.toml";
     o.out = dir() / "out";
     o.render.render = "none";
     o.progress = false;
