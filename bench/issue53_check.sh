@@ -1,17 +1,19 @@
 #!/bin/bash
 # Issue 53's cases (backward Euler in contact), re-run on the current build: one line per run with the figure the issue
 # names, read from run.json (and from the stability study's CSV for momentum, and bench/self_intersections for folds).
-# A measurement, not a test: it asserts nothing and exits 0 whatever the figures say (docs/energy.md, "Issue 53's
-# cases"). Run from the project root after building; about a minute of wall time on 2 quiet cores.
+# A measurement, not a test: it asserts nothing and exits 0 whatever the figures say (docs/energy.md, "Re-checking
+# the contact cases"). Run from the project root after building; one to two minutes of wall time on 2 cores.
 #
 #   bench/issue53_check.sh [BUILD_DIR]      (default: build)
 #
-#   (a) the free pair (scenes/jelly_shot.toml: 1.28 kg at 25 m/s into 25.6 kg, no gravity, no colliders): momentum
-#       drift |p - p0| against its 32 kg m/s, and angular momentum drift, by `wobble study stability --contact
-#       free-pair` (default cg_tolerance), backward Euler at 1/60 and 1/240 s, RK4 at the scene's 5e-4 s
+#   (a) the free pair (scenes/jelly_shot.toml: 1.28 kg at 25 m/s into 25.6 kg, no gravity, no colliders; and at 10
+#       and 5 m/s): momentum drift |p - p0| against p0 (32 kg m/s at 25 m/s), and angular momentum drift, by `wobble
+#       study stability --contact free-pair` (default cg_tolerance), backward Euler at 1/60 and 1/240 s, RK4 at the
+#       scene's 5e-4 s
 #   (b) the default scene with jelly.ks = 1e7, backward Euler at 1/60 s (slope restitution 0.8): exit status, the
 #       energy at start and end, whether the energy check fired, exact steps and retakes, simulate time
-#   (c) bench/scenes/jelly_curtain.toml: a jelly at 150 m/s into a pinned cloth curtain, backward Euler at 1/60 s
+#   (c) bench/scenes/jelly_curtain.toml: a jelly at 150 m/s into a pinned cloth curtain, backward Euler at 1/60 s,
+#       linearized (the default) and with newton = true
 #   (d) bench/scenes/jelly_pile.toml: the six-jelly offset pile, backward Euler at 1/240 s: end_state.max_speed (the
 #       largest particle speed over the last frame) at 4 s, 3 s after the top jelly has landed, and at 14 s
 #   (e) bench/scenes/jelly_squeeze.toml: an elevator pressing a jelly 1.4 cm against a ceiling, every integrator at
@@ -82,22 +84,33 @@ run() {
 
 echo "issue 53's cases on $(git rev-parse --short HEAD 2>/dev/null || echo '?'), $(date -u '+%F %H:%M UTC')"
 
-# (a) Momentum of the free pair: the stability study's contact case, only it (a one-cell grid on the same scene).
-nice "$wobble" study stability scenes/jelly_shot.toml --integrators backward-euler,rk4 --contact free-pair \
-  --ks-points 1 --dt-points 1 --ks-min 2000 --ks-max 2000 --dt-min $h60 --dt-max $h60 --gnuplot true \
-  --out "$work/study" >"$work/study.log" 2>&1 || { echo "(a) the stability study failed:"; tail -3 "$work/study.log"; }
-python3 - "$work/study/stability.csv" <<'EOF' || true
+# (a) Momentum of the free pair: the stability study's contact case, only it (a one-cell grid on the same scene), at
+# the scene's 25 m/s and at the issue's slower hits (a copy of the scene with the bullet's speed changed).
+for speed in 25 10 5; do
+  shot=scenes/jelly_shot.toml
+  if ((speed != 25)); then
+    shot=$work/jelly_shot.toml
+    sed "s/^velocity = \[25.0, 0.0, 0.0\]/velocity = [$speed.0, 0.0, 0.0]/" scenes/jelly_shot.toml >"$shot"
+  fi
+  nice "$wobble" study stability "$shot" --contact-scene free-pair="$shot" --integrators backward-euler,rk4 \
+    --contact free-pair --ks-points 1 --dt-points 1 --ks-min 2000 --ks-max 2000 --dt-min $h60 --dt-max $h60 \
+    --gnuplot true --out "$work/study$speed" >"$work/study$speed.log" 2>&1 ||
+    { echo "(a) the stability study failed at $speed m/s:"; tail -3 "$work/study$speed.log"; }
+  python3 - "$work/study$speed/stability.csv" "$speed" <<'EOF' || true
 import csv, sys
 rows = [r for r in csv.DictReader(open(sys.argv[1])) if r["contact_case"] == "free-pair"]
+speed = float(sys.argv[2])
+p0 = 1.28 * speed  # kg m/s: the bullet's; the target starts at rest
 for integrator, dt, name in (("backward-euler", 1 / 60, "1/60"), ("backward-euler", 1 / 240, "1/240"),
                              ("rk4", 5e-4, "5e-4")):
     for r in rows:
         if r["integrator"] == integrator and abs(float(r["dt"]) - dt) < 1e-9:
             p = float(r["momentum_drift"])
-            print(f"(a) free pair, {integrator} at {name} s: {r['outcome']} to {float(r['end_time']):.3g} s, momentum "
-                  f"off by {100 * p:.3g}% (|p - p0| {32 * p:.3g} of 32 kg m/s; aim 0.1%), angular momentum drift "
-                  f"{100 * float(r['angular_momentum_drift']):.3g}%")
+            print(f"(a) free pair at {speed:g} m/s, {integrator} at {name} s: {r['outcome']} to "
+                  f"{float(r['end_time']):.3g} s, momentum off by {100 * p:.3g}% (|p - p0| {p0 * p:.3g} of "
+                  f"{p0:.3g} kg m/s; aim 0.1%), angular momentum drift {100 * float(r['angular_momentum_drift']):.3g}%")
 EOF
+done
 
 # (b) The stiff default scene.
 run "(b) default scene, jelly.ks 1e7, backward-euler at 1/60 s" energy scenes/jelly_slope.toml \
@@ -105,6 +118,7 @@ run "(b) default scene, jelly.ks 1e7, backward-euler at 1/60 s" energy scenes/je
 
 # (c) The throw into the curtain.
 run "(c) jelly at 150 m/s into a curtain, backward-euler at 1/60 s" energy bench/scenes/jelly_curtain.toml
+run "(c) the same with newton = true" energy bench/scenes/jelly_curtain.toml --set simulation.newton=true
 
 # (d) The six-jelly pile: 3 s after the top one lands, and where the issue looked (14 s).
 # (Frame k shows (k - 1) / fps: a duration of T + 1/60 s puts the last frame at T.)
