@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 namespace wobble {
@@ -32,6 +33,18 @@ Response response(const SurfacePoint& s, const ContactParams& c, const Vec3& v, 
   }
   if (s.distance < 0) r.dx = -s.distance * s.normal;
   return r;
+}
+
+// The response of a point near collider at t (nothing outside its band), for both kinds of point: read(y) is the
+// point's value of a per-particle vector y (a particle's own, or the blend of a riding point's particles), so its
+// position is read(x), its velocity read(v), and its start velocity read(*v_start) when known.
+template <class Read>
+std::optional<Response> respond(const Collider& collider, double t, const VecX& x, const VecX& v, const VecX* v_start,
+                                const Read& read) {
+  const auto s = collider.query(t, read(x));
+  if (!s || s->distance >= collider.contact().epsilon) return std::nullopt;
+  const Vec3 start = v_start ? read(*v_start) : Vec3::Zero();
+  return response(*s, collider.contact(), read(v), v_start ? &start : nullptr);
 }
 
 }  // namespace
@@ -86,16 +99,13 @@ void addContactForces(Colliders colliders, double t, const VecX& x, const VecX& 
 void resolveCollisions(Colliders colliders, double t, VecX& x, VecX& v, const VecX& inv_mass, const VecX* v_start) {
   std::vector<int>& near = nearScratch();
   for (const auto& collider : colliders) {
-    const ContactParams& c = collider->contact();
-    collider->near(t, x, c.epsilon, near);
+    collider->near(t, x, collider->contact().epsilon, near);
     for (const int i : near) {
       if (inv_mass[i] == 0) continue;
-      const auto s = collider->query(t, particle(x, i));
-      if (!s || s->distance >= c.epsilon) continue;
-      const Vec3 start = v_start ? Vec3(particle(*v_start, i)) : Vec3::Zero();
-      const Response r = response(*s, c, particle(v, i), v_start ? &start : nullptr);
-      particle(v, i) += r.dv;
-      particle(x, i) += r.dx;
+      const auto r = respond(*collider, t, x, v, v_start, [i](const VecX& y) { return Vec3(particle(y, i)); });
+      if (!r) continue;
+      particle(v, i) += r->dv;
+      particle(x, i) += r->dx;
     }
   }
 }
@@ -182,17 +192,15 @@ void resolveCollisions(Colliders colliders, const WeightedPoints& points, double
   thread_local CellBoxes cells;
   thread_local std::vector<int> near;
   for (const auto& collider : colliders) {
-    const ContactParams& c = collider->contact();
     cells.clear();  // where the colliders before this one left the points
-    nearPoints(*collider, t, points, x, cells, c.epsilon, near, at);
+    nearPoints(*collider, t, points, x, cells, collider->contact().epsilon, near, at);
     for (const int p : near) {
       if (points[p].inverse_mass == 0) continue;
-      const auto s = collider->query(t, points.blend(x, p));  // where the points before it left it
-      if (!s || s->distance >= c.epsilon) continue;
-      const Vec3 start = v_start ? points.blend(*v_start, p) : Vec3::Zero();
-      const Response r = response(*s, c, points.blend(v, p), v_start ? &start : nullptr);
-      points.shift(p, r.dv, inv_mass, v);
-      points.shift(p, r.dx, inv_mass, x);
+      // At the point's blend of x as the points before it left it.
+      const auto r = respond(*collider, t, x, v, v_start, [&points, p](const VecX& y) { return points.blend(y, p); });
+      if (!r) continue;
+      points.shift(p, r->dv, inv_mass, v);
+      points.shift(p, r->dx, inv_mass, x);
     }
   }
 }
