@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iterator>
 
+#include "sim/contact/release.h"
 #include "sim/solver/parallel.h"
 
 namespace wobble::collision {
@@ -144,7 +145,7 @@ bool lookUp(const HashGrid& grid, const std::vector<Box>& queries, const std::ve
   out.reserve(found);
   for (auto& part : parts) {
     out.insert(out.end(), part.begin(), part.end());
-    std::vector<std::pair<int, int>>().swap(part);
+    release(part);
   }
   return true;
 }

@@ -16,6 +16,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "sim/contact/release.h"
 #include "sim/contact/surface_nodes.h"
 
 namespace wobble::collision {
@@ -151,14 +152,6 @@ struct Candidates {
     return out;
   }
 };
-
-// Frees a list's room (clear keeps it). A landing cloth's lists hold millions of candidates for a step or two, each
-// in several buffers kept from step to step: the room of those no stage reads any more goes back at once, so that a
-// step holds one full list at a time.
-template <class T>
-void release(std::vector<T>& list) {
-  std::vector<T>().swap(list);
-}
 
 // The pairs of old with neither element marked (first_marked, second_marked) and the fresh ones, merged in order into
 // out; per pair of out, appended to from when given, its index in old plus offset (-1: fresh).
