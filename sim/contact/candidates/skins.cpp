@@ -161,7 +161,7 @@ bool Skins::updateStepSkin(double pad, double slack, bool cull) {
   k.vf.swap(k.merged);
   mergeUnmarked(k.ee, k.fresh_ee, search_.marks.edge, search_.marks.edge, k.merged);
   k.ee.swap(k.merged);
-  recycle(k.fresh_vf), recycle(k.fresh_ee), recycle(k.merged);
+  release(k.fresh_vf), release(k.fresh_ee), release(k.merged);
   return k.vf.size() + k.ee.size() <= search_.budget();
 }
 

@@ -49,7 +49,7 @@ bool StepList::find(Candidates& round) {
   step.end = motion_.nxe;
   step.vf.swap(round.vf);
   step.ee.swap(round.ee);
-  recycle(round.vf), recycle(round.ee);  // the last list's: the round reads the step's lists
+  release(round.vf), release(round.ee);  // the last list's room: the round reads the step's lists
   round.step = &step;
   round.drift = 0;
   step.near_min = std::numeric_limits<double>::infinity();
@@ -95,15 +95,9 @@ void StepList::keepMeasured(const Candidates& round, Fn&& measure) {
       list(j++);
     }
   step.ee.resize(j - kept_vf), step.vf.resize(kept_vf);
-  // Most of a broad phase's candidates are dropped: a large list's room is cut to the kept ones.
-  if (step.vf.capacity() * sizeof(step.vf[0]) > kKeptRoomBytes) step.vf.shrink_to_fit();
-  if (step.ee.capacity() * sizeof(step.ee[0]) > kKeptRoomBytes) step.ee.shrink_to_fit();
-  // The parts, one list in pieces: kept for the next step unless large together.
-  std::size_t room = 0;
-  for (const auto& part : parts) room += part.capacity() * sizeof(Kept);
-  for (auto& part : parts)
-    if (room > kKeptRoomBytes) release(part);
-    else part.clear();
+  // The lists kept at their size (most of a broad phase's candidates are dropped), the parts let go.
+  step.vf.shrink_to_fit(), step.ee.shrink_to_fit();
+  for (auto& part : parts) release(part);
 }
 
 StepList::Measure StepList::measured(const Candidates& round, int k) const {
@@ -151,7 +145,7 @@ bool StepList::update(Candidates& round) {
   from.clear();
   mergeUnmarked(step.vf, fresh_vf, search_.marks.vertex, search_.marks.triangle, merged_vf, &from, 0);
   mergeUnmarked(step.ee, fresh_ee, search_.marks.edge, search_.marks.edge, merged_ee, &from, int(step.vf.size()));
-  recycle(fresh_vf), recycle(fresh_ee);
+  release(fresh_vf), release(fresh_ee);
   if (merged_vf.size() + merged_ee.size() > search_.budget()) return false;
   // Each candidate kept with its measures (an old one: as they were; its boxes did not change), a fresh one measured,
   // and only those a search may test kept (the old ones were: their measures and the margin are the same). Measured
@@ -170,7 +164,7 @@ bool StepList::update(Candidates& round) {
     out.joined = step.joined[i];
     return true;
   });
-  recycle(merged_vf), recycle(merged_ee), recycle(from);  // the old lists, and the merged one's origins
+  release(merged_vf), release(merged_ee), release(from);  // the old lists, and the merged one's origins
   ++counters_.step_updates;
   return true;
 }
