@@ -14,7 +14,8 @@
 //   2.8e-6 s), detection once a step, not a stage; 400 fixed steps (0.1 s).
 // Counters per step: contacts (pairs within the thickness), CCD hits, impact-zone activations; min_dist is the
 // smallest distance between non-adjacent elements seen in the timed steps (m; the thickness is a quarter of the
-// particle spacing: 5.1 mm at 100).
+// particle spacing: 5.1 mm at 100); crossings, the triangle pairs sharing no vertex that intersect at the last step's
+// end (tests/sim/triangle_intersection.h, the contact tests' independent test; untimed).
 //   BM_StackInSolve/x: jelly_stack's two 5^3 jellies, the upper one resting on the lower, backward Euler at 1/60 with
 //   the contacts in its solve (/1) against the pass after the step alone (/0, as before they went into the solve).
 //   BM_NothingNear/s/k: cloth_sphere's 25 x 25 cloth (tests/sim/cloth_on_sphere.h) draping over the sphere under
@@ -45,6 +46,7 @@
 #include "tests/sim/cloth_on_sphere.h"
 #include "tests/sim/folded_cloth.h"
 #include "tests/sim/jelly_stack.h"
+#include "tests/sim/triangle_intersection.h"
 
 namespace wobble {
 namespace {
@@ -98,6 +100,11 @@ void run(benchmark::State& state, const char* integrator, double dt, bool stacke
     state.counters["zones/step"] = double(s->zone_activations - before.zone_activations) / taken;
     state.counters["min_dist"] = s->min_distance;  // smallest since the start: the warm-up's included
   }
+  // Triangle pairs intersecting at the last step's end, by the tests' independent triangle-triangle test (untimed).
+  testing::ParticleTriangles triangles;
+  for (std::size_t b = 0; b < c->system->bodies().size(); ++b)
+    testing::addSurface(triangles, c->system->bodies()[b].body.surface, c->system->bodies()[b].first, int(b));
+  state.counters["crossings"] = testing::intersectingPairs(triangles, sim.x());
   state.counters["particles"] = n * n;
   collision::setBroadPhaseCulls(true);
 }
