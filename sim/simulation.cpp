@@ -159,8 +159,10 @@ std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int split
   // step's start already); its step-end response bounces every approach at the end: the resting-contact rule there
   // would stall a stiff jelly's slide on a slope under friction (docs/body-contact.md, "Rest").
   system_.resolveCollisions(t1, x_, v_, colliders && explicit_ ? &v_before_ : nullptr);
-  if (collisions_)
-    if (auto failure = collisions_->resolve(x_before_, x_, v_, h, !integrator_->solvesBodyContact())) {
+  if (collisions_) {
+    auto failure = collisions_->resolve(x_before_, x_, v_, h, !integrator_->solvesBodyContact(), pass_left_x_);
+    pass_left_x_ = !failure;
+    if (failure) {
       if (splits > 0) {
         ++split_steps_;
         return retakeInHalves(t0, h, t1, splits);
@@ -179,6 +181,7 @@ std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int split
                     reason.str(),
                     failure->fix.empty() ? contactFix() : failure->fix};
     }
+  }
   t_ = t1;
   const double work = colliders ? system_.colliderWork(t0, h, x_before_, v_before_, x_, v_) : 0;
   // A step that made up energy (its end above its start plus the colliders' work by more than the step's margin:
@@ -219,6 +222,7 @@ std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int split
 // after them.
 std::optional<BlowUp> Simulation::retakeInHalves(double t0, double h, double t1, int splits) {
   x_ = x_before_, v_ = v_before_;
+  pass_left_x_ = false;
   const double size = system_.stepSize();
   system_.setStepSize(h / 2);
   const double mid = t0 + h / 2;

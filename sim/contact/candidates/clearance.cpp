@@ -88,6 +88,34 @@ Clearance::Clearance(const SurfaceNodes& nodes, CandidateSearch& search, bool pa
     for (int a = 0; a < b; ++a)
       if (nodes.bodiesMeet(a, b)) meeting_.emplace_back(a, b);
   }
+  // Each vertex and edge to the first triangle that holds it (listPairs), found through each node's triangles.
+  const int triangles = int(nodes.triangles.size());
+  std::vector<std::vector<int>> around(nodes.nodeCount());
+  for (int t = 0; t < triangles; ++t)
+    for (const int k : nodes.triangles[t]) around[k].push_back(t);
+  std::vector<std::vector<int>> vertices(triangles), edges(triangles);
+  for (int k = 0; k < nodes.nodeCount(); ++k) {
+    if (around[k].empty()) return;  // a vertex on no triangle: element pairs listed directly
+    vertices[around[k][0]].push_back(k);
+  }
+  for (int e = 0; e < int(nodes.edges.size()); ++e) {
+    const auto& [a, b] = nodes.edges[e];
+    const auto& t = nodes.triangles;
+    const auto holds = std::find_if(around[a].begin(), around[a].end(), [&](int s) {
+      return (t[s][0] == b || t[s][1] == b || t[s][2] == b) && nodes.triangle_body[s] == nodes.edge_body[e];
+    });
+    if (holds == around[a].end()) return;
+    edges[*holds].push_back(e);
+  }
+  const auto runs = [&](const std::vector<std::vector<int>>& owned, std::vector<int>& start, std::vector<int>& all) {
+    start.assign(1, 0);
+    for (const auto& items : owned) {
+      all.insert(all.end(), items.begin(), items.end());
+      start.push_back(int(all.size()));
+    }
+  };
+  runs(vertices, vertex_start_, vertex_owned_);
+  runs(edges, edge_start_, edge_owned_);
 }
 
 // Per body and end: the box of its particles' displacements from the reference, its centre c and half-diagonal h.
@@ -105,10 +133,12 @@ bool Clearance::spread(const VecX& x, int end) {
   return true;
 }
 
-double Clearance::closing(const VecX& x0, const VecX& x1, double limit) {
+double Clearance::closing(const VecX& x0, const VecX& x1, double limit, bool start_known) {
   const std::size_t bodies = bodies_.size();
   centre_.resize(2 * bodies), half_.resize(2 * bodies);
-  if (!spread(x0, 0) || !spread(x1, 1)) return std::numeric_limits<double>::infinity();
+  if (start_known)  // x0 is the end of the last call's step, whose spread is at end 1
+    for (std::size_t b = 0; b < bodies; ++b) centre_[2 * b] = centre_[2 * b + 1], half_[2 * b] = half_[2 * b + 1];
+  if (!(start_known || spread(x0, 0)) || !spread(x1, 1)) return std::numeric_limits<double>::infinity();
   double most = 0;
   for (std::size_t b = 0; b < bodies; ++b)
     if (nodes_.params[b].self_contact) {
@@ -124,9 +154,12 @@ double Clearance::closing(const VecX& x0, const VecX& x1, double limit) {
   return most;
 }
 
-bool Clearance::covers(const VecX& x0, const VecX& x1) {
+bool Clearance::covers(const VecX& x0, const VecX& x1, bool final, bool continues) {
+  const bool start_known = continues && end_known_;
+  end_known_ = false;
   if (!skipWhileApart() || x0.size() != x1.size()) return false;
-  const bool stale = valid_ && !(x0.size() == reference_.size() && closing(x0, x1, allowance_) < allowance_);
+  const bool stale =
+      valid_ && !(x0.size() == reference_.size() && closing(x0, x1, allowance_, start_known) < allowance_);
   bool paid = false;
   if (stale) {  // the end of what the measure served: measure again at once if it paid
     valid_ = false;
@@ -151,10 +184,66 @@ bool Clearance::covers(const VecX& x0, const VecX& x1) {
     start_ = x0;
   }
   ++served_;
+  end_known_ = final;  // the spread at x1 (end 1) against this reference, and x1 stays as it is
   return true;
 }
 
 void Clearance::passed(bool near) { near_ = near; }
+
+// The pairs of triangles whose boxes and diagonals overlap, then of each such pair (s, t) the pairs of elements owned
+// by one and the other: every vertex of s against t and of t against s, every edge of s against every edge of t. A
+// triangle's box and diagonals hold those of its vertices and edges (the same pad), so every pair of elements whose
+// bounds overlap is one of these, from the pair of its owners, and once: a vertex has one owner, an edge one, and a
+// pair of elements with one owner shares a node (not a pair the pass tests). Each is kept as findPairs keeps it. The
+// triangles are a third of the elements and the hash's lookups are most of a broad phase's work.
+bool Clearance::listPairs() {
+  const SurfaceNodes& n = nodes_;
+  const ElementBoxes& b = boxes_;
+  vf_.clear(), ee_.clear();
+  if (vertex_start_.empty())
+    return search_.findPairs(
+        b, true, [&](int p, int q) { return n.bodiesMeet(p, q); }, false, false, vf_, ee_, 0);
+  if (!overlappingPairs(
+          b.triangle, b.triangle, true, parallel_,
+          [&](int s, int t) { return n.bodiesMeet(n.triangle_body[s], n.triangle_body[t]); }, triangle_pairs_,
+          search_.budget()))
+    return false;
+  // (The boxes first: most pairs of owned elements lie apart.)
+  const auto& m = n.node_inv_mass;
+  const auto vertexTriangle = [&](int v, int t, PairList& out) {
+    if (!b.vertex[v].overlaps(b.triangle[t])) return;
+    const auto& tri = n.triangles[t];
+    if (v != tri[0] && v != tri[1] && v != tri[2] && m[v] + m[tri[0]] + m[tri[1]] + m[tri[2]] > 0 &&
+        !diagonallyApart(b.vertex_diagonals[v], b.triangle_diagonals[t]))
+      out.emplace_back(v, t);
+  };
+  const auto edgeEdge = [&](int e, int f, PairList& out) {
+    if (!b.edge[e].overlaps(b.edge[f])) return;
+    const auto &p = n.edges[e], &q = n.edges[f];
+    if (p[0] != q[0] && p[0] != q[1] && p[1] != q[0] && p[1] != q[1] && m[p[0]] + m[p[1]] + m[q[0]] + m[q[1]] > 0 &&
+        !diagonallyApart(b.edge_diagonals[e], b.edge_diagonals[f]))
+      out.emplace_back(std::min(e, f), std::max(e, f));
+  };
+  const int count = int(triangle_pairs_.size()), chunk = particleChunk(count), chunks = (count + chunk - 1) / chunk;
+  std::vector<PairList>&vf = vf_parts_, &ee = ee_parts_;
+  vf.resize(chunks), ee.resize(chunks);
+  forEachChunk(count, parallel_, [&](int begin, int end) {
+    PairList &vf_part = vf[begin / chunk], &ee_part = ee[begin / chunk];
+    vf_part.clear(), ee_part.clear();
+    for (int k = begin; k < end; ++k) {
+      const auto [s, t] = triangle_pairs_[k];
+      for (int i = vertex_start_[s]; i < vertex_start_[s + 1]; ++i) vertexTriangle(vertex_owned_[i], t, vf_part);
+      for (int i = vertex_start_[t]; i < vertex_start_[t + 1]; ++i) vertexTriangle(vertex_owned_[i], s, vf_part);
+      for (int i = edge_start_[s]; i < edge_start_[s + 1]; ++i)
+        for (int j = edge_start_[t]; j < edge_start_[t + 1]; ++j) edgeEdge(edge_owned_[i], edge_owned_[j], ee_part);
+    }
+  });
+  for (int c = 0; c < chunks; ++c) {
+    vf_.insert(vf_.end(), vf[c].begin(), vf[c].end());
+    ee_.insert(ee_.end(), ee[c].begin(), ee[c].end());
+  }
+  return true;
+}
 
 void Clearance::measure(const VecX& x) {
   ++counters_.clearance_measures;
@@ -169,8 +258,7 @@ void Clearance::measure(const VecX& x) {
               box_out = sweptBox(element, pad, blended_, blended_, none);
               diagonals_out = sweptDiagonals(element, pad, blended_, blended_, none);
             });
-  if (!search_.findPairs(
-          boxes_, true, [&](int a, int b) { return nodes_.bodiesMeet(a, b); }, false, false, vf_, ee_, 0)) {
+  if (!listPairs()) {
     backoff_ = std::min(std::max(1, 2 * backoff_), kMostWait), wait_ = backoff_;
     return;
   }

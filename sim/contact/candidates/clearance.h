@@ -4,12 +4,14 @@
 // systems", safe time steps; the Verlet skin of skins.h, taken to a whole pass).
 // The clearance is measured at a reference state: every node's position blended from x_ref, each element's box
 // there padded by pad (and its diagonals, element_bounds.h), the pairs whose padded bounds meet found as a broad
-// phase finds them (the same pairs the pass tests: not adjacent, not of pinned nodes only, of bodies that meet), and
+// phase finds them (the same pairs the pass tests: not adjacent, not of pinned nodes only, of bodies that meet; listed
+// through the pairs of triangles whose boxes meet, each vertex and edge owned by one triangle: listPairs), and
 // per pair a lower bound of its distance (the gap between its two elements' projections on the direction of their
 // nearest points, which no direction exceeds). Every other pair is further apart than 2 pad. So the smallest distance
 // between any two elements the pass tests is at least G, the least of 2 pad and the pairs' bounds.
 // A later step moves the particles linearly from x0 to x1. Per body b and end, the displacements u_k = x_k - x_ref,k of
-// the body's particles lie in their box (per axis, from the least to the greatest), within its half-diagonal h_b of its
+// the body's particles lie in their box (per axis, from the least to the greatest; at a step's start, the box the last
+// covered step found at its end where the pass says the step continues from there), within its half-diagonal h_b of its
 // centre c_b (a common translation moves the box, not h_b); in between, each u_k(t) lies within the larger h_b of the
 // two ends of the centre's own straight path (the norm is convex). A node blends particles with weights that sum to
 // 1, so it moves from its reference by c_b plus at most W_b D_b, D_b the larger h_b of the two ends and W_b the largest
@@ -46,8 +48,10 @@ class Clearance {
 
   // Whether no two elements the pass tests can come within the thickness over a step from x0 to x1 (particles'
   // positions): detection would find nothing. Measures the clearance at x0 first where there is none that serves
-  // (and a measure may pay).
-  bool covers(const VecX& x0, const VecX& x1);
+  // (and a measure may pay). final: the pass after a step, whose x1 stays as it is where this returns true; continues:
+  // its caller vouches that x0 is the same bytes as the x1 of its last call, so where that call was final and covered
+  // its step, x0's spread (the first of the two passes over the particles a check makes) is that call's.
+  bool covers(const VecX& x0, const VecX& x1, bool final = false, bool continues = false);
   // After a pass that ran: whether it found a pair within the thickness or a collision.
   void passed(bool near);
 
@@ -55,12 +59,17 @@ class Clearance {
 
  private:
   void measure(const VecX& x);
+  // Into vf_ and ee_: the pairs the pass tests whose padded boxes and diagonals (boxes_) overlap, as
+  // CandidateSearch::findPairs lists them; through the pairs of triangles whose boxes overlap where every vertex lies
+  // on a triangle. False: over the search's budget.
+  bool listPairs();
   // Per body, the centre and half-diagonal of its displacements' box at x, into end (0 or 1) of centre_ and half_;
   // false where a coordinate is not finite.
   bool spread(const VecX& x, int end);
   // The largest closing of two elements over a step whose ends are x0 and x1, by the bound above; stops early (and
   // returns at least limit) once it reaches limit.
-  double closing(const VecX& x0, const VecX& x1, double limit);
+  // start_known: x0's spread is at end 1 already (covers' continues).
+  double closing(const VecX& x0, const VecX& x1, double limit, bool start_known = false);
 
   const SurfaceNodes& nodes_;
   CandidateSearch& search_;
@@ -72,15 +81,20 @@ class Clearance {
   };
   std::vector<Body> bodies_;
   std::vector<std::pair<int, int>> meeting_;  // the pairs of bodies a < b that meet
+  // Per triangle, the vertices and the edges it owns (runs [start[t], start[t + 1]) of owned): each vertex and edge is
+  // owned by the first triangle that holds it. Empty where some vertex lies on no triangle.
+  std::vector<int> vertex_start_, vertex_owned_, edge_start_, edge_owned_;
   bool valid_ = false, near_ = false;
-  VecX reference_;                        // x_ref, per particle
-  VecX start_, ahead_;                    // x0 of the step that took the last measure; the reference ahead of one
+  bool end_known_ = false;  // the last call was final and covered: its x1's spread is at end 1 of centre_ and half_
+  VecX reference_;          // x_ref, per particle
+  VecX start_, ahead_;      // x0 of the step that took the last measure; the reference ahead of one
   double clearance_ = 0, allowance_ = 0;  // G, and the closing a step may have: G less the thickness and the slack
   long served_ = 0;                       // steps skipped since the last measure
   int wait_ = 0, backoff_ = 0;            // passes before the next measure; the wait after a measure that did not pay
   VecX blended_;
   ElementBoxes boxes_;
-  PairList vf_, ee_;
+  PairList vf_, ee_, triangle_pairs_;
+  std::vector<PairList> vf_parts_, ee_parts_;  // listPairs' per chunk
   std::vector<double> partials_;
   std::vector<Vec3> centre_;  // closing's, per body and end: c_b
   std::vector<double> half_;  // h_b

@@ -15,9 +15,10 @@ bool BodyCollisions::needed(const std::vector<Surface>& surfaces) {
   return !surfaces.empty() && surfaces[0].params.self_contact;
 }
 
-std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v1, double h, bool repulsion) {
+std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v1, double h, bool repulsion,
+                                               bool continues) {
   Impl& s = *impl_;
-  if (s.clearance.covers(x0, x1)) {  // (x1 finite: a blow-up is not covered)
+  if (s.clearance.covers(x0, x1, true, continues)) {  // (x1 finite: a blow-up is not covered)
     ++stats_.passes, ++stats_.passes_skipped;
     return std::nullopt;
   }

@@ -52,8 +52,10 @@ class BodyCollisions {
   static bool needed(const std::vector<Surface>& surfaces);
   // The pass over one step of size h from x0 to (x1, v1); see above. Nothing when the end is free of collisions.
   // repulsion: stage 1's impulses (false when the integrator's solve carried the contacts; the pairs are still
-  // counted).
-  std::optional<Failure> resolve(const VecX& x0, VecX& x1, VecX& v1, double h, bool repulsion = true);
+  // counted). continues: x0 is the same bytes as the x1 the last call left (the step before, taken on from where the
+  // pass left it; Clearance::covers).
+  std::optional<Failure> resolve(const VecX& x0, VecX& x1, VecX& v1, double h, bool repulsion = true,
+                                 bool continues = false);
   // For an implicit solve (ForceJacobian::bodyContacts): appends to out the pairs of elements, not in out yet, whose
   // gap, linearized at x0 along their nearest points' direction there, ends below 0 at x1 (candidates from the swept
   // boxes of x0 to x1; those of the step's first call, padded by half the thickness more, serve its later calls and

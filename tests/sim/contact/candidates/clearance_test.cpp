@@ -5,6 +5,7 @@
 // nothing comes near, the skipped passes are counted.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <functional>
 #include <limits>
@@ -17,6 +18,7 @@
 #include "sim/bodies/jelly.h"
 #include "sim/contact/candidates/clearance.h"
 #include "sim/contact/collisions/body_collisions.h"
+#include "sim/contact/distance/separation.h"
 #include "sim/simulation.h"
 #include "tests/sim/cloth_on_sphere.h"
 #include "tests/sim/folded_cloth.h"
@@ -175,6 +177,145 @@ TEST(Clearance, MeasuresAheadNeverCoverAStepThatBringsTwoElementsWithinTheThickn
   EXPECT_GT(covered, 100);
   EXPECT_GT(within, 5);
   EXPECT_GE(body.stats.clearance_measures, 4);
+}
+
+// The same run of steps checked twice: each call on its own, and with the pass after each step vouching that the step
+// starts where the last one ended (continues: the start's spread taken from the last covered step's end). Every other
+// step first checks a trial end far from its own (as backward Euler's searches do, not final), and a step not covered
+// has its end moved before the next starts there (as the pass's impulses do). The two decide every call alike.
+TEST(Clearance, ContinuingStepsDecideAsStepsOnTheirOwn) {
+  ThreeTriangles alone, continuing;
+  std::mt19937 random(13);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  int covered = 0, differ = 0;
+  VecX x0 = ThreeTriangles::at(0.3);
+  for (int step = 1; step <= 170; ++step) {
+    VecX x1 = ThreeTriangles::at(0.3 - 0.002 * step);
+    for (int i = 0; i < 9; ++i)
+      particle(x1, i) += Vec3(0.01, 0, 0.004) * step + 1e-4 * Vec3(unit(random), unit(random), unit(random));
+    if (step % 2 == 0) {
+      VecX trial = x1;
+      for (int i = 0; i < 9; ++i) particle(trial, i) += 0.03 * Vec3(unit(random), unit(random), unit(random));
+      differ += alone.clearance.covers(x0, trial) != continuing.clearance.covers(x0, trial);
+    }
+    const bool near = comeWithinTheThickness(x0, x1), by_itself = alone.clearance.covers(x0, x1, true),
+               continued = continuing.clearance.covers(x0, x1, true, step > 1);
+    differ += by_itself != continued;
+    EXPECT_FALSE(near && continued) << "covered step " << step << ", whose triangles come within the thickness";
+    covered += continued;
+    if (!by_itself) alone.clearance.passed(near);
+    if (!continued) continuing.clearance.passed(near);
+    if (!continued)
+      for (int i = 0; i < 9; ++i) particle(x1, i) += 0.01 * Vec3(unit(random), unit(random), unit(random));
+    x0 = x1;
+  }
+  EXPECT_EQ(differ, 0);
+  EXPECT_GT(covered, 100);
+  EXPECT_EQ(continuing.stats.clearance_measures, alone.stats.clearance_measures);
+}
+
+// The measured clearance against the nearest pair of elements the pass tests, found independently: points sampled on
+// every vertex-triangle pair (the vertex not on the triangle) and edge-edge pair (no node shared) of one body of two
+// 5 x 5 grid sheets, 0.1 apart, one over the other at a random height, with random noise: near pairs within each sheet
+// and across. The clearance (found through the pairs of triangles whose boxes overlap) is at most the sampled least
+// distance; and where the nearest pair is within 5 thicknesses (below the cap of what a measure looks for), it is the
+// least of every such pair's bound (the gap along its nearest points' direction), each pair taken in turn.
+TEST(Clearance, MeasuresTheNearestPairOfTwoSheets) {
+  constexpr int n = 5, sheet = n * n;
+  constexpr double spacing = 0.1, thickness = 0.02;
+  SurfaceMesh mesh;
+  for (int i = 0; i < 2 * sheet; ++i) mesh.particle.push_back(i);
+  for (int s = 0; s < 2; ++s)
+    for (int i = 0; i + 1 < n; ++i)
+      for (int j = 0; j + 1 < n; ++j) {
+        const int a = s * sheet + i * n + j, b = a + 1, c = a + n, d = c + 1;
+        mesh.triangles.push_back({a, b, d});
+        mesh.triangles.push_back({a, d, c});
+      }
+  std::vector<collision::Surface> surfaces{{&mesh, 0, SurfaceContact{thickness, 0.3, true}, 1000.0}};
+  const VecX inverse_mass = VecX::Ones(6 * sheet);
+  collision::Stats stats;
+  collision::SurfaceNodes nodes{surfaces, inverse_mass};
+  collision::NodeMotion motion;
+  collision::Settings settings;
+  collision::CandidateSearch search{nodes, motion, settings, false, stats};
+  std::mt19937 random(17);
+  std::uniform_real_distribution<double> unit(-1, 1), height(0.01, 0.15);
+  int tight = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    // The upper sheet at the height, each node with noise of a fifth of the spacing; every other trial shifted so
+    // that its nodes lie over the lower sheet's triangles, every other node lowered by half the height (nearest to the
+    // lower sheet are those nodes, over triangles), with noise of a fiftieth.
+    const bool poked = trial % 2 == 1;
+    const double over = height(random), noise = poked ? 0.002 : 0.02;
+    VecX x(6 * sheet);
+    for (int s = 0; s < 2; ++s)
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          Vec3 at(j * spacing, 0, i * spacing);
+          if (s == 1) at += Vec3(0, over, 0) + (poked ? Vec3(0.5 * spacing, -0.5 * over * ((i + j) % 2), 0.3 * spacing)
+                                                      : Vec3::Zero());
+          particle(x, s * sheet + i * n + j) = at + noise * Vec3(unit(random), unit(random), unit(random));
+        }
+    collision::Clearance clearance{nodes, search, false, stats};
+    clearance.covers(x, x);
+    // The sampled least distance (each sample a point of the element: an upper bound of its pair's distance).
+    const auto samples = [&](std::initializer_list<int> corners, int steps) {
+      const std::vector<int> c(corners);
+      std::vector<Vec3> out;
+      for (int a = 0; a <= steps; ++a)
+        for (int b = 0; b <= (c.size() == 3 ? steps - a : 0); ++b) {
+          const double u = double(a) / steps, v = double(b) / steps;
+          out.push_back(c.size() == 1 ? particle(x, c[0])
+                        : c.size() == 2
+                            ? Vec3((1 - u) * particle(x, c[0]) + u * particle(x, c[1]))
+                            : Vec3((1 - u - v) * particle(x, c[0]) + u * particle(x, c[1]) + v * particle(x, c[2])));
+        }
+      return out;
+    };
+    const auto least = [](const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+      double d = std::numeric_limits<double>::infinity();
+      for (const Vec3& p : a)
+        for (const Vec3& q : b) d = std::min(d, (p - q).norm());
+      return d;
+    };
+    double sampled = std::numeric_limits<double>::infinity();
+    for (int v = 0; v < 2 * sheet; ++v)
+      for (const auto& t : mesh.triangles)
+        if (v != t[0] && v != t[1] && v != t[2])
+          sampled = std::min(sampled, least(samples({v}, 1), samples({t[0], t[1], t[2]}, 16)));
+    for (std::size_t e = 0; e < nodes.edges.size(); ++e)
+      for (std::size_t f = e + 1; f < nodes.edges.size(); ++f) {
+        const auto &p = nodes.edges[e], &q = nodes.edges[f];
+        if (p[0] != q[0] && p[0] != q[1] && p[1] != q[0] && p[1] != q[1])
+          sampled = std::min(sampled, least(samples({p[0], p[1]}, 16), samples({q[0], q[1]}, 16)));
+      }
+    // Every pair's bound, as a measure takes it.
+    double bound = std::numeric_limits<double>::infinity();
+    const auto take = [&](collision::Primitive kind, int first, int second) {
+      const auto q = nodes.nodes(kind, first, second);
+      const auto c =
+          collision::nearest(kind, {particle(x, q[0]), particle(x, q[1]), particle(x, q[2]), particle(x, q[3])});
+      const int split = kind == collision::Primitive::PointTriangle ? 1 : 2;
+      bound = std::min(bound, c.distance > 0 ? collision::gapAlong(c.delta / c.distance, x, q, split) : 0.0);
+    };
+    for (int v = 0; v < 2 * sheet; ++v)
+      for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+        if (const auto& c = mesh.triangles[t]; v != c[0] && v != c[1] && v != c[2])
+          take(collision::Primitive::PointTriangle, v, int(t));
+    for (std::size_t e = 0; e < nodes.edges.size(); ++e)
+      for (std::size_t f = e + 1; f < nodes.edges.size(); ++f)
+        if (const auto& p = nodes.edges[e], &q = nodes.edges[f];
+            p[0] != q[0] && p[0] != q[1] && p[1] != q[0] && p[1] != q[1])
+          take(collision::Primitive::EdgeEdge, int(e), int(f));
+    SCOPED_TRACE("sheets " + std::to_string(over) + " apart" + ", sampled least distance " + std::to_string(sampled));
+    EXPECT_LE(clearance.clearance(), sampled) << "a pair nearer than the clearance";
+    if (bound < 5 * thickness) {
+      ++tight;
+      EXPECT_EQ(clearance.clearance(), bound);
+    }
+  }
+  EXPECT_GT(tight, 10);
 }
 
 // cloth_sphere's cloth (the course's scene, 25 x 25, corners pinned) draping over the sphere under explicit Euler at
