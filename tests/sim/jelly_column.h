@@ -4,6 +4,7 @@
 #pragma once
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "sim/bodies/jelly.h"
 #include "sim/contact/colliders/plane.h"
@@ -22,8 +23,9 @@ struct ColumnParams {
   ContactParams floor{0.2, 0.6, 0.01};
 };
 
-inline std::unique_ptr<MassSpringSystem> jellyColumn(const ColumnParams& p) {
-  auto system = std::make_unique<MassSpringSystem>();
+// The column's jellies, bottom first, before they join a system.
+inline std::vector<Body> columnJellies(const ColumnParams& p) {
+  std::vector<Body> jellies;
   const double s = p.jelly.size;
   for (int k = 0; k < p.count; ++k) {
     JellyParams j = p.jelly;
@@ -31,10 +33,49 @@ inline std::unique_ptr<MassSpringSystem> jellyColumn(const ColumnParams& p) {
     j.center = Vec3(k % 2 ? shift : shift * 0.5, 0.5 * s + 0.05 + k * (s + p.gap), k % 2 ? -shift * 0.5 : shift);
     Body b = buildJelly("jelly" + std::to_string(k), j);
     b.contact.friction = p.friction;
-    system->addBody(std::move(b));
+    jellies.push_back(std::move(b));
   }
-  system->addCollider(std::make_unique<PlaneCollider>("floor", p.floor, Vec3::Zero(), Vec3::UnitY()));
+  return jellies;
+}
+
+inline void addFloor(MassSpringSystem& system, const ColumnParams& p) {
+  system.addCollider(std::make_unique<PlaneCollider>("floor", p.floor, Vec3::Zero(), Vec3::UnitY()));
+}
+
+inline std::unique_ptr<MassSpringSystem> jellyColumn(const ColumnParams& p) {
+  auto system = std::make_unique<MassSpringSystem>();
+  for (Body& b : columnJellies(p)) system->addBody(std::move(b));
+  addFloor(*system, p);
   return system;
+}
+
+// The same jellies glued into one body (an oracle for the stack: the column's own modes, with no contact): their
+// particles (state and masses) and springs, and across each gap between one jelly's top layer and the next one's
+// bottom layer the lattice's springs too (structural, shear and bending, rest length their initial distance) where the
+// stack has contact. An n x (count n) x n lattice, layer b n + j the jelly b's layer j; its surface, the jellies'.
+inline Body fusedColumn(const std::vector<Body>& jellies, int n) {
+  const int count = static_cast<int>(jellies.size()), per = n * n * n;
+  Body fused = particleBody("column", "jelly", count * per, jellies.front().mass[0]);
+  fused.contact = jellies.front().contact;
+  for (int b = 0; b < count; ++b) {
+    const Body& jelly = jellies[b];
+    std::vector<int> to(per);  // the jelly's particle -> the column's
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) to[i + n * (j + n * k)] = i + n * (b * n + j + count * n * k);
+    for (int q = 0; q < per; ++q) {
+      particle(fused.x, to[q]) = particle(jelly.x, q);
+      particle(fused.v, to[q]) = particle(jelly.v, q);
+      fused.mass[to[q]] = jelly.mass[q];
+    }
+    const int base = static_cast<int>(fused.surface.vertexCount());
+    for (int vtx : jelly.surface.particle) fused.surface.particle.push_back(to[vtx]);
+    fused.surface.uv.insert(fused.surface.uv.end(), jelly.surface.uv.begin(), jelly.surface.uv.end());
+    for (auto t : jelly.surface.triangles) fused.surface.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  }
+  const Springs& springs = jellies.front().springs;
+  addLatticeSprings({n, count * n, n}, jellyOffsets(), fused.x, springs.ks[0], springs.kd[0], fused.springs);
+  return fused;
 }
 
 }  // namespace wobble::testing
