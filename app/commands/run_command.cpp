@@ -79,8 +79,9 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
            {"error_rule", {{"solves", s.error_rule_stops}, {"max_relative_residual", s.max_cg_residual_error_rule}}},
            {"cg_max_iterations",
             {{"solves", s.iteration_cap_stops}, {"max_relative_residual", s.max_cg_residual_cap}}}}},
-         {"impact_solves", s.impact_solves},  // solves again with impact constraints (docs/energy.md)
-         {"exact_steps", s.exact_steps},      // linearized steps that made up energy, solved exactly (docs/energy.md)
+         {"impact_solves", s.impact_solves},      // solves again with impact constraints (docs/energy.md)
+         {"friction_solves", s.friction_solves},  // solves again with friction within Coulomb's cone (docs/contact.md)
+         {"exact_steps", s.exact_steps},  // linearized steps that made up energy, solved exactly (docs/energy.md)
          // Newton iterations ended because no step along their direction lowered the incremental potential
          {"line_search_stops", s.line_search_stops},
          {"cg_iterations", s.cg_iterations},

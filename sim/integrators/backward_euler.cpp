@@ -100,6 +100,7 @@ void BackwardEuler::step(const Dynamics& dynamics, double t, double h, VecX& x, 
     applyPairs(h, x, v);
   solve(rhs_, dv_, absolute);
   solveImpacts(*jacobian, t, h, x, v, absolute);
+  if (boundFriction(*jacobian, h, x, v, absolute)) solveImpacts(*jacobian, t, h, x, v, absolute);
   if (!pairs_.empty()) {
     ++stats_.body_contact_steps;
     stats_.body_contact_pairs_carried += long(pairs_.size());

@@ -18,38 +18,40 @@
 // 5.3, contact/constraints/filter.h), which is what the explicit support force does instantaneously. Their friction is
 // taken out of F0 as well and held in the solve (docs/contact.md): a contact whose static friction sticks at the start
 // is held (S_i = 0, its tangential change the explicit law's), a sliding one slowed by a tangential damper of Coulomb's
-// force at its start speed (frictionBlocks).
-// Without that, the support sized to cancel a stiff spring's push at the start would act for the whole step while the
-// spring relaxes and launch the body; for the same reason a support on a particle leaving its surface within the step
-// (no constraint) is taken out of F0 (ReleasedSupport). Impacts
-// likewise (B&W's constraints, here for collisions within the step): when the solved step would end a particle inside
-// a surface, that particle is constrained along the normal to its restitution bounce (or what keeps it out) and the
-// step is solved again, so the stiff springs pass the impulse to the body inside the implicit solve and no position
-// is moved behind the solve's back (ForceJacobian::impactConstraints, docs/energy.md). Contact between bodies
-// (ForceJacobian::bodyContacts, docs/body-contact.md) goes into the solve as well: every point-triangle and edge-edge
-// pair whose gap, linearized at the step's start, the solved step would close gets a stiff one-sided quadratic
-// penalty with its Jacobian (a stencil block of the matrix), the set of pressed pairs updated after each solve (an
-// active set), and Coulomb friction as a tangential damper sized from the pressed pair's normal force (lagged, as IPC
-// does: Li et al. 2020, "Incremental Potential Contact"). The penalty is convex, and backward Euler is the minimizer of
-// the incremental potential (Gast et al. 2015, "Optimization integrator for large time steps"), so an exact step never
-// gains energy through it; the pass after the step keeps only its collision impulses and impact zones (Bridson et al.
-// 2002), the guarantee that nothing passes through. An embedded surface's points (a mesh jelly's,
-// contact/colliders/weighted_points.h) meet colliders through the same penalty (ForceJacobian::colliderPairs: each
-// point the step would end below a surface, against its tangent plane, its restitution's bounce a raised rest gap),
-// their explicit supports taken out of F0 (ReleasedSupport): held from the step's start they made a resting mesh jelly
-// hop. Options: cg_tolerance (relative residual |S (b - A dv)| / |S (b - A z)|, default in integrator.h),
-// cg_error_fraction (below), cg_preconditioner (integrator.h) and cg_max_iterations of each linear solve (a solve that
-// hits the limit is used as it stands, as Blender's cloth solver does; the achieved residual is in the stats); newton:
-// after that first step, iterate Newton on the full nonlinear equations (contact still held at its start value) with a
-// backtracking line search on the step's incremental potential, of which the step is the minimizer (Gast et al. 2015;
-// as IPC's Newton iteration, Li et al. 2020: a Newton step that would raise it is not taken, so the iteration cannot
-// make energy the potential does not have; line_search = residual: on the residual's norm; after each Newton step the
-// pairs its end presses are searched for and the active set updated, as after a linearized solve), until
-// max |M^-1 residual| <= newton_tolerance * max(1, max |v1|), at most newton_max_iterations linear solves (the damper's
-// x-dependence is not in the Jacobian, so convergence is linear rather than quadratic when dampers act; it still
-// converges to the exact backward-Euler step). The error rule (cg_error_fraction = eta > 0, without newton): the solve
-// also stops once its error is at most eta times the step's own. Backward Euler's local error in v is about (h^2 / 2)
-// a' ~ |dv_n - dv_(n-1)| / 2, estimated from the last two steps' velocity changes without an extra solve.
+// force at its start speed (frictionBlocks); after the solve, a hold or damper whose impulse exceeds mu times the
+// normal impulse gives way to Coulomb's force and the step is solved again (boundFriction: Bridson, Fedkiw & Anderson
+// 2002, "Robust treatment of collisions, contact and friction for cloth animation", section 7.2). Without that, the
+// support sized to cancel a stiff spring's push at the start would act for the whole step while the spring relaxes and
+// launch the body; for the same reason a support on a particle leaving its surface within the step (no constraint) is
+// taken out of F0 (ReleasedSupport). Impacts likewise (B&W's constraints, here for collisions within the step): when
+// the solved step would end a particle inside a surface, that particle is constrained along the normal to its
+// restitution bounce (or what keeps it out) and the step is solved again, so the stiff springs pass the impulse to the
+// body inside the implicit solve and no position is moved behind the solve's back (ForceJacobian::impactConstraints,
+// docs/energy.md). Contact between bodies (ForceJacobian::bodyContacts, docs/body-contact.md) goes into the solve as
+// well: every point-triangle and edge-edge pair whose gap, linearized at the step's start, the solved step would close
+// gets a stiff one-sided quadratic penalty with its Jacobian (a stencil block of the matrix), the set of pressed pairs
+// updated after each solve (an active set), and Coulomb friction as a tangential damper sized from the pressed pair's
+// normal force (lagged, as IPC does: Li et al. 2020, "Incremental Potential Contact"). The penalty is convex, and
+// backward Euler is the minimizer of the incremental potential (Gast et al. 2015, "Optimization integrator for large
+// time steps"), so an exact step never gains energy through it; the pass after the step keeps only its collision
+// impulses and impact zones (Bridson et al. 2002), the guarantee that nothing passes through. An embedded surface's
+// points (a mesh jelly's, contact/colliders/weighted_points.h) meet colliders through the same penalty
+// (ForceJacobian::colliderPairs: each point the step would end below a surface, against its tangent plane, its
+// restitution's bounce a raised rest gap), their explicit supports taken out of F0 (ReleasedSupport): held from the
+// step's start they made a resting mesh jelly hop. Options: cg_tolerance (relative residual |S (b - A dv)| / |S (b - A
+// z)|, default in integrator.h), cg_error_fraction (below), cg_preconditioner (integrator.h) and cg_max_iterations of
+// each linear solve (a solve that hits the limit is used as it stands, as Blender's cloth solver does; the achieved
+// residual is in the stats); newton: after that first step, iterate Newton on the full nonlinear equations (contact
+// still held at its start value) with a backtracking line search on the step's incremental potential, of which the step
+// is the minimizer (Gast et al. 2015; as IPC's Newton iteration, Li et al. 2020: a Newton step that would raise it is
+// not taken, so the iteration cannot make energy the potential does not have; line_search = residual: on the residual's
+// norm; after each Newton step the pairs its end presses are searched for and the active set updated, as after a
+// linearized solve), until max |M^-1 residual| <= newton_tolerance * max(1, max |v1|), at most newton_max_iterations
+// linear solves (the damper's x-dependence is not in the Jacobian, so convergence is linear rather than quadratic when
+// dampers act; it still converges to the exact backward-Euler step). The error rule (cg_error_fraction = eta > 0,
+// without newton): the solve also stops once its error is at most eta times the step's own. Backward Euler's local
+// error in v is about (h^2 / 2) a' ~ |dv_n - dv_(n-1)| / 2, estimated from the last two steps' velocity changes without
+// an extra solve.
 #pragma once
 #include <cmath>
 #include <vector>
@@ -120,6 +122,12 @@ class BackwardEuler final : public Integrator {
   void frictionBlocks(double h, const VecX& v);
   // matrix_.self() += h c for every sliding contact whose normal the filter removes (after an assembly).
   void addFrictionWeights(double h);
+  // A sliding contact's damper (ContactConstraint::damping) into sliding_, its weight into the matrix and its force at
+  // v into rhs_.
+  void addSliding(const ContactConstraint& c, double h, const VecX& v, bool bounded = false);
+  // After a solve: the holds and dampers whose friction impulse is over Coulomb's cone given way to Coulomb's force
+  // and the step solved again (backward_euler_contact.cpp); returns whether it solved.
+  bool boundFriction(const ForceJacobian& jacobian, double h, const VecX& x, const VecX& v, double absolute);
   // After the filter is rebuilt for impacts: a sliding contact whose normal it no longer removes leaves the matrix.
   void dropFreedFriction(double h);
   // The tangential part of the particle's velocity in v relative to the surface at the step's end, (I - n n^T)(v -
@@ -155,7 +163,8 @@ class BackwardEuler final : public Integrator {
 
   struct SlidingContact {
     ContactConstraint contact;
-    bool in_matrix;  // its damper is in the matrix (dropFreedFriction)
+    bool in_matrix;        // its damper is in the matrix (dropFreedFriction)
+    bool bounded = false;  // boundFriction's, in place of Coulomb's force turned against the slip: kept as it is
   };
   // The error rule's history (errorRuleTolerance).
   struct ErrorRule {
@@ -188,8 +197,17 @@ class BackwardEuler final : public Integrator {
   bool two_level_ = false;  // cg_preconditioner auto: the next solve's choice
   std::vector<ContactConstraint> contacts_;
   std::vector<ReleasedSupport> released_;
-  std::vector<SlidingContact> sliding_;  // the contacts sliding at the step's start (frictionBlocks)
-  PenaltyPairs pairs_;                   // this step's contact pairs and the last step's pressed ones
+  // The contacts sliding at the step's start (frictionBlocks), and those boundFriction gave a damper.
+  std::vector<SlidingContact> sliding_;
+  // A contact whose friction boundFriction bounded by Coulomb's constant force (in rhs_ and f0_), or by a damper once
+  // that force turned against the slip.
+  struct CoulombFriction {
+    ContactConstraint contact;
+    Vec3 force;  // N
+    bool damped = false;
+  };
+  std::vector<CoulombFriction> coulomb_;
+  PenaltyPairs pairs_;  // this step's contact pairs and the last step's pressed ones
   VecX f0_, kv_, rhs_, dv_;
   VecX end_x_, end_v_;  // the candidate step's end state, for impacts
   ErrorRule error_;

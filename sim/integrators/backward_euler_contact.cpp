@@ -18,12 +18,9 @@ namespace wobble {
 // rhs_ and the weights to the matrix.
 void BackwardEuler::frictionBlocks(double h, const VecX& v) {
   sliding_.clear();
-  for (const ContactConstraint& c : contacts_) {
-    if (c.stick || !(c.damping > 0)) continue;
-    sliding_.push_back({c, true});
-    particle(rhs_, c.particle) -= (h * c.damping) * tangentialSlide(c, h, v);
-  }
-  addFrictionWeights(h);
+  coulomb_.clear();
+  for (const ContactConstraint& c : contacts_)
+    if (!c.stick && c.damping > 0) addSliding(c, h, v);
 }
 
 void BackwardEuler::addFrictionWeights(double h) {
@@ -40,6 +37,107 @@ void BackwardEuler::dropFreedFriction(double h) {
       matrix_.self()[s.contact.particle] -= h * s.contact.damping;
       s.in_matrix = false;
     }
+}
+
+namespace {
+
+// A contact's friction may exceed Coulomb's bound by this share before the step is solved again within it: a sliding
+// contact's lagged damper gives mu N (1 + a h / |v|) in a slide accelerating at a, within the share from |v| = 10 a h
+// on, so a steady slide costs no further solve.
+constexpr double kConeSlack = 0.1;
+// At most this many further solves a step to bring the friction into the cone (what is left is the next step's).
+constexpr int kFrictionPasses = 3;
+
+}  // namespace
+
+// Coulomb's cone over the step (Bridson, Fedkiw & Anderson 2002, section 7.2: the friction impulse at most mu times the
+// normal impulse; Baraff & Witkin 1998, section 5: the constraint force is the residual's filtered-out part, A dv - b).
+// The hold (a sticking contact, filtered out in every direction) takes whatever tangential impulse J_t the solve needs,
+// and with the whole body's springs pulling on one particle that may be many times mu J_n (a stiff jelly on a slope of
+// friction 0.3 took |J_t| / J_n = 2.48 and stalled); a sliding contact's damper, sized at the start's slip (at least
+// ContactConstraint::kStickSpeed), gives h c |s1| at the end's slip s1, as unbounded when a slow slip speeds up.
+// Either, over the cone by more than kConeSlack, gives way to Coulomb's impulse mu J_n against the pull (the hold's
+// J_t) or the end's slip, a constant force in the right-hand side and in F0 (Newton's iteration keeps it), and the step
+// is solved again (at most kFrictionPasses times). A constant force may overshoot where the solve turns the slip
+// against it (its neighbours let go too): it would then do positive work, so such a contact takes a damper of the same
+// force at that slip instead, F = -c (I - n n^T)(v1 - u1), which only takes energy out. J_n = J . n + h N: the
+// constraint's normal impulse plus the support N in F0 (less the damper's h c on the prescribed normal change, which
+// the matrix's h c I adds). A particle on several surfaces is left as it is (its normal impulses are not separable from
+// the residual).
+bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const VecX& x, const VecX& v,
+                                  double absolute) {
+  bool solved = false;
+  const VecX& inv_mass = jacobian.inverseMass();
+  for (int pass = 0; pass < kFrictionPasses; ++pass) {
+    thread_local VecX product;
+    product.resize(dv_.size());
+    matrix_.multiply(dv_, product, parallel_);
+    setEnd(h, x, v);
+    const auto coulomb = [&](const ContactConstraint& c, const Vec3& force) {
+      particle(rhs_, c.particle) += h * force;
+      particle(f0_, c.particle) += inv_mass[c.particle] * force;
+      coulomb_.push_back({c, force});
+    };
+    bool changed = false, refilter = false;
+    // Coulomb's force turned against the slip: a damper instead.
+    for (CoulombFriction& k : coulomb_) {
+      if (k.damped) continue;
+      const Vec3 slide = tangentialSlide(k.contact, h, end_v_);
+      if (!(slide.dot(k.force) > 0)) continue;
+      k.damped = changed = true;
+      particle(rhs_, k.contact.particle) -= h * k.force;
+      particle(f0_, k.contact.particle) -= inv_mass[k.contact.particle] * k.force;
+      k.contact.damping = k.force.norm() / std::max(slide.norm(), ContactConstraint::kStickSpeed);
+      addSliding(k.contact, h, v, true);
+    }
+    // Holds over the cone: let slide.
+    for (std::size_t i = 0; i < contacts_.size(); ++i) {
+      ContactConstraint& c = contacts_[i];
+      const bool alone = (i == 0 || contacts_[i - 1].particle != c.particle) &&
+                         (i + 1 == contacts_.size() || contacts_[i + 1].particle != c.particle);
+      if (!c.stick || !alone) continue;
+      const Vec3 j = particle(product, c.particle) - particle(rhs_, c.particle);
+      const Vec3 jt = j - j.dot(c.normal) * c.normal;
+      const double bound = c.mu * std::max(0.0, j.dot(c.normal) + h * c.support);
+      if (!(jt.norm() > (1 + kConeSlack) * bound)) continue;
+      c.stick = false;
+      refilter = changed = true;
+      coulomb(c, (bound / h) * jt.normalized());
+    }
+    // Dampers over the cone: Coulomb's force.
+    for (SlidingContact& s : sliding_) {
+      const ContactConstraint& c = s.contact;
+      if (!s.in_matrix || s.bounded || filter_.kind(c.particle) != ParticleFilter::Normal) continue;
+      const Vec3 j = particle(product, c.particle) - particle(rhs_, c.particle);
+      const double bound =
+          c.mu * std::max(0.0, (j - h * c.damping * particle(dv_, c.particle)).dot(c.normal) + h * c.support);
+      const Vec3 slide = tangentialSlide(c, h, end_v_);
+      if (!(h * c.damping * slide.norm() > (1 + kConeSlack) * bound)) continue;
+      changed = true;
+      s.in_matrix = false;
+      matrix_.self()[c.particle] -= h * c.damping;
+      particle(rhs_, c.particle) += (h * c.damping) * tangentialSlide(c, h, v);
+      coulomb(c, -(bound / h) * slide.normalized());
+    }
+    if (!changed) break;
+    ++stats_.friction_solves;
+    if (refilter) {
+      filter_.reset(inv_mass);
+      constrainFilter(contacts_, filter_);
+      for (const ContactConstraint& c : contacts_)
+        particle(dv_, c.particle) = filter_.apply(c.particle, particle(dv_, c.particle));
+      addPrescribedChange(contacts_, filter_, h, dv_);
+    }
+    solve(rhs_, dv_, absolute);
+    solved = true;
+  }
+  return solved;
+}
+
+void BackwardEuler::addSliding(const ContactConstraint& c, double h, const VecX& v, bool bounded) {
+  sliding_.push_back({c, true, bounded});
+  particle(rhs_, c.particle) -= (h * c.damping) * tangentialSlide(c, h, v);
+  matrix_.self()[c.particle] += h * c.damping;
 }
 
 Vec3 BackwardEuler::tangentialSlide(const ContactConstraint& c, double h, const VecX& v) {

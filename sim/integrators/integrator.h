@@ -65,8 +65,9 @@ struct IntegratorStats {
   long iteration_cap_stops = 0;     // backward-euler: solves stopped by cg_max_iterations above both bounds
   double max_cg_residual_error_rule = 0;  // backward-euler: the worst relative residual of the error rule's stops
   double max_cg_residual_cap = 0;         // backward-euler: ... of the iteration cap's
-  long pattern_setups = 0;  // backward-euler: matrices sized for a new Jacobian pattern (once per topology)
-  long impact_solves = 0;   // backward-euler: extra solves with impact constraints (contact/constraints/constraints.h)
+  long pattern_setups = 0;   // backward-euler: matrices sized for a new Jacobian pattern (once per topology)
+  long impact_solves = 0;    // backward-euler: extra solves with impact constraints (contact/constraints/constraints.h)
+  long friction_solves = 0;  // backward-euler: extra solves with friction brought within Coulomb's cone (boundFriction)
   long body_contact_solves = 0;  // backward-euler: extra solves with contact between bodies (ContactPair)
   long body_contact_pairs = 0;   // backward-euler: pairs of surface elements in those solves, all steps
   // backward-euler: Newton iterations that stopped because no step along their direction lowered the incremental

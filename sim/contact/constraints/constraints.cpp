@@ -12,15 +12,11 @@ bool byParticleAndCollider(const ContactConstraint& a, const ContactConstraint& 
   return a.particle != b.particle ? a.particle < b.particle : a.collider < b.collider;
 }
 
-// m/s: below this relative tangential speed kinetic friction's damper is sized as at this speed (as the friction
-// between bodies in backward Euler's solve).
-constexpr double kStickSpeed = 1e-3;
-
 // The friction of a resting contact c on a particle of mass m under the force f (as addContactForces sees it), moving
 // at v, with the system's step h (stick time 2 h): what the accelerations add (taken out by the step), and what the
 // step holds instead: sticking, the explicit law's tangential acceleration (the relative tangential velocity stopped
 // over 2 h, plus the surface's tangential acceleration); sliding, a damper of Coulomb's force at the start's sliding
-// speed (at least kStickSpeed), on the velocity relative to the surface at the step's end.
+// speed (at least ContactConstraint::kStickSpeed), on the velocity relative to the surface at the step's end.
 void addFriction(const SurfacePoint& s, const ContactParams& params, const Vec3& f, const Vec3& v, double m, double h,
                  ContactConstraint& c) {
   const SupportParts parts = supportParts(s, params, f, v, m, 2 * h);
@@ -29,7 +25,9 @@ void addFriction(const SurfacePoint& s, const ContactParams& params, const Vec3&
   c.friction = parts.friction;
   c.stick = parts.sticks;
   c.tangential_acceleration = tangential * s.acceleration - slide / (2 * h);
-  c.damping = parts.limit / std::max(slide.norm(), kStickSpeed);
+  c.damping = parts.limit / std::max(slide.norm(), ContactConstraint::kStickSpeed);
+  c.mu = params.friction;
+  c.support = parts.support;
   c.surface_velocity = s.velocity;
   c.surface_acceleration = s.acceleration;
 }
