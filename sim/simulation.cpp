@@ -116,7 +116,6 @@ Simulation::Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> int
   // in_solve = false the pass after the step is known to add energy (docs/energy.md), which no retake mends. An
   // integrator from outside the table has no traits.
   const IntegratorTraits* traits = tableTraits(integrator_->name());
-  explicit_ = traits && !traits->implicit;
   energy_retakes_ = traits && traits->implicit && (!collisions_ || integrator_->solvesBodyContact());
 }
 
@@ -154,11 +153,9 @@ std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int split
   const long exact_before = stats.exact_steps + stats.line_search_stops;
   const long pass_before = collisions_ ? collisions_->stats().ccd_hits + collisions_->stats().zone_activations : 0;
   integrator_->step(stepped(), t0, h, x_, v_);
-  // An explicit step's resting contact on a collider is stopped without restitution (the approach its own forces
-  // added: contact/colliders/response.h). Backward Euler's bounces are its impact constraints' (on the approach at the
-  // step's start already); its step-end response bounces every approach at the end: the resting-contact rule there
-  // would stall a stiff jelly's slide on a slope under friction (docs/body-contact.md, "Rest").
-  system_.resolveCollisions(t1, x_, v_, colliders && explicit_ ? &v_before_ : nullptr);
+  // A resting contact on a collider is stopped without restitution: only the approach a particle brought into the step
+  // bounces, not what the step's own forces added (contact/colliders/response.h; Guendelman, Bridson & Fedkiw 2003).
+  system_.resolveCollisions(t1, x_, v_, colliders ? &v_before_ : nullptr);
   if (collisions_) {
     auto failure = collisions_->resolve(x_before_, x_, v_, h, !integrator_->solvesBodyContact(), pass_left_x_);
     pass_left_x_ = !failure;

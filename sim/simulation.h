@@ -129,7 +129,6 @@ class Simulation {
   VecX x_, v_;
   double t_ = 0;
   long steps_ = 0, split_steps_ = 0, energy_retakes_count_ = 0;
-  bool explicit_ = false;                  // an explicit integrator of the table (integratorTraits)
   bool energy_retakes_ = false;            // every step's end is checked (an implicit integrator's)
   bool energy_retakes_exhausted_ = false;  // a smallest part made up energy: the run's check runs at every step
   double max_speed_squared_ = 0;

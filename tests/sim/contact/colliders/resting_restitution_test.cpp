@@ -1,6 +1,6 @@
 // Resting contact on a bouncy floor (contact/colliders/response.h; docs/body-contact.md, "Rest"): a jelly that has
-// landed on a floor of restitution 0.5 comes to rest under the explicit integrators (RK4 at 1/60 s and 1/240 s,
-// symplectic Euler and midpoint at 1/240 s; backward Euler keeps its old step-end rule for now). Before, the
+// landed on a floor of restitution 0.5 comes to rest under every integrator (RK4 and backward Euler at 1/60 s and
+// 1/240 s, symplectic Euler and midpoint at 1/240 s). Before, the
 // floor gave each loaded particle within its band the restitution of its approach at every step's end, however slow:
 // the approach a step's load adds (a h) came back as e a h, and the jelly's bottom hopped for ever. Oracle: the speeds
 // themselves (every particle, over every step of the last half second). And a real impact still bounces: the
@@ -79,7 +79,8 @@ TEST_P(RestingRestitution, ParticleBouncesToRestitutionSquaredItsDrop) {
 
 INSTANTIATE_TEST_SUITE_P(Floor, RestingRestitution,
                          ::testing::Values(Case{"rk4", 1.0 / 60}, Case{"rk4", 1.0 / 240},
-                                           Case{"symplectic-euler", 1.0 / 240}, Case{"midpoint", 1.0 / 240}),
+                                           Case{"symplectic-euler", 1.0 / 240}, Case{"midpoint", 1.0 / 240},
+                                           Case{"backward-euler", 1.0 / 60}, Case{"backward-euler", 1.0 / 240}),
                          caseName);
 
 }  // namespace
