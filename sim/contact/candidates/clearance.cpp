@@ -194,8 +194,9 @@ void Clearance::passed(bool near) { near_ = near; }
 // by one and the other: every vertex of s against t and of t against s, every edge of s against every edge of t. A
 // triangle's box and diagonals hold those of its vertices and edges (the same pad), so every pair of elements whose
 // bounds overlap is one of these, from the pair of its owners, and once: a vertex has one owner, an edge one, and a
-// pair of elements with one owner shares a node (not a pair the pass tests). Each is kept as findPairs keeps it. The
-// triangles are a third of the elements and the hash's lookups are most of a broad phase's work.
+// pair of elements with one owner shares a node (not a pair the pass tests). Each is kept by findPairs' own filters
+// (candidateVertexTriangle, candidateEdgeEdge: search.h). The triangles are a third of the elements and the hash's
+// lookups are most of a broad phase's work.
 bool Clearance::listPairs() {
   const SurfaceNodes& n = nodes_;
   const ElementBoxes& b = boxes_;
@@ -209,19 +210,11 @@ bool Clearance::listPairs() {
           search_.budget()))
     return false;
   // (The boxes first: most pairs of owned elements lie apart.)
-  const auto& m = n.node_inv_mass;
   const auto vertexTriangle = [&](int v, int t, PairList& out) {
-    if (!b.vertex[v].overlaps(b.triangle[t])) return;
-    const auto& tri = n.triangles[t];
-    if (v != tri[0] && v != tri[1] && v != tri[2] && m[v] + m[tri[0]] + m[tri[1]] + m[tri[2]] > 0 &&
-        !diagonallyApart(b.vertex_diagonals[v], b.triangle_diagonals[t]))
-      out.emplace_back(v, t);
+    if (b.vertex[v].overlaps(b.triangle[t]) && candidateVertexTriangle(n, b, true, v, t)) out.emplace_back(v, t);
   };
   const auto edgeEdge = [&](int e, int f, PairList& out) {
-    if (!b.edge[e].overlaps(b.edge[f])) return;
-    const auto &p = n.edges[e], &q = n.edges[f];
-    if (p[0] != q[0] && p[0] != q[1] && p[1] != q[0] && p[1] != q[1] && m[p[0]] + m[p[1]] + m[q[0]] + m[q[1]] > 0 &&
-        !diagonallyApart(b.edge_diagonals[e], b.edge_diagonals[f]))
+    if (b.edge[e].overlaps(b.edge[f]) && candidateEdgeEdge(n, b, true, e, f))
       out.emplace_back(std::min(e, f), std::max(e, f));
   };
   const int count = int(triangle_pairs_.size()), chunk = particleChunk(count), chunks = (count + chunk - 1) / chunk;

@@ -26,6 +26,25 @@ namespace wobble::collision {
 // Whether the searches take their shortcuts (setBroadPhaseCulls, body_collisions.h).
 bool broadPhaseCulls();
 
+// What counts as a candidate pair, given elements whose boxes in b overlap and whose bodies the search accepts: not of
+// adjacent elements (sharing a node), not of pinned nodes only, and (with the culls) not parted by their diagonals.
+// Every search that lists pairs (findPairs, Clearance::listPairs) keeps a pair by these. cull by reference: read only
+// for the pairs the cheap checks pass (by value, GCC loads it first on every call, which findPairs' broad phase feels).
+inline bool candidateVertexTriangle(const SurfaceNodes& n, const ElementBoxes& b, const bool& cull, int v, int t) {
+  const auto& tri = n.triangles[t];
+  if (v == tri[0] || v == tri[1] || v == tri[2]) return false;
+  const auto& m = n.node_inv_mass;
+  if (!(m[v] + m[tri[0]] + m[tri[1]] + m[tri[2]] > 0)) return false;
+  return !(cull && diagonallyApart(b.vertex_diagonals[v], b.triangle_diagonals[t]));
+}
+inline bool candidateEdgeEdge(const SurfaceNodes& n, const ElementBoxes& b, const bool& cull, int e, int f) {
+  const auto &p = n.edges[e], &q = n.edges[f];
+  if (p[0] == q[0] || p[0] == q[1] || p[1] == q[0] || p[1] == q[1]) return false;
+  const auto& m = n.node_inv_mass;
+  if (!(m[p[0]] + m[p[1]] + m[q[0]] + m[q[1]] > 0)) return false;
+  return !(cull && diagonallyApart(b.edge_diagonals[e], b.edge_diagonals[f]));
+}
+
 class CandidateSearch {
  public:
   CandidateSearch(const SurfaceNodes& nodes, const NodeMotion& motion, const Settings& settings, bool parallel,
@@ -98,14 +117,9 @@ bool CandidateSearch::findPairs(const ElementBoxes& b, bool cull, const Bodies& 
   if (!pairs(
           b.vertex, b.triangle, false, marks.vertex, marks.triangle,
           [&](int v, int t) {
-            if (!bodies(n.vertex_body[v], n.triangle_body[t])) return false;
-            const int p = v;
-            const auto& tri = n.triangles[t];
-            if (p == tri[0] || p == tri[1] || p == tri[2]) return false;
-            const auto& m = n.node_inv_mass;
-            if (!(m[p] + m[tri[0]] + m[tri[1]] + m[tri[2]] > 0)) return false;
-            if (cull && diagonallyApart(b.vertex_diagonals[v], b.triangle_diagonals[t])) return false;
-            return !apart || !(cull && apartAllStep(nxs, nxe, &p, 1, tri.data(), 3,
+            if (!bodies(n.vertex_body[v], n.triangle_body[t]) || !candidateVertexTriangle(n, b, cull, v, t))
+              return false;
+            return !apart || !(cull && apartAllStep(nxs, nxe, &v, 1, n.triangles[t].data(), 3,
                                                     n.pairThickness(n.vertex_body[v], n.triangle_body[t])));
           },
           vf_found, limit - std::min(limit, used)))
@@ -113,13 +127,8 @@ bool CandidateSearch::findPairs(const ElementBoxes& b, bool cull, const Bodies& 
   return pairs(
       b.edge, b.edge, true, marks.edge, marks.edge,
       [&](int e, int f) {
-        if (!bodies(n.edge_body[e], n.edge_body[f])) return false;
-        const auto &a = n.edges[e], &c = n.edges[f];
-        if (a[0] == c[0] || a[0] == c[1] || a[1] == c[0] || a[1] == c[1]) return false;
-        const auto& m = n.node_inv_mass;
-        if (!(m[a[0]] + m[a[1]] + m[c[0]] + m[c[1]] > 0)) return false;
-        if (cull && diagonallyApart(b.edge_diagonals[e], b.edge_diagonals[f])) return false;
-        return !apart || !(cull && apartAllStep(nxs, nxe, a.data(), 2, c.data(), 2,
+        if (!bodies(n.edge_body[e], n.edge_body[f]) || !candidateEdgeEdge(n, b, cull, e, f)) return false;
+        return !apart || !(cull && apartAllStep(nxs, nxe, n.edges[e].data(), 2, n.edges[f].data(), 2,
                                                 n.pairThickness(n.edge_body[e], n.edge_body[f])));
       },
       ee_found, limit - std::min(limit, used + vf_found.size()));
