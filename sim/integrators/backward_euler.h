@@ -207,7 +207,17 @@ class BackwardEuler final : public Integrator {
     bool damped = false;
   };
   std::vector<CoulombFriction> coulomb_;
-  PenaltyPairs pairs_;  // this step's contact pairs and the last step's pressed ones
+  // boundFriction's contacts over the cone in a pass: a hold (contacts_[index]) or a damper (sliding_[index]), and
+  // Coulomb's force that would take its place.
+  struct OverCone {
+    int index;
+    bool hold;
+    Vec3 force;  // N
+  };
+  std::vector<OverCone> over_;
+  std::vector<Sym3> diagonal_;  // the matrix's diagonal blocks, for boundFriction's measure of an excess
+  VecX friction_product_;       // boundFriction's A dv
+  PenaltyPairs pairs_;          // this step's contact pairs and the last step's pressed ones
   VecX f0_, kv_, rhs_, dv_;
   VecX end_x_, end_v_;  // the candidate step's end state, for impacts
   ErrorRule error_;

@@ -47,6 +47,12 @@ namespace {
 constexpr double kConeSlack = 0.1;
 // At most this many further solves a step to bring the friction into the cone (what is left is the next step's).
 constexpr int kFrictionPasses = 3;
+// m/s: an excess over the cone is worth a further solve when taking it off would change the particle's velocity by at
+// least this, its neighbours held (the excess impulse over the particle's diagonal of the matrix along it: its mass,
+// h^2 its springs' stiffness and h its dampers), or the whole system's by this as one rigid body (the excesses' sum
+// over the free mass: a stiff body whose every contact pulls the same way). ContactConstraint::kStickSpeed, the slip
+// below which friction counts a contact as stuck.
+constexpr double kMaterialSpeed = ContactConstraint::kStickSpeed;
 
 }  // namespace
 
@@ -63,13 +69,20 @@ constexpr int kFrictionPasses = 3;
 // force at that slip instead, F = -c (I - n n^T)(v1 - u1), which only takes energy out. J_n = J . n + h N: the
 // constraint's normal impulse plus the support N in F0 (less the damper's h c on the prescribed normal change, which
 // the matrix's h c I adds). A particle on several surfaces is left as it is (its normal impulses are not separable from
-// the residual).
+// the residual). The holds and dampers give way only where their excess is material (kMaterialSpeed): in a stiff cloth
+// lying on a floor two thirds of the holds exceed the cone by about twice their weight's impulse at every step, pulling
+// against each other, and letting them slide moves them by about a micron a step (slips of 0.06 mm/s) for three
+// further solves.
 bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const VecX& x, const VecX& v,
                                   double absolute) {
+  if (sliding_.empty() &&
+      std::none_of(contacts_.begin(), contacts_.end(), [](const ContactConstraint& c) { return c.stick; }))
+    return false;  // no friction to bound: not even the product
   bool solved = false;
   const VecX& inv_mass = jacobian.inverseMass();
+  double total_mass = -1;  // of the free particles, summed when first needed
   for (int pass = 0; pass < kFrictionPasses; ++pass) {
-    thread_local VecX product;
+    VecX& product = friction_product_;  // sized with the topology (step)
     product.resize(dv_.size());
     matrix_.multiply(dv_, product, parallel_);
     setEnd(h, x, v);
@@ -78,8 +91,8 @@ bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const
       particle(f0_, c.particle) += inv_mass[c.particle] * force;
       coulomb_.push_back({c, force});
     };
-    bool changed = false, refilter = false;
-    // Coulomb's force turned against the slip: a damper instead.
+    bool changed = false;
+    // Coulomb's force turned against the slip: a damper instead (it would do positive work: always).
     for (CoulombFriction& k : coulomb_) {
       if (k.damped) continue;
       const Vec3 slide = tangentialSlide(k.contact, h, end_v_);
@@ -90,34 +103,69 @@ bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const
       k.contact.damping = k.force.norm() / std::max(slide.norm(), ContactConstraint::kStickSpeed);
       addSliding(k.contact, h, v, true);
     }
-    // Holds over the cone: let slide.
+    // The holds and dampers over the cone, each with Coulomb's force in its place and the excess impulse that
+    // force takes off; whether the excess is material (kMaterialSpeed).
+    over_.clear();
+    bool material = false;
+    Vec3 net = Vec3::Zero();  // the friction impulses of every hold and damper checked
+    double capacity = 0;      // their cones' bounds
+    const auto over = [&](int index, bool hold, const Vec3& force, const Vec3& taken) {
+      if (over_.empty()) matrix_.diagonal(diagonal_, parallel_);
+      const int p = hold ? contacts_[index].particle : sliding_[index].contact.particle;
+      over_.push_back({index, hold, force});
+      const Vec3 t = taken.normalized();
+      material = material || taken.norm() >= kMaterialSpeed * t.dot(diagonal_[p] * t);
+    };
     for (std::size_t i = 0; i < contacts_.size(); ++i) {
-      ContactConstraint& c = contacts_[i];
+      const ContactConstraint& c = contacts_[i];
       const bool alone = (i == 0 || contacts_[i - 1].particle != c.particle) &&
                          (i + 1 == contacts_.size() || contacts_[i + 1].particle != c.particle);
       if (!c.stick || !alone) continue;
       const Vec3 j = particle(product, c.particle) - particle(rhs_, c.particle);
       const Vec3 jt = j - j.dot(c.normal) * c.normal;
       const double bound = c.mu * std::max(0.0, j.dot(c.normal) + h * c.support);
+      net += jt, capacity += bound;
       if (!(jt.norm() > (1 + kConeSlack) * bound)) continue;
-      c.stick = false;
-      refilter = changed = true;
-      coulomb(c, (bound / h) * jt.normalized());
+      over(int(i), true, (bound / h) * jt.normalized(), (jt.norm() - bound) * jt.normalized());
     }
-    // Dampers over the cone: Coulomb's force.
-    for (SlidingContact& s : sliding_) {
-      const ContactConstraint& c = s.contact;
-      if (!s.in_matrix || s.bounded || filter_.kind(c.particle) != ParticleFilter::Normal) continue;
+    for (std::size_t i = 0; i < sliding_.size(); ++i) {
+      const ContactConstraint& c = sliding_[i].contact;
+      if (!sliding_[i].in_matrix || sliding_[i].bounded || filter_.kind(c.particle) != ParticleFilter::Normal) continue;
       const Vec3 j = particle(product, c.particle) - particle(rhs_, c.particle);
       const double bound =
           c.mu * std::max(0.0, (j - h * c.damping * particle(dv_, c.particle)).dot(c.normal) + h * c.support);
       const Vec3 slide = tangentialSlide(c, h, end_v_);
+      net -= h * c.damping * slide, capacity += bound;
       if (!(h * c.damping * slide.norm() > (1 + kConeSlack) * bound)) continue;
+      over(int(i), false, -(bound / h) * slide.normalized(),
+           -(h * c.damping * slide.norm() - bound) * slide.normalized());
+    }
+    if (!over_.empty() && !material) {
+      if (total_mass < 0) {
+        total_mass = 0;
+        for (Eigen::Index p = 0; p < inv_mass.size(); ++p)
+          if (inv_mass[p] > 0) total_mass += jacobian.mass()[p];
+      }
+      material = net.norm() - capacity >= kMaterialSpeed * total_mass;
+    }
+    bool refilter = false;
+    if (material) {
+      for (const OverCone& o : over_) {
+        if (o.hold) {  // the hold lets the particle slide
+          ContactConstraint& c = contacts_[o.index];
+          c.stick = false;
+          refilter = true;
+          coulomb(c, o.force);
+        } else {  // the damper gives way to Coulomb's force
+          SlidingContact& s = sliding_[o.index];
+          const ContactConstraint& c = s.contact;
+          s.in_matrix = false;
+          matrix_.self()[c.particle] -= h * c.damping;
+          particle(rhs_, c.particle) += (h * c.damping) * tangentialSlide(c, h, v);
+          coulomb(c, o.force);
+        }
+      }
       changed = true;
-      s.in_matrix = false;
-      matrix_.self()[c.particle] -= h * c.damping;
-      particle(rhs_, c.particle) += (h * c.damping) * tangentialSlide(c, h, v);
-      coulomb(c, -(bound / h) * slide.normalized());
     }
     if (!changed) break;
     ++stats_.friction_solves;
