@@ -68,16 +68,30 @@ const IntegratorTraits* tableTraits(std::string_view name) {
   return std::find(names.begin(), names.end(), name) != names.end() ? &integratorTraits(name) : nullptr;
 }
 
-// Whether a free particle of x lies inside a collider at t, deeper than its contact band: a body placed there is pushed
-// out by the collider's constraints within the step, energy the collider gives (not the step's to keep).
-bool insideCollider(const MassSpringSystem& system, double t, const VecX& x) {
+// The free particles of x inside a collider at t, deeper than its contact band (DeepInside): a body placed there is
+// pushed out by the collider's constraints within the step, energy the collider gives (not the step's to keep).
+std::optional<DeepInside> deepInside(const MassSpringSystem& system, double t, const VecX& x) {
+  std::optional<DeepInside> deepest;
+  int pairs = 0;
   std::vector<int> inside;
   for (const auto& collider : system.colliders()) {
     collider->near(t, x, -collider->contact().epsilon, inside);
-    for (const int i : inside)
-      if (system.inverseMass()[i] > 0) return true;
+    for (const BodySlot& slot : system.bodies()) {
+      DeepInside found{slot.body.name, collider->name(), 0, 0, collider->contact().epsilon};
+      const int end = slot.first + int(slot.body.x.size() / 3);
+      for (auto i = std::lower_bound(inside.begin(), inside.end(), slot.first); i != inside.end() && *i < end; ++i) {
+        if (system.inverseMass()[*i] == 0) continue;
+        const auto point = collider->query(t, particle(x, *i));
+        ++found.particles;
+        found.depth = std::max(found.depth, point ? -point->distance : 0.0);
+      }
+      if (found.particles == 0) continue;
+      ++pairs;
+      if (!deepest || found.depth > deepest->depth) deepest = found;
+    }
   }
-  return false;
+  if (deepest) deepest->other_pairs = pairs - 1;
+  return deepest;
 }
 
 }  // namespace
@@ -110,6 +124,7 @@ Simulation::Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> int
   for (int i = 0; i < system.particleCount(); ++i)
     max_speed_squared_ = std::max(max_speed_squared_, particle(v_, i).squaredNorm());
   energy_start_ = system.energy(x_, v_);
+  inside_ = starts_inside_ = deepInside(system, 0, x_);
   lift_margin_ = system.liftEnergy();
   // An implicit integrator's steps are checked one by one (its steps are few and each costs several force
   // evaluations, against which the energy at its ends is cheap), where it keeps the bodies apart itself: with [contact]
@@ -193,13 +208,16 @@ std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int split
   if (suspect) {
     const double start_energy = system_.energy(x_before_, v_before_);
     if (system_.energy(x_, v_) - start_energy - work >
-            kStepEnergyMargin * std::max(std::abs(start_energy), lift_margin_) &&
-        !insideCollider(system_, t0, x_before_)) {
-      if (splits > 0) {
+        kStepEnergyMargin * std::max(std::abs(start_energy), lift_margin_)) {
+      if (auto inside = deepInside(system_, t0, x_before_)) {
+        inside->step = steps_;
+        if (!inside_ || inside->depth > inside_->depth) inside_ = std::move(inside);
+      } else if (splits > 0) {
         ++energy_retakes_count_;
         return retakeInHalves(t0, h, t1, splits);
+      } else {
+        energy_retakes_exhausted_ = true;
       }
-      energy_retakes_exhausted_ = true;
     }
   }
   if (auto blow_up = check()) return blow_up;
@@ -247,7 +265,8 @@ void Simulation::checkEnergy() {
                               std::any_of(system_.colliders().begin(), system_.colliders().end(),
                                           [](const auto& c) { return c->contact().restitution > 0; }),
                               collider_work_unsigned_ > 0,
-                              energy_retakes_ ? system_.contactSettings().split_steps : -1};
+                              energy_retakes_ ? system_.contactSettings().split_steps : -1,
+                              inside_};
 }
 
 std::string EnergyGain::message(double dt) const {
@@ -257,8 +276,14 @@ std::string EnergyGain::message(double dt) const {
       << " s: total energy " << energy << " J against " << start << " J at the start";
   if (collider_work != 0) out << " plus " << collider_work << " J of work by moving colliders";
   out << " (gained " << gained() << " J, " << gained() / std::max(std::abs(start), 1e-300)
-      << " times the start's; allowed " << margin << " J, docs/energy.md). Try a smaller time step (--dt " << dt / 4
-      << ")";
+      << " times the start's; allowed " << margin << " J, docs/energy.md). ";
+  // A body inside a collider is pushed out with energy the collider gives, whatever the step: its own advice first.
+  if (inside)
+    out << "The likely cause: " << inside->describe()
+        << "; the collider pushes them out, which no smaller step mends: move the body out of the collider (or start "
+           "it above). Otherwise try";
+  else out << "Try";
+  out << " a smaller time step (--dt " << dt / 4 << ")";
   const IntegratorTraits* traits = tableTraits(integrator);
   if (!traits || !traits->a_stable)  // one stable at any step (integrator.h): not what gained it
     for (const std::string_view name : integratorNames())
@@ -267,12 +292,13 @@ std::string EnergyGain::message(double dt) const {
   if (linearized) out << ", the exact step instead of its linearization ([simulation] newton = true)";
   if (bouncing) out << ", or a lower restitution";
   out << ".";
-  if (halvings > 0)
+  // Steps that started inside a collider were left to this check, not taken again: no halving to report then.
+  if (!inside && halvings > 0)
     out << " Every step that gained had been solved exactly (Newton's iteration with a line search on its incremental "
            "potential) and taken again in halves, down to a 1/"
         << (1L << halvings) << " part of the step ([contact] split_steps = " << halvings
         << "), and the smallest part still gained.";
-  else if (halvings == 0)
+  else if (!inside && halvings == 0)
     out << " Every step that gained had been solved exactly (Newton's iteration with a line search on its incremental "
            "potential) but not taken again in halves: [contact] split_steps = 0.";
   // A moving collider's count misses one case (docs/energy.md, "Limits"), which no step size or integrator mends.
@@ -280,6 +306,17 @@ std::string EnergyGain::message(double dt) const {
     out << " Moving colliders did work here: a platform that stops dead while it presses a body gives it energy that "
            "the count of their work misses (docs/energy.md, Limits); let it come to rest before the press, or press "
            "with a collider that keeps moving.";
+  return out.str();
+}
+
+std::string DeepInside::describe() const {
+  std::ostringstream out;
+  out.precision(3);
+  out << "body '" << body << "' " << (step == 0 ? "starts with " : "had ") << particles
+      << (particles == 1 ? " particle" : " particles") << " inside collider '" << collider << "', up to " << depth
+      << " m deep (its contact band is " << band << " m)";
+  if (step > 0) out << " at the start of step " << step;
+  if (other_pairs > 0) out << ", and " << other_pairs << " more body-collider pair(s) that deep";
   return out.str();
 }
 

@@ -48,6 +48,19 @@ struct BlowUp {
 // below either; the gains of an unstable contact or step are multiples of the start.
 inline constexpr double kEnergyGainRelative = 0.1;
 
+// Free particles inside a collider deeper than its contact band (ContactParams::epsilon): the collider pushes them out
+// within a step, energy it gives whatever the step's size. The (body, collider) pair with the deepest particle.
+struct DeepInside {
+  std::string body, collider;
+  int particles = 0;    // the body's particles inside that collider, deeper than its band
+  double depth = 0;     // m, the deepest of them below the collider's surface
+  double band = 0;      // m, the collider's contact band
+  long step = 0;        // the step at whose start they were found (0: the run's start)
+  int other_pairs = 0;  // further (body, collider) pairs with particles that deep
+  // "body 'jelly' has 12 particles inside collider 'left', up to 0.08 m deep (its contact band is 0.01 m)".
+  std::string describe() const;
+};
+
 struct EnergyGain {
   std::string integrator;
   long step;                      // 1-based index of the step at whose end the check failed
@@ -63,6 +76,9 @@ struct EnergyGain {
   // How often a step that made up energy was halved and taken again before this ([contact] split_steps); -1: the
   // integrator's steps are checked at the frames only (Simulation's energy retakes)
   int halvings = -1;
+  // Particles were inside a collider, deeper than its band, at the run's start or at the start of a step that gained:
+  // the likeliest cause, named first with its own advice (a smaller step does not help)
+  std::optional<DeepInside> inside;
   double gained() const { return energy - start - collider_work; }
   // One paragraph for the user: what happened, where, and what to try.
   std::string message(double dt) const;
@@ -86,6 +102,8 @@ class Simulation {
   using StepObserver = std::function<void(double t, const VecX& x)>;
   void observeSteps(StepObserver observer) { step_observer_ = std::move(observer); }
   double energyStart() const { return energy_start_; }
+  // Free particles that start inside a collider, deeper than its band (DeepInside); `wobble run` warns of them.
+  const std::optional<DeepInside>& startsInside() const { return starts_inside_; }
   // Work done on the bodies by moving colliders so far (J): each step's contact impulse on a particle touching a
   // moving surface, times the surface's velocity (MassSpringSystem::colliderWork).
   double colliderWork() const { return collider_work_; }
@@ -142,6 +160,8 @@ class Simulation {
   double energy_start_ = 0, collider_work_ = 0, collider_work_unsigned_ = 0, lift_margin_ = 0;
   VecX x_before_, v_before_;  // the state at the step's start, for collisions_ and the colliders' work
   std::optional<EnergyGain> energy_gain_;
+  // Deepest particles inside a collider found so far (at the start, or at a gaining step's start), for EnergyGain
+  std::optional<DeepInside> starts_inside_, inside_;
   StepObserver step_observer_;
 };
 

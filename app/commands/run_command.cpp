@@ -182,6 +182,11 @@ RunReport runScene(const RunOptions& options) {
   const Simulation& sim = run.simulation();
   const MassSpringSystem& system = run.system();
   report.energy_start = system.energy(sim.x(), sim.v());
+  // Allowed (a body pushed out of a slope is a scene some want), but the push-out's energy is the collider's: say so
+  // before step 1, so that an energy check it trips later is no surprise (docs/energy.md).
+  if (const auto& inside = sim.startsInside())
+    std::fprintf(stderr, "wobble: warning: %s: the collider pushes them out in the first steps, with energy it gives\n",
+                 inside->describe().c_str());
 
   const OutputFolder folder(report.out);
   // With --skip-existing the pictures of this run's frames stay until the frame loop decides (frame_output.h).
