@@ -1,9 +1,9 @@
 // Resting contact on a bouncy floor (contact/colliders/response.h; docs/body-contact.md, "Rest"): a jelly that has
 // landed on a floor of restitution 0.5 comes to rest under every integrator (RK4 and backward Euler at 1/60 s and
-// 1/240 s, symplectic Euler and midpoint at 1/240 s). Before, the
-// floor gave each loaded particle within its band the restitution of its approach at every step's end, however slow:
-// the approach a step's load adds (a h) came back as e a h, and the jelly's bottom hopped for ever. Oracle: the speeds
-// themselves (every particle, over every step of the last half second). And a real impact still bounces: the
+// 1/240 s, symplectic Euler and midpoint at 1/240 s): only the approach a particle brings into a step bounces. A floor
+// that gave each loaded particle within its band the restitution of its approach at every step's end, however slow,
+// would give the approach a step's load adds (a h) back as e a h, and the jelly's bottom would hop for ever. Oracle:
+// the speeds themselves (every particle, over every step of the last half second). And a real impact still bounces: the
 // particle's apex after a bounce at these steps is e^2 times its drop (Contact.BounceIsTheSameUnderEveryIntegrator
 // covers 1e-4 s).
 #include <gtest/gtest.h>

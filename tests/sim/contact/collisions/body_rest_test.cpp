@@ -2,7 +2,9 @@
 // particle under 0.05 m/s from 3 s after the top jelly lands), the total energy (no rise after the landing: nothing
 // moves the floor, so nothing may feed the pile), and the independent triangle test (no surface through another).
 // Three small jellies dropped in a slightly offset column onto a floor that does not bounce (restitution 0: the floor's
-// own bounce of resting particles is not what is tested here; docs/body-contact.md, "Limits").
+// rule for resting particles is tested on its own, colliders/resting_restitution_test.cpp). Then the six stiff
+// jellies of the reported pile: static friction between them holds (BodyStick), and they sway as the same column glued
+// into one body (StackedColumn, the oracle for what keeps them moving).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -103,11 +105,11 @@ TEST_P(BodyRest, ThreeJellyColumnComesToRest) {
   }
   EXPECT_LT(settled_speed, kRestSpeed) << c.integrator << " at 1/" << 1 / c.dt << " s: landed at " << landing
                                        << " s; largest particle speed from " << landing + kSettleTime << " s on";
-  // Rounding and the solve's tolerance only: without the fix the soft pile's energy rose by 0.02 J within a second at
-  // rest. The energy counted leaves out the energy the pairs' penalty holds (the load over the penalty's stiffness:
-  // about 0.1 J for the stiff jellies at 1/60 s, 6 N on each of some 20 pairs a level), which comes back as the
-  // settling pile's pairs unload: up to 2.4 mJ of the stiff pile's 118 J at 1/60 s (3.5 mJ with CG's tolerance at
-  // 1e-7).
+  // Rounding and the solve's tolerance only: with the active set's band a quarter of the thickness for every pair
+  // (activeSlack; docs/body-contact.md, "Rest") the soft pile's energy rises by 0.02 J within a second at rest. The
+  // energy counted leaves out the energy the pairs' penalty holds (the load over the penalty's stiffness: about 0.1 J
+  // for the stiff jellies at 1/60 s, 6 N on each of some 20 pairs a level), which comes back as the settling pile's
+  // pairs unload: up to 2.4 mJ of the stiff pile's 118 J at 1/60 s (3.5 mJ with CG's tolerance at 1e-7).
   EXPECT_LT(rise, c.stiff ? 5e-3 : 1e-3) << c.integrator << ": the energy rose while the pile settled";
   EXPECT_EQ(worst, 0) << c.integrator;
   EXPECT_FALSE(sim.energyGain()) << sim.energyGain()->message(c.dt);
