@@ -46,8 +46,8 @@ struct ContactConstraint {
   // step's end, -damping (I - n n^T) (v1 - u1), u1 = surface_velocity + h surface_acceleration: linear in v, so
   // exact in the step and dissipative.
   double damping = 0;  // N s/m
-  // m/s: below this relative tangential speed the damper is sized as at this speed (as the friction between bodies in
-  // backward Euler's solve).
+  // m/s: below this relative tangential speed the damper is sized as at this speed (the friction between bodies in
+  // backward Euler's solve takes the same, PenaltyPairs::kStickSpeed).
   static constexpr double kStickSpeed = 1e-3;
   // Coulomb's cone, which backward Euler keeps the hold and the damper within over the step (boundFriction): the
   // surface's coefficient and the support the accelerations apply at the start (in the start force).

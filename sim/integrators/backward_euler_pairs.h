@@ -32,8 +32,8 @@ class PenaltyPairs {
   // penalty's rest gap keeps its activity: without it, the last solves of a step flip a few hundred pairs by a
   // fiftieth of the thickness each.
   static constexpr double kActiveSlack = 0.25;
-  // m/s: below this sliding speed friction between bodies holds (carry).
-  static constexpr double kStickSpeed = 1e-3;
+  // m/s: below this sliding speed friction between bodies holds (carry), as on colliders.
+  static constexpr double kStickSpeed = ContactConstraint::kStickSpeed;
 
   // Forgets the pairs the last step left pressed (a new topology: their particles' numbers are another's).
   void forget() { carried_.clear(); }
