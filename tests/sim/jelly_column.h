@@ -49,6 +49,10 @@ inline std::unique_ptr<MassSpringSystem> jellyColumn(const ColumnParams& p) {
   return system;
 }
 
+// Jelly b's particle (i, j, k) of an n^3 lattice (index i + n (j + n k)) in the column of count jellies glued into
+// one n x (count n) x n lattice (fusedColumn): layer b n + j.
+inline int fusedParticle(int b, int n, int count, int i, int j, int k) { return i + n * (b * n + j + count * n * k); }
+
 // The same jellies glued into one body (an oracle for the stack: the column's own modes, with no contact): their
 // particles (state and masses) and springs, and across each gap between one jelly's top layer and the next one's
 // bottom layer the lattice's springs too (structural, shear and bending, rest length their initial distance) where the
@@ -62,7 +66,7 @@ inline Body fusedColumn(const std::vector<Body>& jellies, int n) {
     std::vector<int> to(per);  // the jelly's particle -> the column's
     for (int k = 0; k < n; ++k)
       for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) to[i + n * (j + n * k)] = i + n * (b * n + j + count * n * k);
+        for (int i = 0; i < n; ++i) to[i + n * (j + n * k)] = fusedParticle(b, n, count, i, j, k);
     for (int q = 0; q < per; ++q) {
       particle(fused.x, to[q]) = particle(jelly.x, q);
       particle(fused.v, to[q]) = particle(jelly.v, q);

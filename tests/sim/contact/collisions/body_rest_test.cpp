@@ -347,7 +347,7 @@ std::vector<int> fusedJelly(int b, int n, int count) {
   std::vector<int> ids;
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) ids.push_back(i + n * (b * n + j + count * n * k));
+      for (int i = 0; i < n; ++i) ids.push_back(testing::fusedParticle(b, n, count, i, j, k));
   return ids;
 }
 
