@@ -59,8 +59,8 @@ constexpr double kMaterialSpeed = ContactConstraint::kStickSpeed;
 // Coulomb's cone over the step (Bridson, Fedkiw & Anderson 2002, section 7.2: the friction impulse at most mu times the
 // normal impulse; Baraff & Witkin 1998, section 5: the constraint force is the residual's filtered-out part, A dv - b).
 // The hold (a sticking contact, filtered out in every direction) takes whatever tangential impulse J_t the solve needs,
-// and with the whole body's springs pulling on one particle that may be many times mu J_n (a stiff jelly on a slope of
-// friction 0.3 took |J_t| / J_n = 2.48 and stalled); a sliding contact's damper, sized at the start's slip (at least
+// and with the whole body's springs pulling on one particle that may be many times mu J_n (a stiff jelly on a slope
+// stalls); a sliding contact's damper, sized at the start's slip (at least
 // ContactConstraint::kStickSpeed), gives h c |s1| at the end's slip s1, as unbounded when a slow slip speeds up.
 // Either, over the cone by more than kConeSlack, gives way to Coulomb's impulse mu J_n against the pull (the hold's
 // J_t) or the end's slip, a constant force in the right-hand side and in F0 (Newton's iteration keeps it), and the step
@@ -69,10 +69,9 @@ constexpr double kMaterialSpeed = ContactConstraint::kStickSpeed;
 // force at that slip instead, F = -c (I - n n^T)(v1 - u1), which only takes energy out. J_n = J . n + h N: the
 // constraint's normal impulse plus the support N in F0 (less the damper's h c on the prescribed normal change, which
 // the matrix's h c I adds). A particle on several surfaces is left as it is (its normal impulses are not separable from
-// the residual). The holds and dampers give way only where their excess is material (kMaterialSpeed): in a stiff cloth
-// lying on a floor two thirds of the holds exceed the cone by about twice their weight's impulse at every step, pulling
-// against each other, and letting them slide moves them by about a micron a step (slips of 0.06 mm/s) for three
-// further solves.
+// the residual). The holds and dampers give way only where their excess is material (kMaterialSpeed): in a cloth
+// lying on a floor most holds exceed the cone at every step, pulling against each other, and letting them slide would
+// move them by microns for further solves.
 bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const VecX& x, const VecX& v,
                                   double absolute) {
   if (sliding_.empty() &&
