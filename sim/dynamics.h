@@ -150,6 +150,12 @@ class ForceJacobian {
                             const VecX* w = nullptr, VecX* kw = nullptr) const = 0;
   // Whether solvers should run their loops on threads for this system (parallel.h); the result is the same bytes.
   virtual bool parallel() const { return false; }
+  // The first particle of each body, ascending from 0: a body's particles run to the next one's first. The default:
+  // the whole system is one body.
+  virtual const std::vector<int>& bodyFirsts() const {
+    static const std::vector<int> kOne{0};
+    return kOne;
+  }
   // Replaces out by the particles whose contact support is active at (t, x, v), one per particle and surface; and
   // released (when given) by the supports the accelerations apply to particles leaving their surface, and those of
   // embedded points, which colliderPairs holds instead (each handed to its particles by the point's weights). The

@@ -33,6 +33,7 @@ class WithBodyContact final : public Dynamics, public ForceJacobian {
     jacobian_.fillJacobian(t, x, v, cx, cv, a, w, kw);
   }
   bool parallel() const override { return jacobian_.parallel(); }
+  const std::vector<int>& bodyFirsts() const override { return jacobian_.bodyFirsts(); }
   void contactConstraints(double t, const VecX& x, const VecX& v, std::vector<ContactConstraint>& out,
                           std::vector<ReleasedSupport>* released) const override {
     jacobian_.contactConstraints(t, x, v, out, released);

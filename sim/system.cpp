@@ -55,6 +55,7 @@ void MassSpringSystem::addBody(Body body) {
   springs_ = springs_.permuted(schedule_.order());
   ++schedule_builds_;
   bodies_.push_back({std::move(body), first});
+  body_firsts_.push_back(first);
 }
 
 void MassSpringSystem::smoothForce(double, const VecX& x, const VecX& v, VecX& f) const {

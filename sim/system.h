@@ -53,6 +53,7 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   void fillJacobian(double t, const VecX& x, const VecX& v, double cx, double cv, PairBlockMatrix& a, const VecX* w,
                     VecX* kw) const override;
   bool parallel() const override { return runsInParallel(particleCount()); }
+  const std::vector<int>& bodyFirsts() const override { return body_firsts_; }
   // The same Jacobians as triplets of dF/dx and dF/dv (duplicates summed): for analysis and tests.
   void addForceJacobians(double t, const VecX& x, const VecX& v, Triplets& dfdx, Triplets& dfdv) const;
   // The particles whose contact support is active (contact/constraints/constraints.h).
@@ -112,6 +113,7 @@ class MassSpringSystem final : public Dynamics, public ForceJacobian {
   double stick_time_ = 2e-3;
   collision::Settings contact_settings_;
   std::vector<BodySlot> bodies_;
+  std::vector<int> body_firsts_;  // bodies_' firsts (bodyFirsts)
   std::vector<std::unique_ptr<Collider>> colliders_;
   VecX x0_, v0_, mass_, inv_mass_, drag_;
   // inv_mass_ as colliders see particles: 0 also for a lattice particle under an embedded surface, which meets

@@ -44,6 +44,9 @@ void BackwardEuler::step(const Dynamics& dynamics, double t, double h, VecX& x, 
     coulomb_.reserve(jacobian->mass().size());
     friction_product_.resize(x.size());
     diagonal_.reserve(jacobian->mass().size());
+    body_net_.reserve(jacobian->bodyFirsts().size());
+    body_capacity_.reserve(jacobian->bodyFirsts().size());
+    body_mass_.reserve(jacobian->bodyFirsts().size());
     dv_.resize(0);  // no warm start, no error estimate
     error_.history = 0;
     pairs_.forget();  // their particles' numbers are another topology's

@@ -217,7 +217,10 @@ class BackwardEuler final : public Integrator {
   std::vector<OverCone> over_;
   std::vector<Sym3> diagonal_;  // the matrix's diagonal blocks, for boundFriction's measure of an excess
   VecX friction_product_;       // boundFriction's A dv
-  PenaltyPairs pairs_;          // this step's contact pairs and the last step's pressed ones
+  // boundFriction's per body: its holds' and dampers' friction impulses, their cones' bounds, its free mass.
+  std::vector<Vec3> body_net_;
+  std::vector<double> body_capacity_, body_mass_;
+  PenaltyPairs pairs_;  // this step's contact pairs and the last step's pressed ones
   VecX f0_, kv_, rhs_, dv_;
   VecX end_x_, end_v_;  // the candidate step's end state, for impacts
   ErrorRule error_;

@@ -49,9 +49,9 @@ constexpr double kConeSlack = 0.1;
 constexpr int kFrictionPasses = 3;
 // m/s: an excess over the cone is worth a further solve when taking it off would change the particle's velocity by at
 // least this, its neighbours held (the excess impulse over the particle's diagonal of the matrix along it: its mass,
-// h^2 its springs' stiffness and h its dampers), or the whole system's by this as one rigid body (the excesses' sum
-// over the free mass: a stiff body whose every contact pulls the same way). ContactConstraint::kStickSpeed, the slip
-// below which friction counts a contact as stuck.
+// h^2 its springs' stiffness and h its dampers), or a body's by this as one rigid body (its contacts' excesses summed
+// over its free mass: a stiff body whose every contact pulls the same way, whatever other bodies rest elsewhere).
+// ContactConstraint::kStickSpeed, the slip below which friction counts a contact as stuck.
 constexpr double kMaterialSpeed = ContactConstraint::kStickSpeed;
 
 }  // namespace
@@ -79,7 +79,12 @@ bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const
     return false;  // no friction to bound: not even the product
   bool solved = false;
   const VecX& inv_mass = jacobian.inverseMass();
-  double total_mass = -1;  // of the free particles, summed when first needed
+  // Per body (ForceJacobian::bodyFirsts): its free particles' mass, summed when first needed.
+  const std::vector<int>& firsts = jacobian.bodyFirsts();
+  const auto bodyOf = [&](int p) {
+    return int(std::upper_bound(firsts.begin(), firsts.end(), p) - firsts.begin()) - 1;
+  };
+  bool massed = false;  // body_mass_ summed
   for (int pass = 0; pass < kFrictionPasses; ++pass) {
     VecX& product = friction_product_;  // sized with the topology (step)
     product.resize(dv_.size());
@@ -106,8 +111,11 @@ bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const
     // force takes off; whether the excess is material (kMaterialSpeed).
     over_.clear();
     bool material = false;
-    Vec3 net = Vec3::Zero();  // the friction impulses of every hold and damper checked
-    double capacity = 0;      // their cones' bounds
+    // Per body: the friction impulses of its every hold and damper checked, and their cones' bounds.
+    std::vector<Vec3>& net = body_net_;
+    std::vector<double>& capacity = body_capacity_;
+    net.assign(firsts.size(), Vec3::Zero());
+    capacity.assign(firsts.size(), 0.0);
     const auto over = [&](int index, bool hold, const Vec3& force, const Vec3& taken) {
       if (over_.empty()) matrix_.diagonal(diagonal_, parallel_);
       const int p = hold ? contacts_[index].particle : sliding_[index].contact.particle;
@@ -123,7 +131,8 @@ bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const
       const Vec3 j = particle(product, c.particle) - particle(rhs_, c.particle);
       const Vec3 jt = j - j.dot(c.normal) * c.normal;
       const double bound = c.mu * std::max(0.0, j.dot(c.normal) + h * c.support);
-      net += jt, capacity += bound;
+      const int b = bodyOf(c.particle);
+      net[b] += jt, capacity[b] += bound;
       if (!(jt.norm() > (1 + kConeSlack) * bound)) continue;
       over(int(i), true, (bound / h) * jt.normalized(), (jt.norm() - bound) * jt.normalized());
     }
@@ -134,18 +143,22 @@ bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const
       const double bound =
           c.mu * std::max(0.0, (j - h * c.damping * particle(dv_, c.particle)).dot(c.normal) + h * c.support);
       const Vec3 slide = tangentialSlide(c, h, end_v_);
-      net -= h * c.damping * slide, capacity += bound;
+      const int b = bodyOf(c.particle);
+      net[b] -= h * c.damping * slide, capacity[b] += bound;
       if (!(h * c.damping * slide.norm() > (1 + kConeSlack) * bound)) continue;
       over(int(i), false, -(bound / h) * slide.normalized(),
            -(h * c.damping * slide.norm() - bound) * slide.normalized());
     }
     if (!over_.empty() && !material) {
-      if (total_mass < 0) {
-        total_mass = 0;
+      std::vector<double>& body_mass = body_mass_;
+      if (!massed) {
+        massed = true;
+        body_mass.assign(firsts.size(), 0.0);
         for (Eigen::Index p = 0; p < inv_mass.size(); ++p)
-          if (inv_mass[p] > 0) total_mass += jacobian.mass()[p];
+          if (inv_mass[p] > 0) body_mass[bodyOf(int(p))] += jacobian.mass()[p];
       }
-      material = net.norm() - capacity >= kMaterialSpeed * total_mass;
+      for (std::size_t b = 0; b < firsts.size() && !material; ++b)
+        material = body_mass[b] > 0 && net[b].norm() - capacity[b] >= kMaterialSpeed * body_mass[b];
     }
     bool refilter = false;
     if (material) {

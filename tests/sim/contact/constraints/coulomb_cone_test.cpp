@@ -11,6 +11,7 @@
 #include <string>
 
 #include "sim/bodies/jelly.h"
+#include "sim/contact/colliders/box.h"
 #include "sim/contact/colliders/plane.h"
 #include "sim/simulation.h"
 
@@ -28,14 +29,15 @@ struct Slide {
   double mass = 0;                // kg
 };
 
-// The stiff jelly of the wedge test (5^3, 1 m, ks 1e5), set flat 5 cm above a plane of slope b (friction kMu,
-// restitution 0.5), under backward Euler at step h.
-Slide slide(double slope, double h, double t1, double t2) {
+// The stiff jelly of the wedge test (5^3, 1 m, ks 1e5 unless given), set flat 5 cm above a plane of slope b (friction
+// kMu, restitution 0.5), under backward Euler at step h. With heavy > 0, a second jelly of that many times its mass
+// (springs as stiff for its weight) rests on a box's flat top well down the slope, out of the first's way.
+Slide slide(double slope, double h, double t1, double t2, double heavy = 0, double ks = 1e5) {
   MassSpringSystem system(Vec3(0, -kG, 0));
   const Vec3 up(std::sin(slope), std::cos(slope), 0), down(std::cos(slope), -std::sin(slope), 0);
   system.addBody(buildJelly("jelly", {.n = 5,
                                       .size = 1,
-                                      .ks = 1e5,
+                                      .ks = ks,
                                       .kd = 20,
                                       .center = 0.55 * up,
                                       .rotation_axis = Vec3::UnitZ(),
@@ -43,13 +45,27 @@ Slide slide(double slope, double h, double t1, double t2) {
   system.addCollider(
       std::make_unique<PlaneCollider>("slope", ContactParams{.restitution = 0.5, .friction = kMu, .epsilon = 0.01},
                                       Vec3::Zero(), up));
+  const int jelly = system.particleCount();
+  if (heavy > 0) {
+    const Vec3 top(30, -10, 0);
+    system.addBody(buildJelly("heavy", {.n = 5,
+                                        .size = 1,
+                                        .mass = heavy,
+                                        .ks = heavy * 1e5,
+                                        .kd = heavy * 20,
+                                        .center = top + Vec3(0, 0.505, 0),
+                                        .rotation_axis = Vec3::UnitZ()}));
+    system.addCollider(
+        std::make_unique<BoxCollider>("table", ContactParams{.restitution = 0.5, .friction = kMu, .epsilon = 0.01},
+                                      top - Vec3(0, 1, 0), Vec3(4, 2, 4)));
+  }
   Simulation sim(system, makeIntegrator("backward-euler"), h);
   Slide s;
   const VecX& m = system.mass();
-  s.mass = m.sum();
+  s.mass = m.head(jelly).sum();
   const auto centre = [&](const VecX& y) {
     Vec3 c = Vec3::Zero();
-    for (int i = 0; i < system.particleCount(); ++i) c += m[i] * particle(y, i);
+    for (int i = 0; i < jelly; ++i) c += m[i] * particle(y, i);
     return Vec3(c / s.mass);
   };
   const double start = system.energy(sim.x(), sim.v());
@@ -66,7 +82,7 @@ Slide slide(double slope, double h, double t1, double t2) {
   s.speed2 = down.dot(centre(sim.v()));
   s.travel = down.dot(centre(sim.x())) - d1;
   s.loss = e1 - energy;
-  s.fastest = sim.v().reshaped(3, system.particleCount()).colwise().norm().maxCoeff();
+  s.fastest = sim.v().head(3 * jelly).reshaped(3, jelly).colwise().norm().maxCoeff();
   return s;
 }
 
@@ -90,6 +106,19 @@ TEST_P(CoulombCone, AJellySlidesDownASteepSlopeAtCoulombsAcceleration) {
   EXPECT_NEAR(acceleration, expected, 0.03 * expected);
   EXPECT_NEAR(s.loss, work, 0.05 * work);
   EXPECT_LE(s.gain, 0);
+}
+
+// The slide of a jelly 300 times as stiff (ks 3e7: its excess over each particle's diagonal is below 1 mm/s, so only
+// its excess over its own mass as one rigid body lets it slide), beside a jelly 20 times as heavy resting on a table
+// out of its way: the slider's excess is not divided by a mass it does not touch.
+TEST_P(CoulombCone, AHeavyBodyElsewhereDoesNotHoldTheSlidingJelly) {
+  const double h = GetParam(), slope = 0.5, t1 = 0.3, t2 = 1.3;
+  const Slide s = slide(slope, h, t1, t2, 20, 3e7);
+  const double expected = kG * (std::sin(slope) - kMu * std::cos(slope));
+  const double acceleration = (s.speed2 - s.speed1) / (t2 - t1);
+  std::printf("1/%g s: acceleration %.4f m/s^2 (Coulomb %.4f) beside a body 20 times as heavy\n", 1 / h, acceleration,
+              expected);
+  EXPECT_NEAR(acceleration, expected, 0.03 * expected);
 }
 
 // 0.2 rad, tan b = 0.20 < mu: static friction holds the landed jelly; from 0.5 s to 2.5 s its centre of mass moves
