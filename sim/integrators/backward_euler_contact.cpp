@@ -87,7 +87,6 @@ bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const
   bool massed = false;  // body_mass_ summed
   for (int pass = 0; pass < kFrictionPasses; ++pass) {
     VecX& product = friction_product_;  // sized with the topology (step)
-    product.resize(dv_.size());
     matrix_.multiply(dv_, product, parallel_);
     setEnd(h, x, v);
     const auto coulomb = [&](const ContactConstraint& c, const Vec3& force) {
