@@ -6,7 +6,8 @@
 // layer_gap > 0 (less than 1) the layers lie that many spacings apart instead, each fold one short spring, and every
 // spring's rest length is its length in this folded shape: nothing springs open at release, the stack drops onto the
 // floor and its layers settle onto each other (at 256 x 256 the default folds spring open so violently that the run
-// stops: docs/body-contact.md, Cost). floor_friction: the floor's Coulomb coefficient.
+// stops: docs/body-contact.md, Cost). floor_friction: the floor's Coulomb coefficient; velocity: every particle's at
+// release; drag: the air's (buildCloth's by default).
 #pragma once
 #include <cmath>
 #include <memory>
@@ -18,7 +19,8 @@
 namespace wobble::testing {
 
 inline std::unique_ptr<MassSpringSystem> foldedCloth(int side, bool self_contact, int layers = 4, double layer_gap = 0,
-                                                     double floor_friction = 0.5) {
+                                                     double floor_friction = 0.5, const Vec3& velocity = Vec3::Zero(),
+                                                     double drag = ClothParams{}.drag) {
   const double size = 2, spacing = size / (side - 1);
   ClothParams p;
   p.nx = p.ny = side;
@@ -27,6 +29,8 @@ inline std::unique_ptr<MassSpringSystem> foldedCloth(int side, bool self_contact
   p.mass = 4.0 / (side * side);
   p.ks = 20 * side * side / 4.0;  // the same sheet stiffness at every resolution
   p.kd = p.ks / 1000;
+  p.velocity = velocity;
+  p.drag = drag;
   Body cloth = buildCloth("cloth", p);
   for (std::size_t k = 0; k < cloth.springs.size(); ++k)
     if (cloth.springs.type[k] == SpringType::Bending) {
