@@ -173,8 +173,8 @@ std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int split
   // bounces, not what the step's own forces added (contact/colliders/response.h; Guendelman, Bridson & Fedkiw 2003).
   system_.resolveCollisions(t1, x_, v_, colliders ? &v_before_ : nullptr);
   if (collisions_) {
-    auto failure = collisions_->resolve(x_before_, x_, v_, h, !integrator_->solvesBodyContact(), pass_left_x_);
-    pass_left_x_ = !failure;
+    auto failure = collisions_->resolve(x_before_, x_, v_, h, !integrator_->solvesBodyContact(), x_is_last_pass_end_);
+    x_is_last_pass_end_ = !failure;
     if (failure) {
       if (splits > 0) {
         ++split_steps_;
@@ -238,7 +238,7 @@ std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int split
 // after them.
 std::optional<BlowUp> Simulation::retakeInHalves(double t0, double h, double t1, int splits) {
   x_ = x_before_, v_ = v_before_;
-  pass_left_x_ = false;
+  x_is_last_pass_end_ = false;
   const double size = system_.stepSize();
   system_.setStepSize(h / 2);
   const double mid = t0 + h / 2;

@@ -152,7 +152,8 @@ class Simulation {
   double max_speed_squared_ = 0;
   double interval_speed_squared_ = 0, interval_kinetic_ = 0;  // over the last advanceTo's steps
   std::unique_ptr<collision::BodyCollisions> collisions_;
-  bool pass_left_x_ = false;  // x_ is as collisions_'s last pass left it (the next step's start: resolve's continues)
+  // x_ is as collisions_'s last pass left it: the next step's start continues from it (resolve's continues)
+  bool x_is_last_pass_end_ = false;
   // What the integrator steps: the system, with the pairs of collisions_ for an implicit solve when bodies may touch
   // (ForceJacobian::bodyContacts); the system alone otherwise.
   std::unique_ptr<Dynamics> with_contact_;
