@@ -154,8 +154,8 @@ double Clearance::closing(const VecX& x0, const VecX& x1, double limit, bool sta
   return most;
 }
 
-bool Clearance::covers(const VecX& x0, const VecX& x1, bool final, bool continues) {
-  const bool start_known = continues && end_known_;
+bool Clearance::covers(const VecX& x0, const VecX& x1, ClearanceQuery query) {
+  const bool start_known = query.continues && end_known_;
   end_known_ = false;
   if (!skipWhileApart() || x0.size() != x1.size()) return false;
   const bool stale =
@@ -184,7 +184,7 @@ bool Clearance::covers(const VecX& x0, const VecX& x1, bool final, bool continue
     start_ = x0;
   }
   ++served_;
-  end_known_ = final;  // the spread at x1 (end 1) against this reference, and x1 stays as it is
+  end_known_ = query.final_pass;  // the spread at x1 (end 1) against this reference, and x1 stays as it is
   return true;
 }
 

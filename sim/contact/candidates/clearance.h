@@ -42,16 +42,23 @@ namespace wobble::collision {
 // Whether steps skip detection where they can (setSkipWhileApart, body_collisions.h).
 bool skipWhileApart();
 
+// What a call of Clearance::covers checks. final_pass: the pass after a step, whose x1 stays as it is where covers
+// returns true (false: a trial end, as the solve's near-pair searches check); continues: the caller vouches that x0 is
+// the same bytes as the x1 of its last call, so where that call was a final pass and covered its step, x0's spread (the
+// first of the two passes over the particles a check makes) is that call's.
+struct ClearanceQuery {
+  bool final_pass = false;
+  bool continues = false;
+};
+
 class Clearance {
  public:
   Clearance(const SurfaceNodes& nodes, CandidateSearch& search, bool parallel, Stats& counters);
 
   // Whether no two elements the pass tests can come within the thickness over a step from x0 to x1 (particles'
   // positions): detection would find nothing. Measures the clearance at x0 first where there is none that serves
-  // (and a measure may pay). final: the pass after a step, whose x1 stays as it is where this returns true; continues:
-  // its caller vouches that x0 is the same bytes as the x1 of its last call, so where that call was final and covered
-  // its step, x0's spread (the first of the two passes over the particles a check makes) is that call's.
-  bool covers(const VecX& x0, const VecX& x1, bool final = false, bool continues = false);
+  // (and a measure may pay).
+  bool covers(const VecX& x0, const VecX& x1, ClearanceQuery query = {});
   // After a pass that ran: whether it found a pair within the thickness or a collision.
   void passed(bool near);
 
@@ -85,9 +92,10 @@ class Clearance {
   // owned by the first triangle that holds it. Empty where some vertex lies on no triangle.
   std::vector<int> vertex_start_, vertex_owned_, edge_start_, edge_owned_;
   bool valid_ = false, near_ = false;
-  bool end_known_ = false;  // the last call was final and covered: its x1's spread is at end 1 of centre_ and half_
-  VecX reference_;          // x_ref, per particle
-  VecX start_, ahead_;      // x0 of the step that took the last measure; the reference ahead of one
+  bool end_known_ =
+      false;            // the last call was a final pass and covered: its x1's spread is at end 1 of centre_ and half_
+  VecX reference_;      // x_ref, per particle
+  VecX start_, ahead_;  // x0 of the step that took the last measure; the reference ahead of one
   double clearance_ = 0, allowance_ = 0;  // G, and the closing a step may have: G less the thickness and the slack
   long served_ = 0;                       // steps skipped since the last measure
   int wait_ = 0, backoff_ = 0;            // passes before the next measure; the wait after a measure that did not pay

@@ -18,7 +18,8 @@ bool BodyCollisions::needed(const std::vector<Surface>& surfaces) {
 std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v1, double h, bool repulsion,
                                                bool continues) {
   Impl& s = *impl_;
-  if (s.clearance.covers(x0, x1, true, continues)) {  // (x1 finite: a blow-up is not covered)
+  if (s.clearance.covers(x0, x1,
+                         {.final_pass = true, .continues = continues})) {  // (x1 finite: a blow-up is not covered)
     ++stats_.passes, ++stats_.passes_skipped;
     return std::nullopt;
   }

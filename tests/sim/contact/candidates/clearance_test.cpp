@@ -198,8 +198,8 @@ TEST(Clearance, ContinuingStepsDecideAsStepsOnTheirOwn) {
       for (int i = 0; i < 9; ++i) particle(trial, i) += 0.03 * Vec3(unit(random), unit(random), unit(random));
       differ += alone.clearance.covers(x0, trial) != continuing.clearance.covers(x0, trial);
     }
-    const bool near = comeWithinTheThickness(x0, x1), by_itself = alone.clearance.covers(x0, x1, true),
-               continued = continuing.clearance.covers(x0, x1, true, step > 1);
+    const bool near = comeWithinTheThickness(x0, x1), by_itself = alone.clearance.covers(x0, x1, {.final_pass = true}),
+               continued = continuing.clearance.covers(x0, x1, {.final_pass = true, .continues = step > 1});
     differ += by_itself != continued;
     EXPECT_FALSE(near && continued) << "covered step " << step << ", whose triangles come within the thickness";
     covered += continued;
@@ -253,8 +253,9 @@ TEST(Clearance, MeasuresTheNearestPairOfTwoSheets) {
       for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j) {
           Vec3 at(j * spacing, 0, i * spacing);
-          if (s == 1) at += Vec3(0, over, 0) + (poked ? Vec3(0.5 * spacing, -0.5 * over * ((i + j) % 2), 0.3 * spacing)
-                                                      : Vec3::Zero());
+          if (s == 1)
+            at += Vec3(0, over, 0) +
+                  (poked ? Vec3(0.5 * spacing, -0.5 * over * ((i + j) % 2), 0.3 * spacing) : Vec3::Zero());
           particle(x, s * sheet + i * n + j) = at + noise * Vec3(unit(random), unit(random), unit(random));
         }
     collision::Clearance clearance{nodes, search, false, stats};
