@@ -40,7 +40,7 @@ void BackwardEuler::step(const Dynamics& dynamics, double t, double h, VecX& x, 
     matrix_.reset(jacobian->jacobianPattern());
     contacts_.reserve(jacobian->mass().size());  // one per particle and surface it touches: most touch one
     sliding_.reserve(jacobian->mass().size());
-    over_.reserve(jacobian->mass().size());
+    excess_friction_.reserve(jacobian->mass().size());
     coulomb_.reserve(jacobian->mass().size());
     friction_product_.resize(x.size());
     diagonal_.reserve(jacobian->mass().size());

@@ -207,14 +207,15 @@ class BackwardEuler final : public Integrator {
     bool damped = false;
   };
   std::vector<CoulombFriction> coulomb_;
-  // boundFriction's contacts over the cone in a pass: a hold (contacts_[index]) or a damper (sliding_[index]), and
-  // Coulomb's force that would take its place.
-  struct OverCone {
+  // Friction beyond Coulomb's cone, as boundFriction finds it in a pass: a hold (contacts_[index]) or a damper
+  // (sliding_[index]) whose friction impulse exceeds mu times the normal one, and Coulomb's force that would take its
+  // place.
+  struct ExcessFriction {
     int index;
     bool hold;
     Vec3 force;  // N
   };
-  std::vector<OverCone> over_;
+  std::vector<ExcessFriction> excess_friction_;
   std::vector<Sym3> diagonal_;  // the matrix's diagonal blocks, for boundFriction's measure of an excess
   VecX friction_product_;       // boundFriction's A dv
   // boundFriction's per body: its holds' and dampers' friction impulses, their cones' bounds, its free mass.

@@ -108,17 +108,17 @@ bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const
     }
     // The holds and dampers over the cone, each with Coulomb's force in its place and the excess impulse that
     // force takes off; whether the excess is material (kMaterialSpeed).
-    over_.clear();
+    excess_friction_.clear();
     bool material = false;
     // Per body: the friction impulses of its every hold and damper checked, and their cones' bounds.
     std::vector<Vec3>& net = body_net_;
     std::vector<double>& capacity = body_capacity_;
     net.assign(firsts.size(), Vec3::Zero());
     capacity.assign(firsts.size(), 0.0);
-    const auto over = [&](int index, bool hold, const Vec3& force, const Vec3& taken) {
-      if (over_.empty()) matrix_.diagonal(diagonal_, parallel_);
+    const auto excess = [&](int index, bool hold, const Vec3& force, const Vec3& taken) {
+      if (excess_friction_.empty()) matrix_.diagonal(diagonal_, parallel_);
       const int p = hold ? contacts_[index].particle : sliding_[index].contact.particle;
-      over_.push_back({index, hold, force});
+      excess_friction_.push_back({index, hold, force});
       const Vec3 t = taken.normalized();
       material = material || taken.norm() >= kMaterialSpeed * t.dot(diagonal_[p] * t);
     };
@@ -133,7 +133,7 @@ bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const
       const int b = bodyOf(c.particle);
       net[b] += jt, capacity[b] += bound;
       if (!(jt.norm() > (1 + kConeSlack) * bound)) continue;
-      over(int(i), true, (bound / h) * jt.normalized(), (jt.norm() - bound) * jt.normalized());
+      excess(int(i), true, (bound / h) * jt.normalized(), (jt.norm() - bound) * jt.normalized());
     }
     for (std::size_t i = 0; i < sliding_.size(); ++i) {
       const ContactConstraint& c = sliding_[i].contact;
@@ -145,10 +145,10 @@ bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const
       const int b = bodyOf(c.particle);
       net[b] -= h * c.damping * slide, capacity[b] += bound;
       if (!(h * c.damping * slide.norm() > (1 + kConeSlack) * bound)) continue;
-      over(int(i), false, -(bound / h) * slide.normalized(),
-           -(h * c.damping * slide.norm() - bound) * slide.normalized());
+      excess(int(i), false, -(bound / h) * slide.normalized(),
+             -(h * c.damping * slide.norm() - bound) * slide.normalized());
     }
-    if (!over_.empty() && !material) {
+    if (!excess_friction_.empty() && !material) {
       std::vector<double>& body_mass = body_mass_;
       if (!massed) {
         massed = true;
@@ -161,7 +161,7 @@ bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const
     }
     bool refilter = false;
     if (material) {
-      for (const OverCone& o : over_) {
+      for (const ExcessFriction& o : excess_friction_) {
         if (o.hold) {  // the hold lets the particle slide
           ContactConstraint& c = contacts_[o.index];
           c.stick = false;
