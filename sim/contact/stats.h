@@ -19,6 +19,7 @@ struct Stats {
   int largest_zone = 0;         // particles in the largest impact zone
   long broad_phases = 0;        // broad phases run (a step's first, and those of its later rounds and solves)
   long candidates = 0;          // candidate pairs they listed (point-triangle and edge-edge)
+  long pinned_pairs = 0;        // pairs of overlapping boxes they dropped for joining pinned nodes only (search.h)
   long step_updates = 0;        // backward Euler's searches that brought the step's candidates to a far end in part
   long skin_lists = 0;          // lists found padded for later steps (skins: the pass's and backward Euler's)
   long skin_updates = 0;        // backward Euler's kept lists brought up to date in part (vertices that left theirs)

@@ -10,6 +10,7 @@
 // fall, and each overlaps the boxes of its neighbours within one flat layer, which never collide; in the body's frame
 // they are as short as the cloth's deformation in the step. The same contacts in the same order, fewer candidates.
 #pragma once
+#include <atomic>
 #include <cstddef>
 #include <functional>
 #include <vector>
@@ -27,21 +28,30 @@ namespace wobble::collision {
 bool broadPhaseCulls();
 
 // What counts as a candidate pair, given elements whose boxes in b overlap and whose bodies the search accepts: not of
-// adjacent elements (sharing a node), not of pinned nodes only, and (with the culls) not parted by their diagonals.
-// Every search that lists pairs (findPairs, Clearance::listPairs) keeps a pair by these. cull by reference: read only
-// for the pairs the cheap checks pass (by value, GCC loads it first on every call, which findPairs' broad phase feels).
-inline bool candidateVertexTriangle(const SurfaceNodes& n, const ElementBoxes& b, const bool& cull, int v, int t) {
+// adjacent elements (sharing a node), not of pinned nodes only (they never move: no impulse could act on such a pair;
+// counted in *pinned where given), and (with the culls) not parted by their diagonals. Every search that lists pairs
+// (findPairs, Clearance::listPairs) keeps a pair by these. cull by reference: read only for the pairs the cheap checks
+// pass (by value, GCC loads it first on every call, which findPairs' broad phase feels).
+inline bool candidateVertexTriangle(const SurfaceNodes& n, const ElementBoxes& b, const bool& cull, int v, int t,
+                                    std::atomic<long>* pinned = nullptr) {
   const auto& tri = n.triangles[t];
   if (v == tri[0] || v == tri[1] || v == tri[2]) return false;
   const auto& m = n.node_inv_mass;
-  if (!(m[v] + m[tri[0]] + m[tri[1]] + m[tri[2]] > 0)) return false;
+  if (!(m[v] + m[tri[0]] + m[tri[1]] + m[tri[2]] > 0)) {
+    if (pinned) pinned->fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
   return !(cull && diagonallyApart(b.vertex_diagonals[v], b.triangle_diagonals[t]));
 }
-inline bool candidateEdgeEdge(const SurfaceNodes& n, const ElementBoxes& b, const bool& cull, int e, int f) {
+inline bool candidateEdgeEdge(const SurfaceNodes& n, const ElementBoxes& b, const bool& cull, int e, int f,
+                              std::atomic<long>* pinned = nullptr) {
   const auto &p = n.edges[e], &q = n.edges[f];
   if (p[0] == q[0] || p[0] == q[1] || p[1] == q[0] || p[1] == q[1]) return false;
   const auto& m = n.node_inv_mass;
-  if (!(m[p[0]] + m[p[1]] + m[q[0]] + m[q[1]] > 0)) return false;
+  if (!(m[p[0]] + m[p[1]] + m[q[0]] + m[q[1]] > 0)) {
+    if (pinned) pinned->fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
   return !(cull && diagonallyApart(b.edge_diagonals[e], b.edge_diagonals[f]));
 }
 
@@ -114,24 +124,27 @@ bool CandidateSearch::findPairs(const ElementBoxes& b, bool cull, const Bodies& 
                ? overlappingMarkedPairs(queries, targets, same, parallel_, query_moved, target_moved, keep, out, most)
                : overlappingPairs(queries, targets, same, parallel_, keep, out, most);
   };
-  if (!pairs(
+  std::atomic<long> pinned{0};  // pairs of pinned nodes only, dropped (Stats::pinned_pairs)
+  const bool found =
+      pairs(
           b.vertex, b.triangle, false, marks.vertex, marks.triangle,
           [&](int v, int t) {
-            if (!bodies(n.vertex_body[v], n.triangle_body[t]) || !candidateVertexTriangle(n, b, cull, v, t))
+            if (!bodies(n.vertex_body[v], n.triangle_body[t]) || !candidateVertexTriangle(n, b, cull, v, t, &pinned))
               return false;
             return !apart || !(cull && apartAllStep(nxs, nxe, &v, 1, n.triangles[t].data(), 3,
                                                     n.pairThickness(n.vertex_body[v], n.triangle_body[t])));
           },
-          vf_found, limit - std::min(limit, used)))
-    return false;
-  return pairs(
-      b.edge, b.edge, true, marks.edge, marks.edge,
-      [&](int e, int f) {
-        if (!bodies(n.edge_body[e], n.edge_body[f]) || !candidateEdgeEdge(n, b, cull, e, f)) return false;
-        return !apart || !(cull && apartAllStep(nxs, nxe, n.edges[e].data(), 2, n.edges[f].data(), 2,
-                                                n.pairThickness(n.edge_body[e], n.edge_body[f])));
-      },
-      ee_found, limit - std::min(limit, used + vf_found.size()));
+          vf_found, limit - std::min(limit, used)) &&
+      pairs(
+          b.edge, b.edge, true, marks.edge, marks.edge,
+          [&](int e, int f) {
+            if (!bodies(n.edge_body[e], n.edge_body[f]) || !candidateEdgeEdge(n, b, cull, e, f, &pinned)) return false;
+            return !apart || !(cull && apartAllStep(nxs, nxe, n.edges[e].data(), 2, n.edges[f].data(), 2,
+                                                    n.pairThickness(n.edge_body[e], n.edge_body[f])));
+          },
+          ee_found, limit - std::min(limit, used + vf_found.size()));
+  counters_.pinned_pairs += pinned.load(std::memory_order_relaxed);
+  return found;
 }
 
 }  // namespace wobble::collision
