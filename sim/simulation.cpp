@@ -133,6 +133,7 @@ Simulation::Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> int
   // integrator from outside the table has no traits.
   const IntegratorTraits* traits = tableTraits(integrator_->name());
   energy_retakes_ = traits && traits->implicit && (!collisions_ || integrator_->solvesBodyContact());
+  rests_on_pass_ = traits && !traits->implicit;
 }
 
 Simulation::~Simulation() = default;
@@ -173,7 +174,8 @@ std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int split
   // bounces, not what the step's own forces added (contact/colliders/response.h; Guendelman, Bridson & Fedkiw 2003).
   system_.resolveCollisions(t1, x_, v_, colliders ? &v_before_ : nullptr);
   if (collisions_) {
-    auto failure = collisions_->resolve(x_before_, x_, v_, h, !integrator_->solvesBodyContact(), x_is_last_pass_end_);
+    auto failure = collisions_->resolve(x_before_, x_, v_, h, !integrator_->solvesBodyContact(), x_is_last_pass_end_,
+                                        rests_on_pass_);
     x_is_last_pass_end_ = !failure;
     if (failure) {
       if (splits > 0) {

@@ -149,6 +149,9 @@ class Simulation {
   long steps_ = 0, split_steps_ = 0, energy_retakes_count_ = 0;
   bool energy_retakes_ = false;            // every step's end is checked (an implicit integrator's)
   bool energy_retakes_exhausted_ = false;  // a smallest part made up energy: the run's check runs at every step
+  // An explicit integrator: bodies resting on each other are held by the pass after the step alone
+  // (BodyCollisions::resolve's resting).
+  bool rests_on_pass_ = false;
   double max_speed_squared_ = 0;
   double interval_speed_squared_ = 0, interval_kinetic_ = 0;  // over the last advanceTo's steps
   std::unique_ptr<collision::BodyCollisions> collisions_;

@@ -16,7 +16,7 @@ bool BodyCollisions::needed(const std::vector<Surface>& surfaces) {
 }
 
 std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v1, double h, bool repulsion,
-                                               bool continues) {
+                                               bool continues, bool resting) {
   Impl& s = *impl_;
   if (s.clearance.covers(x0, x1,
                          {.final_pass = true, .continues = continues})) {  // (x1 finite: a blow-up is not covered)
@@ -38,7 +38,7 @@ std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v
   s.motion.dirty.assign(s.nodes.nodeCount(), 0);
   if (!s.steps.reuse(s.round) && !s.skins.passCandidates(s.round))
     return s.search.overwhelmedFailure();  // an implicit solve's, or the pass's
-  s.repulsion.repel(s.round, h, stats_, repulsion);
+  s.repulsion.repel(s.round, h, stats_, repulsion, resting);
 
   std::optional<Failure> failure;
   bool all = true, clean = false;  // the first detection tests every pair: repulsion moved only some
@@ -89,6 +89,7 @@ std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v
       particle(x1, i) = particle(s.motion.xe, i);
       particle(v1, i) += particle(s.motion.vbar, i) - particle(s.motion.vbar0, i);
     }
+  if (repulsion && resting && !failure) s.repulsion.settle(v1);
   s.clearance.passed(stats_.contacts > before.contacts || stats_.ccd_hits > before.ccd_hits ||
                      stats_.zone_activations > before.zone_activations || stats_.min_distance < before.min_distance);
   return failure;

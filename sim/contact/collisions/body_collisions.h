@@ -16,6 +16,10 @@
 // v1 is left as it was, so a step in which no two surfaces come within the thickness is unchanged. A step that cannot
 // bring two elements within it (the particles' displacement since the clearance was measured cannot close it:
 // candidates/clearance.h) skips the pass altogether.
+// For an explicit integrator (resolve's resting; its v1 is not vbar) stage 1 also stops each pair that reaches the
+// thickness within the step where it reaches it, and then the approach stage 1's pairs keep in v1 (what their load
+// added within the step) is stopped by impulses on v1 alone (Repulsion::settle; Guendelman, Bridson & Fedkiw 2003:
+// contact on the velocity after its update).
 // An implicit integrator that carries the contacts in its solve (backward Euler: nearPairs below, a penalty on each
 // pair's gap with its Jacobian) skips stage 1: its step ends with the pairs at the thickness already, and impulses on
 // the touching particles alone would compress the springs behind them (the energy gain of docs/body-contact.md).
@@ -53,9 +57,11 @@ class BodyCollisions {
   // The pass over one step of size h from x0 to (x1, v1); see above. Nothing when the end is free of collisions.
   // repulsion: stage 1's impulses (false when the integrator's solve carried the contacts; the pairs are still
   // counted). continues: x0 is the same bytes as the x1 the last call left (the step before, taken on from where the
-  // pass left it; Clearance::covers).
+  // pass left it; Clearance::covers). resting: the pass alone holds bodies resting on each other (an explicit
+  // integrator, whose end velocity is not the trajectory's): with repulsion, stage 1 also stops the pairs that reach
+  // the thickness within the step, and the approach the end velocities keep is stopped after (Repulsion::settle).
   std::optional<Failure> resolve(const VecX& x0, VecX& x1, VecX& v1, double h, bool repulsion = true,
-                                 bool continues = false);
+                                 bool continues = false, bool resting = false);
   // For an implicit solve (ForceJacobian::bodyContacts): appends to out the pairs of elements, not in out yet, whose
   // gap, linearized at x0 along their nearest points' direction there, ends below 0 at x1 (candidates from the swept
   // boxes of x0 to x1; those of the step's first call, padded by half the thickness more, serve its later calls and
