@@ -14,7 +14,7 @@ namespace {
 constexpr double kRepulsionFraction = 0.1;
 // settle's Gauss-Seidel stops when a sweep changes no pair's normal velocity by more than this (m/s), or than this
 // fraction of the first sweep's largest change, and after this many sweeps at most.
-constexpr double kSettleTolerance = 1e-6, kSettleRelative = 1e-4;
+constexpr double kSettleTolerance = 1e-5, kSettleRelative = 1e-3;
 constexpr int kSettleSweeps = 500;
 
 // The normal of a pair whose nearest points at x are c: along them, or where they touch (no direction between
