@@ -199,6 +199,7 @@ std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int split
   }
   t_ = t1;
   const double work = colliders ? system_.colliderWork(t0, h, x_before_, v_before_, x_, v_) : 0;
+  const double penalty_work = integrator_->contactWork();
   // A step that made up energy (its end above its start plus the colliders' work by more than the step's margin:
   // integrator, colliders and pass together) is taken again in halves, each checked the same way; the smallest part
   // that still makes it up is left to the run's check (docs/energy.md, "A step that gains is taken again"). Not one
@@ -210,7 +211,7 @@ std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int split
        (collisions_ && collisions_->stats().ccd_hits + collisions_->stats().zone_activations != pass_before));
   if (suspect) {
     const double start_energy = system_.energy(x_before_, v_before_);
-    if (system_.energy(x_, v_) - start_energy - work >
+    if (system_.energy(x_, v_) - start_energy - work - penalty_work >
         kStepEnergyMargin * std::max(std::abs(start_energy), lift_margin_)) {
       if (auto inside = deepInside(system_, t0, x_before_)) {
         inside->step = steps_;
@@ -226,6 +227,7 @@ std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int split
   if (auto blow_up = check()) return blow_up;
   collider_work_ += work;
   collider_work_unsigned_ += std::abs(work);
+  penalty_work_ += penalty_work;
   if (energy_retakes_exhausted_) {  // the run's check at once, where it failed
     checkEnergy();
     energy_retakes_exhausted_ = false;
@@ -255,7 +257,7 @@ void Simulation::checkEnergy() {
   const double energy = system_.energy(x_, v_);
   const double margin =
       std::max(kEnergyGainRelative * (std::abs(energy_start_) + collider_work_unsigned_), lift_margin_);
-  if (energy - energy_start_ - collider_work_ > margin)
+  if (energy - energy_start_ - collider_work_ - penalty_work_ > margin)
     energy_gain_ = EnergyGain{std::string(integrator_->name()),
                               steps_,
                               t_,
@@ -269,7 +271,8 @@ void Simulation::checkEnergy() {
                                           [](const auto& c) { return c->contact().restitution > 0; }),
                               collider_work_unsigned_ > 0,
                               energy_retakes_ ? system_.contactSettings().split_steps : -1,
-                              inside_};
+                              inside_,
+                              penalty_work_};
 }
 
 std::string EnergyGain::message(double dt) const {
@@ -278,6 +281,9 @@ std::string EnergyGain::message(double dt) const {
   out << "the simulation gained energy: integrator " << integrator << ", step " << step << ", t = " << time
       << " s: total energy " << energy << " J against " << start << " J at the start";
   if (collider_work != 0) out << " plus " << collider_work << " J of work by moving colliders";
+  if (penalty_work != 0)
+    out << (penalty_work > 0 ? " plus " : " less ") << std::abs(penalty_work)
+        << " J of work by the contact pairs' penalty";
   out << " (gained " << gained() << " J, " << gained() / std::max(std::abs(start), 1e-300)
       << " times the start's; allowed " << margin << " J, docs/energy.md). ";
   // A body inside a collider is pushed out with energy the collider gives, whatever the step: its own advice first.

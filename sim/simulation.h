@@ -41,8 +41,9 @@ struct BlowUp {
   std::string message(double dt) const;
 };
 
-// The run's own energy check (docs/energy.md): the total energy (kinetic + gravitational + elastic) may not exceed the
-// start's plus the work moving colliders did on the bodies by more than kEnergyGainRelative of (|start| + the
+// The run's own energy check (docs/energy.md): the total energy (kinetic + gravitational + elastic) less the work
+// backward Euler's contact pairs' penalty did (Simulation::countedEnergy) may not exceed the start's plus the work
+// moving colliders did on the bodies by more than kEnergyGainRelative of (|start| + the
 // colliders' work, counted unsigned) or, whichever is more, the energy of lifting every particle by kEnergyGainLift
 // (m |g|, with |g| at least 1 m/s^2; system.h). A stable integrator's drift and the contact band's slack stay far
 // below either; the gains of an unstable contact or step are multiples of the start.
@@ -79,7 +80,8 @@ struct EnergyGain {
   // Particles were inside a collider, deeper than its band, at the run's start or at the start of a step that gained:
   // the likeliest cause, named first with its own advice (a smaller step does not help)
   std::optional<DeepInside> inside;
-  double gained() const { return energy - start - collider_work; }
+  double penalty_work = 0;  // J, work done by the integrator's contact forces up to there (Simulation::penaltyWork)
+  double gained() const { return energy - start - collider_work - penalty_work; }
   // One paragraph for the user: what happened, where, and what to try.
   std::string message(double dt) const;
 };
@@ -102,11 +104,19 @@ class Simulation {
   using StepObserver = std::function<void(double t, const VecX& x)>;
   void observeSteps(StepObserver observer) { step_observer_ = std::move(observer); }
   double energyStart() const { return energy_start_; }
+  // The energy the run's checks count (docs/energy.md): the system's total (kinetic, gravitational, elastic) at the
+  // current state less the work the integrator's contact forces did on the bodies so far (penaltyWork: backward
+  // Euler's pairs' penalty, not a potential across steps). Without moving colliders it may only fall. Tests read the
+  // same.
+  double countedEnergy() const { return system_.energy(x_, v_) - penalty_work_; }
   // Free particles that start inside a collider, deeper than its band (DeepInside); `wobble run` warns of them.
   const std::optional<DeepInside>& startsInside() const { return starts_inside_; }
   // Work done on the bodies by moving colliders so far (J): each step's contact impulse on a particle touching a
   // moving surface, times the surface's velocity (MassSpringSystem::colliderWork).
   double colliderWork() const { return collider_work_; }
+  // Work done on the bodies by the integrator's contact forces so far (J): backward Euler's pairs' penalty
+  // (Integrator::contactWork), over the steps taken.
+  double penaltyWork() const { return penalty_work_; }
 
   const VecX& x() const { return x_; }
   const VecX& v() const { return v_; }
@@ -162,6 +172,7 @@ class Simulation {
   std::unique_ptr<Dynamics> with_contact_;
   const Dynamics& stepped() const { return with_contact_ ? *with_contact_ : system_; }
   double energy_start_ = 0, collider_work_ = 0, collider_work_unsigned_ = 0, lift_margin_ = 0;
+  double penalty_work_ = 0;   // J: penaltyWork()
   VecX x_before_, v_before_;  // the state at the step's start, for collisions_ and the colliders' work
   std::optional<EnergyGain> energy_gain_;
   // Deepest particles inside a collider found so far (at the start, or at a gaining step's start), for EnergyGain

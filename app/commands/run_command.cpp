@@ -52,6 +52,7 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
   j["energy"] = {{"start", r.energy_start},
                  {"end", r.energy_end},
                  {"collider_work", r.collider_work},
+                 {"penalty_work", sim.penaltyWork()},
                  {"retakes", sim.energyRetakes()}};
   j["max_speed"] = r.max_speed;
   // The end state: over the steps of the last frame simulated (whether the scene has come to rest).
@@ -131,6 +132,7 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
                         {"start", g->start},
                         {"energy", g->energy},
                         {"collider_work", g->collider_work},
+                        {"penalty_work", g->penalty_work},
                         {"gained", g->gained()},
                         {"margin", g->margin},
                         {"message", r.energy_gain_message}};

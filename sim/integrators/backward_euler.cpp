@@ -130,6 +130,8 @@ void BackwardEuler::step(const Dynamics& dynamics, double t, double h, VecX& x, 
   }
   contact_before_ = contactActed();
   pairs_.carry(h, x, v, dv_);
+  contact_work_ = 0;
+  if (!pairs_.empty()) setEnd(h, x, v), contact_work_ = pairs_.work(x, end_x_);
 
   forEachChunk(n_, parallel_, [&](int begin, int end) {
     for (int p = begin; p < end; ++p) {

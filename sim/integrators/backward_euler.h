@@ -71,6 +71,7 @@ class BackwardEuler final : public Integrator {
   std::string_view name() const override { return "backward-euler"; }
   bool solvesBodyContact() const override { return options_.body_contact_in_solve; }
   bool linearizesItsStep() const override { return !options_.newton; }
+  double contactWork() const override { return contact_work_; }
 
   void step(const Dynamics& dynamics, double t, double h, VecX& x, VecX& v) override;
 
@@ -207,12 +208,13 @@ class BackwardEuler final : public Integrator {
     bool damped = false;
   };
   std::vector<CoulombFriction> coulomb_;
-  // Friction beyond Coulomb's cone, as boundFriction finds it in a pass: a hold (contacts_[index]) or a damper
-  // (sliding_[index]) whose friction impulse exceeds mu times the normal one, and Coulomb's force that would take its
-  // place.
+  // Friction beyond Coulomb's cone, as boundFriction finds it in a pass: a hold (contacts_[index]), a damper
+  // (sliding_[index]) or a pair's damper (pairs_'s pair index) whose friction impulse exceeds mu times the normal one,
+  // and Coulomb's force that would take its place.
   struct ExcessFriction {
+    enum Kind { Hold, Damper, Pair };
     int index;
-    bool hold;
+    Kind kind;
     Vec3 force;  // N
   };
   std::vector<ExcessFriction> excess_friction_;
@@ -228,6 +230,7 @@ class BackwardEuler final : public Integrator {
   NewtonScratch newton_;
   MomentumCorrection momentum_;
   bool contact_before_ = false;  // contact acted in the last step (the energy check's trigger, step)
+  double contact_work_ = 0;      // J: the pairs' penalty's work over the last step (contactWork)
 };
 
 }  // namespace wobble

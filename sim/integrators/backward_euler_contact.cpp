@@ -61,12 +61,14 @@ constexpr double kMaterialSpeed = ContactConstraint::kStickSpeed;
 // The hold (a sticking contact, filtered out in every direction) takes whatever tangential impulse J_t the solve needs,
 // and with the whole body's springs pulling on one particle that may be many times mu J_n (a stiff jelly on a slope
 // stalls); a sliding contact's damper, sized at the start's slip (at least
-// ContactConstraint::kStickSpeed), gives h c |s1| at the end's slip s1, as unbounded when a slow slip speeds up.
-// Either, over the cone by more than kConeSlack, gives way to Coulomb's impulse mu J_n against the pull (the hold's
-// J_t) or the end's slip, a constant force in the right-hand side and in F0 (Newton's iteration keeps it), and the step
-// is solved again (at most kFrictionPasses times). A constant force may overshoot where the solve turns the slip
-// against it (its neighbours let go too): it would then do positive work, so such a contact takes a damper of the same
-// force at that slip instead, F = -c (I - n n^T)(v1 - u1), which only takes energy out. J_n = J . n + h N: the
+// ContactConstraint::kStickSpeed), gives h c |s1| at the end's slip s1, as unbounded when a slow slip speeds up; so
+// does a contact pair's damper between bodies (PenaltyPairs: sized on the last step's slip, its normal impulse h N1 its
+// penalty's force at the solved end, its impulse spread on its stencil's particles by their weights).
+// Any of them, over the cone by more than kConeSlack, gives way to Coulomb's impulse mu J_n against the pull (the
+// hold's J_t) or the end's slip, a constant force in the right-hand side and in F0 (Newton's iteration keeps it), and
+// the step is solved again (at most kFrictionPasses times). A constant force may overshoot where the solve turns the
+// slip against it (its neighbours let go too): it would then do positive work, so such a contact takes a damper of the
+// same force at that slip instead, F = -c (I - n n^T)(v1 - u1), which only takes energy out. J_n = J . n + h N: the
 // constraint's normal impulse plus the support N in F0 (less the damper's h c on the prescribed normal change, which
 // the matrix's h c I adds). A particle on several surfaces is left as it is (its normal impulses are not separable from
 // the residual). The holds and dampers give way only where their excess is material (kMaterialSpeed): in a cloth
@@ -74,9 +76,9 @@ constexpr double kMaterialSpeed = ContactConstraint::kStickSpeed;
 // move them by microns for further solves.
 bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const VecX& x, const VecX& v,
                                   double absolute) {
-  if (sliding_.empty() &&
-      std::none_of(contacts_.begin(), contacts_.end(), [](const ContactConstraint& c) { return c.stick; }))
-    return false;  // no friction to bound: not even the product
+  const bool holds = !sliding_.empty() || std::any_of(contacts_.begin(), contacts_.end(),
+                                                      [](const ContactConstraint& c) { return c.stick; });
+  if (!holds && !pairs_.hasFriction()) return false;  // no friction to bound
   bool solved = false;
   const VecX& inv_mass = jacobian.inverseMass();
   // Per body (ForceJacobian::bodyFirsts): its free particles' mass, summed when first needed.
@@ -86,8 +88,8 @@ bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const
   };
   bool massed = false;  // body_mass_ summed
   for (int pass = 0; pass < kFrictionPasses; ++pass) {
-    VecX& product = friction_product_;  // sized with the topology (step)
-    matrix_.multiply(dv_, product, parallel_);
+    VecX& product = friction_product_;  // sized with the topology (step); the holds' and dampers' impulses only
+    if (holds) matrix_.multiply(dv_, product, parallel_);
     setEnd(h, x, v);
     const auto coulomb = [&](const ContactConstraint& c, const Vec3& force) {
       particle(rhs_, c.particle) += h * force;
@@ -106,6 +108,8 @@ bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const
       k.contact.damping = k.force.norm() / std::max(slide.norm(), ContactConstraint::kStickSpeed);
       addSliding(k.contact, h, v, true);
     }
+    bool reapply = pairs_.dampTurned(end_v_);  // the pairs' likewise
+    changed = changed || reapply;
     // The holds and dampers over the cone, each with Coulomb's force in its place and the excess impulse that
     // force takes off; whether the excess is material (kMaterialSpeed).
     excess_friction_.clear();
@@ -115,12 +119,22 @@ bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const
     std::vector<double>& capacity = body_capacity_;
     net.assign(firsts.size(), Vec3::Zero());
     capacity.assign(firsts.size(), 0.0);
-    const auto excess = [&](int index, bool hold, const Vec3& force, const Vec3& taken) {
+    // The velocity change that taking the excess off would make along it (its particles' neighbours held): the
+    // excess over the particle's diagonal, or for a pair over its particles' diagonals by their weights.
+    const auto excess = [&](int index, ExcessFriction::Kind kind, const Vec3& force, const Vec3& taken) {
       if (excess_friction_.empty()) matrix_.diagonal(diagonal_, parallel_);
-      const int p = hold ? contacts_[index].particle : sliding_[index].contact.particle;
-      excess_friction_.push_back({index, hold, force});
+      excess_friction_.push_back({index, kind, force});
       const Vec3 t = taken.normalized();
-      material = material || taken.norm() >= kMaterialSpeed * t.dot(diagonal_[p] * t);
+      double mobility = 0;  // m/s per N s along t
+      if (kind == ExcessFriction::Pair) {
+        const WeightedStencil& s = pairs_.pair(index).stencil;
+        for (int i = 0; i < s.size; ++i)
+          if (inv_mass[s.particle[i]] > 0) mobility += s.w[i] * s.w[i] / t.dot(diagonal_[s.particle[i]] * t);
+      } else {
+        const int p = kind == ExcessFriction::Hold ? contacts_[index].particle : sliding_[index].contact.particle;
+        mobility = 1 / t.dot(diagonal_[p] * t);
+      }
+      material = material || taken.norm() * mobility >= kMaterialSpeed;
     };
     for (std::size_t i = 0; i < contacts_.size(); ++i) {
       const ContactConstraint& c = contacts_[i];
@@ -133,7 +147,7 @@ bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const
       const int b = bodyOf(c.particle);
       net[b] += jt, capacity[b] += bound;
       if (!(jt.norm() > (1 + kConeSlack) * bound)) continue;
-      excess(int(i), true, (bound / h) * jt.normalized(), (jt.norm() - bound) * jt.normalized());
+      excess(int(i), ExcessFriction::Hold, (bound / h) * jt.normalized(), (jt.norm() - bound) * jt.normalized());
     }
     for (std::size_t i = 0; i < sliding_.size(); ++i) {
       const ContactConstraint& c = sliding_[i].contact;
@@ -145,9 +159,20 @@ bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const
       const int b = bodyOf(c.particle);
       net[b] -= h * c.damping * slide, capacity[b] += bound;
       if (!(h * c.damping * slide.norm() > (1 + kConeSlack) * bound)) continue;
-      excess(int(i), false, -(bound / h) * slide.normalized(),
+      excess(int(i), ExcessFriction::Damper, -(bound / h) * slide.normalized(),
              -(h * c.damping * slide.norm() - bound) * slide.normalized());
     }
+    // A pair's impulse acts on its two sides' bodies, by its weights (sum w_i = 0: the two sides' shares opposite).
+    pairs_.frictionImpulses(h, end_x_, end_v_, [&](std::size_t k, const Vec3& jt, double bound) {
+      const WeightedStencil& s = pairs_.pair(k).stencil;
+      for (int i = 0; i < s.size; ++i)
+        if (inv_mass[s.particle[i]] > 0) {
+          const int b = bodyOf(s.particle[i]);
+          net[b] += s.w[i] * jt, capacity[b] += std::abs(s.w[i]) * bound;
+        }
+      if (!(jt.norm() > (1 + kConeSlack) * bound)) return;
+      excess(int(k), ExcessFriction::Pair, (bound / h) * jt.normalized(), (jt.norm() - bound) * jt.normalized());
+    });
     if (!excess_friction_.empty() && !material) {
       std::vector<double>& body_mass = body_mass_;
       if (!massed) {
@@ -162,7 +187,10 @@ bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const
     bool refilter = false;
     if (material) {
       for (const ExcessFriction& o : excess_friction_) {
-        if (o.hold) {  // the hold lets the particle slide
+        if (o.kind == ExcessFriction::Pair) {  // the pair's damper gives way to Coulomb's force
+          pairs_.bound(std::size_t(o.index), o.force);
+          reapply = true;
+        } else if (o.kind == ExcessFriction::Hold) {  // the hold lets the particle slide
           ContactConstraint& c = contacts_[o.index];
           c.stick = false;
           refilter = true;
@@ -180,6 +208,7 @@ bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const
     }
     if (!changed) break;
     ++stats_.friction_solves;
+    if (reapply) pairs_.apply(h, x, v, matrix_, rhs_);  // the pairs bounded or turned
     if (refilter) {
       filter_.reset(inv_mass);
       constrainFilter(contacts_, filter_);

@@ -11,7 +11,7 @@ namespace wobble {
 PairJoin PenaltyPairs::begin() {
   pairs_.clear();
   terms_.clear();
-  rhs_saved_ = false;
+  rhs_pairs_.resize(0);
   carried_elements_.clear();
   for (const Carried& c : carried_) carried_elements_.push_back(c.element);
   return PairJoin{.only = &carried_elements_};
@@ -61,9 +61,8 @@ std::size_t PenaltyPairs::update(const VecX& inverse_mass, double h, const VecX&
 }
 
 long PenaltyPairs::apply(double h, const VecX& x, const VecX& v, PairBlockMatrix& matrix, VecX& rhs) {
-  if (!rhs_saved_) rhs_base_ = rhs;
-  rhs_saved_ = true;
-  rhs = rhs_base_;
+  if (rhs_pairs_.size() == rhs.size()) rhs -= rhs_pairs_;
+  rhs_pairs_.setZero(rhs.size());
   matrix.stencils().clear();
   long active = 0;
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
@@ -78,9 +77,11 @@ long PenaltyPairs::apply(double h, const VecX& x, const VecX& v, PairBlockMatrix
       block += Sym3::fromDense((h * term.damping) * tangential);
       force -= h * term.damping * (tangential * c.relative(v));
     }
+    force += h * term.coulomb;
     matrix.stencils().push_back({c.stencil, block});
-    c.stencil.spread(force, rhs);
+    c.stencil.spread(force, rhs_pairs_);
   }
+  rhs += rhs_pairs_;
   return active;
 }
 
@@ -122,6 +123,7 @@ void PenaltyPairs::addForces(const VecX& x1, const VecX& v1, VecX& f) const {
     Vec3 force = -terms_[k].stiffness * (c.gap(x1) - terms_[k].rest) * n;
     const Vec3 u = c.relative(v1);
     force -= terms_[k].damping * (u - n.dot(u) * n);
+    force += terms_[k].coulomb;
     c.stencil.spread(force, f);
   }
 }
@@ -135,8 +137,42 @@ double PenaltyPairs::potential(double h, const VecX& x1, const VecX& v1) const {
     const Vec3 u = c.relative(v1);
     e += 0.5 * terms_[k].stiffness * past * past +
          0.5 * h * terms_[k].damping * (u - c.normal.dot(u) * c.normal).squaredNorm();
+    if (terms_[k].coulomb != Vec3::Zero()) e -= h * terms_[k].coulomb.dot(u);  // a constant force's
   }
   return e;
+}
+
+bool PenaltyPairs::hasFriction() const {
+  return std::any_of(terms_.begin(), terms_.end(),
+                     [](const Term& t) { return t.active && (t.damping > 0 || t.coulomb != Vec3::Zero()); });
+}
+
+// As BackwardEuler::boundFriction turns a collider's: a damper c = |F| / max(|slip|, kStickSpeed), which only takes
+// energy out.
+bool PenaltyPairs::dampTurned(const VecX& v1) {
+  bool turned = false;
+  for (std::size_t k = 0; k < terms_.size(); ++k) {
+    Term& term = terms_[k];
+    if (!term.active || term.coulomb == Vec3::Zero()) continue;
+    const ContactPair& c = pairs_[k];
+    const Vec3 u = c.relative(v1);
+    const Vec3 slide = u - c.normal.dot(u) * c.normal;
+    if (!(slide.dot(term.coulomb) > 0)) continue;
+    term.damping = term.coulomb.norm() / std::max(slide.norm(), kStickSpeed);
+    term.coulomb = Vec3::Zero();
+    term.turned = turned = true;
+  }
+  return turned;
+}
+
+double PenaltyPairs::work(const VecX& x0, const VecX& x1) const {
+  double w = 0;
+  for (std::size_t k = 0; k < terms_.size(); ++k) {
+    if (!terms_[k].active || pairs_[k].collider) continue;
+    const double end = pairs_[k].gap(x1);
+    w -= terms_[k].stiffness * (end - terms_[k].rest) * (end - pairs_[k].gap(x0));
+  }
+  return w;
 }
 
 }  // namespace wobble

@@ -11,8 +11,10 @@
 // g_rest is 0, or for a pair already within the thickness all but kRecovery of its overlap (a tenth a step, as Bridson
 // 2002's repulsion): a pair that entered the thickness outside the solve is not pushed out at once with the energy of
 // its whole overlap. Coulomb friction between pressed pairs is a tangential damper lagged by a step (carry), as IPC
-// lags its friction (Li et al. 2020, "Incremental Potential Contact").
+// lags its friction (Li et al. 2020, "Incremental Potential Contact"), kept within Coulomb's cone over the step as the
+// colliders' friction is (Bridson, Fedkiw & Anderson 2002, section 7.2: BackwardEuler::boundFriction).
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <vector>
@@ -36,7 +38,11 @@ class PenaltyPairs {
   static constexpr double kStickSpeed = ContactConstraint::kStickSpeed;
 
   // Forgets the pairs the last step left pressed (a new topology: their particles' numbers are another's).
-  void forget() { carried_.clear(); }
+  void forget() {
+    carried_.clear();
+    pairs_.clear();
+    terms_.clear();
+  }
   // Starts a step with no pairs; returns the join of its first search: the pairs the last step left pressed.
   PairJoin begin();
   // The join of a search after a solve: the pairs its end presses past the active set's slack.
@@ -56,25 +62,46 @@ class PenaltyPairs {
   // Sets the terms of the pairs found since the last call and each pair's activity at the solved end x1 (first: the
   // step's first pairs, active as the last step left them, with its friction); returns how many changed.
   std::size_t update(const VecX& inverse_mass, double h, const VecX& x0, const VecX& x1, bool first, bool parallel);
-  // The right-hand side and stencils of the active pairs (with friction: their dampers too), added to rhs as it stood
-  // before the step's first call; returns how many pairs are active.
+  // The right-hand side and stencils of the active pairs (with friction: their dampers, or Coulomb's forces in their
+  // place), in place of what the step's last call added to rhs; returns how many pairs are active.
   long apply(double h, const VecX& x, const VecX& v, PairBlockMatrix& matrix, VecX& rhs);
   // Keeps the active pairs for the next step, each with its Coulomb friction at the step's end (x + h (v + dv), v +
   // dv).
   void carry(double h, const VecX& x, const VecX& v, const VecX& dv);
   // f += the active pairs' penalty and friction forces at (x1, v1) (Newton's residual).
   void addForces(const VecX& x1, const VecX& v1, VecX& f) const;
+
+  // Coulomb's cone over the step (BackwardEuler::boundFriction, which bounds the colliders' friction the same way).
+  // Whether an active pair has friction in the solve (a damper, or Coulomb's force in its place).
+  bool hasFriction() const;
+  // For each active pair whose damper acts: fn(k, impulse, bound), its friction impulse over the step at the solved end
+  // (x1, v1), -h c P u1 on the pair's relative motion (u1 = sum w_i v1_i), and Coulomb's bound on it, mu h N1 (N1 its
+  // penalty's force there).
+  template <class Fn>
+  void frictionImpulses(double h, const VecX& x1, const VecX& v1, Fn&& fn) const;
+  const ContactPair& pair(std::size_t k) const { return pairs_[k]; }
+  // Pair k's damper gives way to Coulomb's force (N, on its relative motion) for the rest of the step.
+  void bound(std::size_t k, const Vec3& force) { terms_[k].damping = 0, terms_[k].coulomb = force; }
+  // Coulomb's forces turned against the relative slip at v1 (they would do positive work) become dampers of the same
+  // force at that slip, kept for the rest of the step; returns whether any did.
+  bool dampTurned(const VecX& v1);
   // The active pairs' share of the incremental potential at (x1, v1): the penalty's energy k (g(x1) - g_rest)^2 / 2
   // and h times the friction's dissipation c |P u1|^2 / 2 (their forces' potential: addForces).
   double potential(double h, const VecX& x1, const VecX& v1) const;
+  // The work the active pairs' penalty forces at the end x1 do over the step from x0 (the forces backward Euler's step
+  // holds over it): -k (g(x1) - g_rest) (g(x1) - g(x0)) each, the pairs between bodies only (an embedded point's
+  // against a collider is the collider's).
+  double work(const VecX& x0, const VecX& x1) const;
 
  private:
   struct Term {
-    double stiffness;  // N/m of the penalty (0: a pair of pinned particles)
-    double damping;    // N s/m of friction (carried from the step before: carry)
-    double rest;       // m: the gap the penalty holds (update)
-    double slack;      // m: the band around rest in which the pair keeps its activity (activeSlack)
-    bool active;       // pressed at the last solved end
+    double stiffness;             // N/m of the penalty (0: a pair of pinned particles)
+    double damping;               // N s/m of friction (carried from the step before: carry)
+    double rest;                  // m: the gap the penalty holds (update)
+    double slack;                 // m: the band around rest in which the pair keeps its activity (activeSlack)
+    bool active;                  // pressed at the last solved end
+    Vec3 coulomb = Vec3::Zero();  // N: Coulomb's force in place of the damper (bound)
+    bool turned = false;          // its damper is dampTurned's: not bounded again
   };
   struct Carried {
     std::array<int, 4> element;  // ContactPair::element
@@ -89,9 +116,20 @@ class PenaltyPairs {
   std::vector<Term> terms_;                           // the same order
   std::vector<Carried> carried_;                      // the last step's active pairs, sorted
   std::vector<std::array<int, 4>> carried_elements_;  // their elements (the step's first search: PairJoin::only)
-  VecX rhs_base_;  // the right-hand side without the pairs (saved at the step's first apply)
-  bool rhs_saved_ = false;
+  VecX rhs_pairs_;                        // what the last apply added to the right-hand side (taken off at the next)
   std::vector<std::size_t> pair_counts_;  // countOverPairs' per chunk
 };
+
+template <class Fn>
+void PenaltyPairs::frictionImpulses(double h, const VecX& x1, const VecX& v1, Fn&& fn) const {
+  for (std::size_t k = 0; k < terms_.size(); ++k) {
+    const Term& term = terms_[k];
+    if (!term.active || !(term.damping > 0) || term.turned) continue;
+    const ContactPair& c = pairs_[k];
+    const Vec3 u = c.relative(v1);
+    const Vec3 impulse = -h * term.damping * (u - c.normal.dot(u) * c.normal);
+    fn(k, impulse, c.friction * h * term.stiffness * std::max(0.0, term.rest - c.gap(x1)));
+  }
+}
 
 }  // namespace wobble

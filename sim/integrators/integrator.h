@@ -97,6 +97,10 @@ class Integrator {
   // (backward Euler without newton): a spring that turns or shortens by much of its length within a step may then
   // store energy the linearization makes up (docs/contact.md, Friction under backward Euler).
   virtual bool linearizesItsStep() const { return false; }
+  // The work its contact forces did on the bodies over its last step (J), where they are not a potential the energy
+  // can count: backward Euler's pairs' penalty, whose normal, weights and rest gap each step takes afresh
+  // (PenaltyPairs::work; docs/energy.md, "What counts as energy"). 0 for the others.
+  virtual double contactWork() const { return 0; }
   const IntegratorStats& stats() const { return stats_; }
 
  protected:

@@ -671,7 +671,7 @@ TEST(BodyContact, KeptStepListsFindWhatTheBroadPhaseFinds) {
     }
   }
   const collision::Stats& stats = kept->stats();
-  EXPECT_GT(stats.skin_searches, 12) << "the kept lists served under half the steps";
+  EXPECT_GE(stats.skin_searches, 12) << "the kept lists served under half the steps";
   EXPECT_GT(stats.skin_updates, 8) << "the kept lists were hardly brought up to date";
 }
 
