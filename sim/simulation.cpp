@@ -5,6 +5,8 @@
 #include <numeric>
 #include <sstream>
 
+#include "sim/contact/collisions/stage_penalty.h"
+
 namespace wobble {
 namespace {
 
@@ -14,11 +16,12 @@ namespace {
 // one added there must be forwarded here too, or an integrator would see its default.
 class WithBodyContact final : public Dynamics, public ForceJacobian {
  public:
-  WithBodyContact(const Dynamics& dynamics, collision::BodyCollisions& pass)
-      : dynamics_(dynamics), jacobian_(*dynamics.forceJacobian()), pass_(pass) {}
+  WithBodyContact(const Dynamics& dynamics, collision::BodyCollisions& pass, const collision::StagePenalty* stages)
+      : dynamics_(dynamics), jacobian_(*dynamics.forceJacobian()), pass_(pass), stages_(stages) {}
 
   void acceleration(double t, const VecX& x, const VecX& v, VecX& a) const override {
     dynamics_.acceleration(t, x, v, a);
+    if (stages_ && !stages_->empty()) stages_->addAccelerations(x, v, jacobian_.inverseMass(), a);
   }
   const ForceJacobian* forceJacobian() const override { return this; }
 
@@ -61,6 +64,7 @@ class WithBodyContact final : public Dynamics, public ForceJacobian {
   const Dynamics& dynamics_;
   const ForceJacobian& jacobian_;
   collision::BodyCollisions& pass_;
+  const collision::StagePenalty* stages_;  // an explicit integrator's pairs within reach (null: none)
 };
 
 // The traits of an integrator of the table; nullptr for one from outside it (as tests make), which has none.
@@ -121,7 +125,19 @@ Simulation::Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> int
       v_(system.initialVelocities()),
       collisions_(collision::makeBodyCollisions(system)) {
   system.setStepSize(dt);
-  if (collisions_) with_contact_ = std::make_unique<WithBodyContact>(system, *collisions_);
+  const IntegratorTraits* traits = tableTraits(integrator_->name());
+  if (collisions_ && traits && traits->contact_in_stages) {
+    std::vector<double> stiffness(system.particleCount(), 0.0);  // per particle: its springs' mean ks times rest length
+    for (const BodySlot& slot : system.bodies()) {
+      const Springs& springs = slot.body.springs;
+      double sum = 0;
+      for (std::size_t s = 0; s < springs.size(); ++s) sum += springs.ks[s] * springs.rest[s];
+      const double mean = springs.size() ? sum / double(springs.size()) : 0;
+      std::fill_n(stiffness.begin() + slot.first, slot.body.particleCount(), mean);
+    }
+    stages_ = std::make_unique<collision::StagePenalty>(std::move(stiffness));
+  }
+  if (collisions_) with_contact_ = std::make_unique<WithBodyContact>(system, *collisions_, stages_.get());
   for (int i = 0; i < system.particleCount(); ++i)
     max_speed_squared_ = std::max(max_speed_squared_, particle(v_, i).squaredNorm());
   energy_start_ = system.energy(x_, v_);
@@ -131,12 +147,13 @@ Simulation::Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> int
   // evaluations, against which the energy at its ends is cheap), where it keeps the bodies apart itself: with [contact]
   // in_solve = false the pass after the step is known to add energy (docs/energy.md), which no retake mends. An
   // integrator from outside the table has no traits.
-  const IntegratorTraits* traits = tableTraits(integrator_->name());
   energy_retakes_ = traits && traits->implicit && (!collisions_ || integrator_->solvesBodyContact());
-  rests_on_pass_ = traits && !traits->implicit;
+  rests_on_pass_ = traits && !traits->implicit && !stages_;
 }
 
 Simulation::~Simulation() = default;
+
+double Simulation::heldEnergy() const { return stages_ ? stages_->energy(x_) : 0; }
 
 double Simulation::maxSpeed() const { return std::sqrt(max_speed_squared_); }
 
@@ -169,13 +186,20 @@ std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int split
   const IntegratorStats& stats = integrator_->stats();
   const long exact_before = stats.exact_steps + stats.line_search_stops;
   const long pass_before = collisions_ ? collisions_->stats().ccd_hits + collisions_->stats().zone_activations : 0;
+  if (stages_) {  // the pairs within reach over the step, for the penalty in its stages
+    stage_pairs_.clear();
+    x_reach_ = x_ + h * v_;
+    collisions_->nearPairs(x_, x_reach_, stage_pairs_);
+    stages_->begin(stage_pairs_, x_, system_.inverseMass(), h);
+  }
   integrator_->step(stepped(), t0, h, x_, v_);
+  if (stages_) stages_->end(x_, v_);
   // A resting contact on a collider is stopped without restitution: only the approach a particle brought into the step
   // bounces, not what the step's own forces added (contact/colliders/response.h; Guendelman, Bridson & Fedkiw 2003).
   system_.resolveCollisions(t1, x_, v_, colliders ? &v_before_ : nullptr);
   if (collisions_) {
-    auto failure = collisions_->resolve(x_before_, x_, v_, h, !integrator_->solvesBodyContact(), x_is_last_pass_end_,
-                                        rests_on_pass_);
+    auto failure = collisions_->resolve(x_before_, x_, v_, h, !integrator_->solvesBodyContact() && !stages_,
+                                        x_is_last_pass_end_, rests_on_pass_);
     x_is_last_pass_end_ = !failure;
     if (failure) {
       if (splits > 0) {
@@ -254,7 +278,7 @@ std::optional<BlowUp> Simulation::retakeInHalves(double t0, double h, double t1,
 
 void Simulation::checkEnergy() {
   if (energy_gain_) return;  // the first one is the news
-  const double energy = system_.energy(x_, v_);
+  const double energy = system_.energy(x_, v_) + heldEnergy();
   const double margin =
       std::max(kEnergyGainRelative * (std::abs(energy_start_) + collider_work_unsigned_), lift_margin_);
   if (energy - energy_start_ - collider_work_ - penalty_work_ > margin)

@@ -22,6 +22,7 @@
 namespace wobble {
 
 namespace collision {
+class StagePenalty;
 // The pass between a system's bodies (their Body::contact), or nothing when no two surface elements may meet.
 std::unique_ptr<BodyCollisions> makeBodyCollisions(const MassSpringSystem& system);
 }  // namespace collision
@@ -105,10 +106,13 @@ class Simulation {
   void observeSteps(StepObserver observer) { step_observer_ = std::move(observer); }
   double energyStart() const { return energy_start_; }
   // The energy the run's checks count (docs/energy.md): the system's total (kinetic, gravitational, elastic) at the
-  // current state less the work the integrator's contact forces did on the bodies so far (penaltyWork: backward
-  // Euler's pairs' penalty, not a potential across steps). Without moving colliders it may only fall. Tests read the
-  // same.
-  double countedEnergy() const { return system_.energy(x_, v_) - penalty_work_; }
+  // current state, plus what RK4's penalty layer holds (heldEnergy), less the work the integrator's contact forces did
+  // on the bodies so far (penaltyWork: backward Euler's pairs' penalty, not a potential across steps). Without moving
+  // colliders it may only fall. Tests read the same.
+  double countedEnergy() const { return system_.energy(x_, v_) + heldEnergy() - penalty_work_; }
+  // The energy RK4's penalty layer between bodies holds at the state (J; contact/collisions/stage_penalty.h): a
+  // potential, part of countedEnergy. 0 for the other integrators.
+  double heldEnergy() const;
   // Free particles that start inside a collider, deeper than its band (DeepInside); `wobble run` warns of them.
   const std::optional<DeepInside>& startsInside() const { return starts_inside_; }
   // Work done on the bodies by moving colliders so far (J): each step's contact impulse on a particle touching a
@@ -169,6 +173,11 @@ class Simulation {
   bool x_is_last_pass_end_ = false;
   // What the integrator steps: the system, with the pairs of collisions_ for an implicit solve when bodies may touch
   // (ForceJacobian::bodyContacts); the system alone otherwise.
+  // An explicit integrator's contact between bodies inside its stages (IntegratorTraits::contact_in_stages): the
+  // penalty layer over the pairs within reach at each step's start (found towards x_reach_ = x + h v).
+  std::unique_ptr<collision::StagePenalty> stages_;
+  std::vector<ContactPair> stage_pairs_;
+  VecX x_reach_;
   std::unique_ptr<Dynamics> with_contact_;
   const Dynamics& stepped() const { return with_contact_ ? *with_contact_ : system_; }
   double energy_start_ = 0, collider_work_ = 0, collider_work_unsigned_ = 0, lift_margin_ = 0;

@@ -108,6 +108,9 @@ void writeRunJson(const SceneFile& scene, const std::vector<std::string>& overri
           sim.integrator().solvesBodyContact()
               ? "no surfaces cross; the solve's penalty pushes from the thickness, and pressed surfaces come closer "
                 "than it (min_distance_m)"
+          : integratorTraits(scene.integrator).contact_in_stages
+              ? "no surfaces cross; a penalty layer inside the integrator's stages pushes from the thickness, and "
+                "pressed surfaces come closer than it (min_distance_m)"
               : "no surfaces cross; the pass's repulsion pushes surfaces within the thickness apart after each step, "
                 "so they may come closer than it within a step (min_distance_m)"}};
     if (integratorTraits(scene.integrator).body_contact_in_solve) {  // its solve's share (docs/body-contact.md)

@@ -20,7 +20,7 @@ constexpr std::array kMethods{
     Method{"symplectic-euler", makeSymplecticEuler, {.order = 1}},
     Method{"pc-euler", makePcEuler, {.order = 1}},
     Method{"midpoint", makeMidpoint, {.order = 2}},
-    Method{"rk4", makeRk4, {.order = 4}},
+    Method{"rk4", makeRk4, {.order = 4, .contact_in_stages = true}},
     Method{"rk45", makeRk45, {.order = 5, .adaptive = true}},
     Method{"backward-euler",
            makeBackwardEuler,

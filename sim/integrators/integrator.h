@@ -117,6 +117,8 @@ struct IntegratorTraits {
   // can carry contact between bodies inside its solve ([contact] in_solve, IntegratorOptions::body_contact_in_solve);
   // the others always leave it to the pass after the step
   bool body_contact_in_solve = false;
+  // explicit: carries contact between bodies as a penalty inside its stages (contact/collisions/stage_penalty.h)
+  bool contact_in_stages = false;
 };
 
 // The names makeIntegrator accepts, in the order the docs list them.

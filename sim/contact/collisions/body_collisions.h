@@ -22,8 +22,9 @@
 // contact on the velocity after its update).
 // An implicit integrator that carries the contacts in its solve (backward Euler: nearPairs below, a penalty on each
 // pair's gap with its Jacobian) skips stage 1: its step ends with the pairs at the thickness already, and impulses on
-// the touching particles alone would compress the springs behind them (the energy gain of docs/body-contact.md).
-// Stages 2 and 3 stay the guarantee that no surface passes through another.
+// the touching particles alone would compress the springs behind them (the energy gain of docs/body-contact.md). So
+// does RK4, which carries the same pairs as a penalty layer in its stages (stage_penalty.h). Stages 2 and 3 stay the
+// guarantee that no surface passes through another.
 // A surface's vertices are particles, or for a mesh jelly points riding on its lattice (each the trilinear blend of
 // its cell's 8 particles, contact/colliders/weighted_points.h): such a vertex moves along the blend of its particles'
 // straight trajectories, itself straight, so detection is the same on it; an impulse on a pair is handed to the
