@@ -70,6 +70,29 @@ double tilt(const MassSpringSystem& system, const VecX& x, int b, int n) {
   return std::acos(std::min(1.0, std::abs((hi - lo).normalized().y()))) * 180 / EIGEN_PI;
 }
 
+// A dropped column's landing and the energy's largest rise after it. The landing: the first frame at which the top
+// jelly falls 0.5 m/s slower than in free fall (it hit the one below; the column lands bottom first, the top one last).
+// The rise: of the energy from kBounceTime after the landing over its lowest value since then.
+struct Settling {
+  double landing = -1, lowest_energy = 0, rise = 0;
+  // One frame at time t, its energy and the top jelly's mean vertical velocity; true once past the bounce.
+  bool frame(double t, double energy, double top_velocity) {
+    if (landing < 0) {
+      if (top_velocity > -9.8 * t + 0.5) landing = t;
+      lowest_energy = energy;
+      return false;
+    }
+    if (t < landing + kBounceTime) {
+      lowest_energy = energy;
+      return false;
+    }
+    rise = std::max(rise, energy - lowest_energy);
+    lowest_energy = std::min(lowest_energy, energy);
+    return true;
+  }
+  bool landed() const { return landing >= 0; }
+};
+
 class BodyRest : public ::testing::TestWithParam<Case> {};
 
 TEST_P(BodyRest, ThreeJellyColumnComesToRest) {
@@ -81,28 +104,19 @@ TEST_P(BodyRest, ThreeJellyColumnComesToRest) {
   MassSpringSystem& system = *column.system;
   Simulation sim(system, makeIntegrator(c.integrator), c.dt);
   ASSERT_TRUE(sim.bodyContact());
-  // The landing: the first frame at which the top jelly falls 0.5 m/s slower than in free fall (it hit the one
-  // below; the column lands bottom first, the top one last).
-  double landing = -1, lowest_energy = 0, rise = 0, settled_speed = 0;
+  Settling s;
+  double settled_speed = 0;
   int worst = 0, frame = 0;
-  while (landing < 0 || sim.time() < landing + kSettleTime + 0.5 - 1e-9) {
+  while (!s.landed() || sim.time() < s.landing + kSettleTime + 0.5 - 1e-9) {
     ++frame;
     ASSERT_FALSE(sim.advanceTo(frame * kFrame)) << c.integrator;
-    ASSERT_TRUE(landing >= 0 || frame * kFrame < 3) << "the top jelly never landed";
+    ASSERT_TRUE(s.landed() || frame * kFrame < 3) << "the top jelly never landed";
     worst = std::max(worst, testing::intersectingPairs(column.tris, sim.x()));
-    const double energy = sim.countedEnergy();
-    if (landing < 0) {
-      if (column.topVelocity(sim.v()) > -9.8 * sim.time() + 0.5) landing = sim.time(), lowest_energy = energy;
-      continue;
-    }
-    if (sim.time() < landing + kBounceTime) {
-      lowest_energy = energy;
-      continue;
-    }
-    rise = std::max(rise, energy - lowest_energy);
-    lowest_energy = std::min(lowest_energy, energy);
-    if (sim.time() > landing + kSettleTime - 1e-9) settled_speed = std::max(settled_speed, sim.lastIntervalMaxSpeed());
+    if (!s.frame(sim.time(), sim.countedEnergy(), column.topVelocity(sim.v()))) continue;
+    if (sim.time() > s.landing + kSettleTime - 1e-9)
+      settled_speed = std::max(settled_speed, sim.lastIntervalMaxSpeed());
   }
+  const double landing = s.landing, rise = s.rise;
   EXPECT_LT(settled_speed, kRestSpeed) << c.integrator << " at 1/" << 1 / c.dt << " s: landed at " << landing
                                        << " s; largest particle speed from " << landing + kSettleTime << " s on";
   // Rounding and the solve's tolerance only: with the active set's band a quarter of the thickness for every pair
@@ -143,29 +157,20 @@ TEST(RestUnderRk4, ThreeJellyColumnStandsAndLosesEnergy) {
   Column column(p);
   MassSpringSystem& system = *column.system;
   Simulation sim(system, makeIntegrator("rk4"), 1.0 / 240);
-  double landing = -1, lowest_energy = 0, rise = 0, speed = 0, lean = 0;
+  Settling s;
+  double speed = 0, lean = 0;
   long hits_before = 0;
   int worst = 0;
-  for (int frame = 1; landing < 0 || sim.time() < landing + kSettleTime + 0.5 - 1e-9; ++frame) {
+  for (int frame = 1; !s.landed() || sim.time() < s.landing + kSettleTime + 0.5 - 1e-9; ++frame) {
     ASSERT_FALSE(sim.advanceTo(frame * kFrame));
-    ASSERT_TRUE(landing >= 0 || frame * kFrame < 3) << "the top jelly never landed";
+    ASSERT_TRUE(s.landed() || frame * kFrame < 3) << "the top jelly never landed";
     worst = std::max(worst, testing::intersectingPairs(column.tris, sim.x()));
     for (int b = 0; b < p.count; ++b) lean = std::max(lean, tilt(system, sim.x(), b, p.jelly.n));
-    const double energy = sim.countedEnergy();
-    if (landing < 0) {
-      if (column.topVelocity(sim.v()) > -9.8 * sim.time() + 0.5) landing = sim.time();
-      lowest_energy = energy;
-      continue;
-    }
-    if (sim.time() < landing + kBounceTime) {
-      lowest_energy = energy;
-      continue;
-    }
-    rise = std::max(rise, energy - lowest_energy);
-    lowest_energy = std::min(lowest_energy, energy);
-    if (sim.time() < landing + kSettleTime - 0.5 + 1e-9) hits_before = sim.bodyContact()->ccd_hits;
-    if (sim.time() > landing + kSettleTime - 1e-9) speed = std::max(speed, sim.lastIntervalMaxSpeed());
+    if (!s.frame(sim.time(), sim.countedEnergy(), column.topVelocity(sim.v()))) continue;
+    if (sim.time() < s.landing + kSettleTime - 0.5 + 1e-9) hits_before = sim.bodyContact()->ccd_hits;
+    if (sim.time() > s.landing + kSettleTime - 1e-9) speed = std::max(speed, sim.lastIntervalMaxSpeed());
   }
+  const double landing = s.landing, rise = s.rise;
   const long late_hits = sim.bodyContact()->ccd_hits - hits_before;
   EXPECT_LT(rise, 1e-3) << "J: the energy rose while the pile settled";
   EXPECT_EQ(late_hits, 0) << "collisions stopped after the step over the last second: the layer lets surfaces meet";
@@ -577,9 +582,9 @@ Drop dropColumn(bool glued, double dt, double seconds) {
 // Under rk4 the pile's aim is the same column glued into one body: rk4 at 1/240 s takes out little of the column's own
 // sway (its dampers, kd 0.5, act on strain rates), and the glued column, dropped the same way, still moves at 0.19 m/s
 // 3 s after landing. The stack, on its contacts, must settle at least as fast, with no surface through another and no
-// gain reported; its energy may rise by at most 0.15% after the bounce (the pass's error: the step's forces act on
-// pairs that the pass stops only after it; 27 mJ of 30.5 J here, 1.4 mJ at 1/960 s), where the glued column's only
-// falls. docs/body-contact.md, "Rest".
+// gain reported; its energy may rise by at most 0.15% after the bounce (9.6 mJ of 30.4 J here with RK4's penalty
+// layer, stage_penalty.h; 27 mJ with the pass alone holding the pile, as it does for the other explicit integrators),
+// where the glued column's only falls. docs/body-contact.md, "Rest".
 TEST(RestUnderRk4, TheStackSettlesAtLeastAsFastAsTheColumnGluedIntoOneBody) {
   const double dt = 1.0 / 240, seconds = 4;
   const Drop stacked = dropColumn(false, dt, seconds), glued = dropColumn(true, dt, seconds);
