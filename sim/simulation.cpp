@@ -198,8 +198,10 @@ std::optional<BlowUp> Simulation::step(double t0, double h, double t1, int split
   // bounces, not what the step's own forces added (contact/colliders/response.h; Guendelman, Bridson & Fedkiw 2003).
   system_.resolveCollisions(t1, x_, v_, colliders ? &v_before_ : nullptr);
   if (collisions_) {
-    auto failure = collisions_->resolve(x_before_, x_, v_, h, !integrator_->solvesBodyContact() && !stages_,
-                                        x_is_last_pass_end_, rests_on_pass_);
+    auto failure = collisions_->resolve(x_before_, x_, v_, h,
+                                        {.repulsion = !integrator_->solvesBodyContact() && !stages_,
+                                         .continues = x_is_last_pass_end_,
+                                         .resting = rests_on_pass_});
     x_is_last_pass_end_ = !failure;
     if (failure) {
       if (splits > 0) {

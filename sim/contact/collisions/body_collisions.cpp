@@ -15,11 +15,12 @@ bool BodyCollisions::needed(const std::vector<Surface>& surfaces) {
   return !surfaces.empty() && surfaces[0].params.self_contact;
 }
 
-std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v1, double h, bool repulsion,
-                                               bool continues, bool resting) {
+std::optional<Failure> BodyCollisions::resolve(const VecX& x0, VecX& x1, VecX& v1, double h, PassOptions options) {
+  const bool repulsion = options.repulsion, resting = options.resting;
   Impl& s = *impl_;
   if (s.clearance.covers(x0, x1,
-                         {.final_pass = true, .continues = continues})) {  // (x1 finite: a blow-up is not covered)
+                         {.final_pass = true,
+                          .continues = options.continues})) {  // (x1 finite: a blow-up is not covered)
     ++stats_.passes, ++stats_.passes_skipped;
     return std::nullopt;
   }

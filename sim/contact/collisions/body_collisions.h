@@ -49,20 +49,29 @@ namespace wobble {
 
 namespace collision {
 
+// How BodyCollisions::resolve runs one step's pass.
+struct PassOptions {
+  // Stage 1's impulses (false where the integrator carried the contacts in its solve or stages; the pairs are still
+  // counted).
+  bool repulsion = true;
+  // x0 is the same bytes as the x1 the last call left (the step before, taken on from where the pass left it;
+  // Clearance::covers).
+  bool continues = false;
+  // The pass alone holds bodies resting on each other (an explicit integrator, whose end velocity is not the
+  // trajectory's): with repulsion, stage 1 also stops the pairs that reach the thickness within the step, and the
+  // approach the end velocities keep is stopped after (Repulsion::settle).
+  bool resting = false;
+};
+
 class BodyCollisions {
  public:
   BodyCollisions(const std::vector<Surface>& surfaces, const VecX& inverse_mass, Settings settings, bool parallel);
   ~BodyCollisions();
   // Whether any pair of elements may collide at all: two bodies, or one with self-contact.
   static bool needed(const std::vector<Surface>& surfaces);
-  // The pass over one step of size h from x0 to (x1, v1); see above. Nothing when the end is free of collisions.
-  // repulsion: stage 1's impulses (false when the integrator's solve carried the contacts; the pairs are still
-  // counted). continues: x0 is the same bytes as the x1 the last call left (the step before, taken on from where the
-  // pass left it; Clearance::covers). resting: the pass alone holds bodies resting on each other (an explicit
-  // integrator, whose end velocity is not the trajectory's): with repulsion, stage 1 also stops the pairs that reach
-  // the thickness within the step, and the approach the end velocities keep is stopped after (Repulsion::settle).
-  std::optional<Failure> resolve(const VecX& x0, VecX& x1, VecX& v1, double h, bool repulsion = true,
-                                 bool continues = false, bool resting = false);
+  // The pass over one step of size h from x0 to (x1, v1); see above and PassOptions. Nothing when the end is free of
+  // collisions.
+  std::optional<Failure> resolve(const VecX& x0, VecX& x1, VecX& v1, double h, PassOptions options = {});
   // For an implicit solve (ForceJacobian::bodyContacts): appends to out the pairs of elements, not in out yet, whose
   // gap, linearized at x0 along their nearest points' direction there, ends below 0 at x1 (candidates from the swept
   // boxes of x0 to x1; those of the step's first call, padded by half the thickness more, serve its later calls and
