@@ -49,6 +49,12 @@ struct ContactConstraint {
   // m/s: below this relative tangential speed the damper is sized as at this speed (the friction between bodies in
   // backward Euler's solve takes the same, PenaltyPairs::kStickSpeed).
   static constexpr double kStickSpeed = 1e-3;
+  // Coulomb's constant force turned with the slip (it would do positive work) gives way to a damper of the same force
+  // at that slip, which only takes energy out: |force| / max(|slide|, kStickSpeed); 0 while it opposes the slip.
+  // backward Euler's friction on colliders and between bodies alike (BackwardEuler::boundFriction).
+  static double turnedDamping(const Vec3& force, const Vec3& slide) {
+    return slide.dot(force) > 0 ? force.norm() / std::max(slide.norm(), kStickSpeed) : 0;
+  }
   // Coulomb's cone, which backward Euler keeps the hold and the damper within over the step (boundFriction): the
   // surface's coefficient and the support the accelerations apply at the start (in the start force).
   double mu = 0;

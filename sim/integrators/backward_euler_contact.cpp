@@ -100,12 +100,12 @@ bool BackwardEuler::boundFriction(const ForceJacobian& jacobian, double h, const
     // Coulomb's force turned against the slip: a damper instead (it would do positive work: always).
     for (CoulombFriction& k : coulomb_) {
       if (k.damped) continue;
-      const Vec3 slide = tangentialSlide(k.contact, h, end_v_);
-      if (!(slide.dot(k.force) > 0)) continue;
+      const double damping = ContactConstraint::turnedDamping(k.force, tangentialSlide(k.contact, h, end_v_));
+      if (damping == 0) continue;
       k.damped = changed = true;
       particle(rhs_, k.contact.particle) -= h * k.force;
       particle(f0_, k.contact.particle) -= inv_mass[k.contact.particle] * k.force;
-      k.contact.damping = k.force.norm() / std::max(slide.norm(), ContactConstraint::kStickSpeed);
+      k.contact.damping = damping;
       addSliding(k.contact, h, v, true);
     }
     bool reapply = pairs_.dampTurned(end_v_);  // the pairs' likewise

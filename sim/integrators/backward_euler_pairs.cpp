@@ -147,8 +147,7 @@ bool PenaltyPairs::hasFriction() const {
                      [](const Term& t) { return t.active && (t.damping > 0 || t.coulomb != Vec3::Zero()); });
 }
 
-// As BackwardEuler::boundFriction turns a collider's: a damper c = |F| / max(|slip|, kStickSpeed), which only takes
-// energy out.
+// As BackwardEuler::boundFriction turns a collider's (ContactConstraint::turnedDamping).
 bool PenaltyPairs::dampTurned(const VecX& v1) {
   bool turned = false;
   for (std::size_t k = 0; k < terms_.size(); ++k) {
@@ -157,8 +156,9 @@ bool PenaltyPairs::dampTurned(const VecX& v1) {
     const ContactPair& c = pairs_[k];
     const Vec3 u = c.relative(v1);
     const Vec3 slide = u - c.normal.dot(u) * c.normal;
-    if (!(slide.dot(term.coulomb) > 0)) continue;
-    term.damping = term.coulomb.norm() / std::max(slide.norm(), kStickSpeed);
+    const double damping = ContactConstraint::turnedDamping(term.coulomb, slide);
+    if (damping == 0) continue;
+    term.damping = damping;
     term.coulomb = Vec3::Zero();
     term.turned = turned = true;
   }
