@@ -99,6 +99,20 @@ std::optional<DeepInside> deepInside(const MassSpringSystem& system, double t, c
   return deepest;
 }
 
+// RK4's penalty layer between bodies (IntegratorTraits::contact_in_stages), each particle's material its body's
+// springs' mean ks times rest length (N).
+std::unique_ptr<collision::StagePenalty> stagePenalty(const MassSpringSystem& system) {
+  std::vector<double> stiffness(system.particleCount(), 0.0);
+  for (const BodySlot& slot : system.bodies()) {
+    const Springs& springs = slot.body.springs;
+    double sum = 0;
+    for (std::size_t s = 0; s < springs.size(); ++s) sum += springs.ks[s] * springs.rest[s];
+    const double mean = springs.size() ? sum / double(springs.size()) : 0;
+    std::fill_n(stiffness.begin() + slot.first, slot.body.particleCount(), mean);
+  }
+  return std::make_unique<collision::StagePenalty>(std::move(stiffness));
+}
+
 }  // namespace
 
 namespace collision {
@@ -126,17 +140,7 @@ Simulation::Simulation(MassSpringSystem& system, std::unique_ptr<Integrator> int
       collisions_(collision::makeBodyCollisions(system)) {
   system.setStepSize(dt);
   const IntegratorTraits* traits = tableTraits(integrator_->name());
-  if (collisions_ && traits && traits->contact_in_stages) {
-    std::vector<double> stiffness(system.particleCount(), 0.0);  // per particle: its springs' mean ks times rest length
-    for (const BodySlot& slot : system.bodies()) {
-      const Springs& springs = slot.body.springs;
-      double sum = 0;
-      for (std::size_t s = 0; s < springs.size(); ++s) sum += springs.ks[s] * springs.rest[s];
-      const double mean = springs.size() ? sum / double(springs.size()) : 0;
-      std::fill_n(stiffness.begin() + slot.first, slot.body.particleCount(), mean);
-    }
-    stages_ = std::make_unique<collision::StagePenalty>(std::move(stiffness));
-  }
+  if (collisions_ && traits && traits->contact_in_stages) stages_ = stagePenalty(system);
   if (collisions_) with_contact_ = std::make_unique<WithBodyContact>(system, *collisions_, stages_.get());
   for (int i = 0; i < system.particleCount(); ++i)
     max_speed_squared_ = std::max(max_speed_squared_, particle(v_, i).squaredNorm());
